@@ -1,0 +1,66 @@
+"""Closed form: Timoshenko beam on a continuous (Winkler) foundation, by residues.
+
+This is the limit of the periodic track when the support spacing d shrinks with the support
+stiffness per length kept fixed (``k_f = kv / d``, ``k_r = kphi / d``); it serves as an
+independent check of the periodic-structure methods.
+
+With D_c(beta) = D(beta) + diag(k_f, k_r), det D_c is a quadratic in u = beta^2,
+
+    P(u) = kAG EI u^2 + (kAG B0 + EI A0 - kAG^2) u + A0 B0,
+    A0 = k_f - omega^2 rho A,   B0 = kAG + k_r - omega^2 rho I,
+
+and for x >= 0 the inverse Fourier transform closes in the upper half-plane:
+
+    q(x) = i sum_{p: Im beta_p > 0} adj D_c(beta_p) e^{i beta_p x} / (2 beta_p P'(u_p)).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._validation import as_frequencies, check_nonnegative, check_positive
+from .tracks import Track
+
+
+def continuous_foundation_receptance(track: Track, f, k_f: float, k_r: float = 0.0, x: float = 0.0) -> np.ndarray:
+    """2x2 receptance of an infinite Timoshenko beam on a continuous elastic foundation.
+
+    Parameters
+    ----------
+    track : Track
+        Supplies the rail properties only (rho, E, G, A, I, kappa, eta_rail).
+    f : array_like
+        Frequencies (Hz).
+    k_f : float or complex
+        Vertical foundation stiffness per unit length (N/m^2); complex to include damping.
+    k_r : float or complex
+        Rotational foundation stiffness per unit length (N m/rad/m).
+    x : float
+        Distance from the load to the response point (m), x >= 0.
+
+    Returns
+    -------
+    ndarray of complex, shape ``f.shape + (2, 2)``
+        Response (w, psi) at x per load (F, M) at 0.
+    """
+    f = as_frequencies(f)
+    check_positive("abs(k_f)", abs(k_f))
+    check_nonnegative("abs(k_r)", abs(k_r))
+    check_nonnegative("x", x)
+    omega2 = (2 * np.pi * f.ravel()) ** 2
+    kag, ei = track.kAG, track.EI
+    a0 = k_f - omega2 * track.mass_per_length
+    b0 = kag + k_r - omega2 * track.rotary_inertia
+    c2, c1, c0 = kag * ei, kag * b0 + ei * a0 - kag**2, a0 * b0
+    disc = np.sqrt(c1 * c1 - 4 * c2 * c0)
+    out = np.zeros((f.size, 2, 2), dtype=complex)
+    for u in ((-c1 + disc) / (2 * c2), (-c1 - disc) / (2 * c2)):
+        beta = np.sqrt(u + 0j)
+        beta = np.where(beta.imag > 0, beta, -beta)  # the pole in the upper half-plane
+        dp = 2 * beta * (2 * c2 * u + c1)  # d det / d beta
+        a = kag * beta**2 + a0
+        b = ei * beta**2 + b0
+        c = 1j * kag * beta
+        adj = np.stack([np.stack([b, -c], -1), np.stack([c, a], -1)], -2)
+        out += 1j * adj * (np.exp(1j * beta * x) / dp)[:, None, None]
+    return out.reshape(f.shape + (2, 2))

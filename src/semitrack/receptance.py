@@ -1,0 +1,198 @@
+"""Receptance at the end of a semi-infinite periodic track (paper Sec. 3, Eq. 13-18).
+
+Public entry points: :func:`central_response`, :func:`semi_infinite_receptance` and
+:func:`point_receptance`. Frequencies are in Hz; every result is vectorised over frequency.
+
+The central responses are those of the infinite track at the central cross-section x0 (a
+mid-span), just to the right of the load: for a unit force, w1 and the bending moment M1; for a
+unit moment, psi2 and the shear force Q2. With them (Eq. 14)
+
+    alpha = 1 / (0.25 - M1 Q2) [[0.5 w1, -w1 Q2], [-psi2 M1, 0.5 psi2]]
+
+and det(alpha^-1) = (0.25 - M1 Q2) / (w1 psi2) (Eq. 18).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._validation import as_frequencies, check_real
+from .tracks import PeriodicCell, Track
+from .transfer import end_stiffness, infinite_receptance
+from .wavenumber import WavenumberSettings, central_fields, odd_slope
+
+METHODS = ("transfer", "wavenumber")
+
+
+@dataclass(frozen=True)
+class CentralResponse:
+    """Responses of the infinite track at the central cross-section (paper Eq. 14-18).
+
+    Attributes
+    ----------
+    f : ndarray
+        Frequencies (Hz).
+    w1 : ndarray
+        Vertical displacement per unit vertical force (m/N).
+    psi2 : ndarray
+        Rotation per unit moment (rad/(N m)).
+    Q2 : ndarray
+        Shear force on the section just right of the load per unit moment (N/(N m)).
+    M1 : ndarray
+        Bending moment on that section per unit force (N m/N).
+    method : str
+        "transfer" or "wavenumber".
+    """
+
+    f: np.ndarray
+    w1: np.ndarray
+    psi2: np.ndarray
+    Q2: np.ndarray
+    M1: np.ndarray
+    method: str
+
+    @property
+    def det(self) -> np.ndarray:
+        """det(alpha^-1), Eq. (18) (N^2)."""
+        return (0.25 - self.M1 * self.Q2) / (self.w1 * self.psi2)
+
+    @property
+    def alpha(self) -> np.ndarray:
+        """Receptance of the semi-infinite track by Eq. (14), shape ``(n, 2, 2)``."""
+        scale = 1.0 / (0.25 - self.M1 * self.Q2)
+        a = np.empty(self.w1.shape + (2, 2), dtype=complex)
+        a[..., 0, 0] = 0.5 * self.w1 * scale
+        a[..., 0, 1] = -self.w1 * self.Q2 * scale
+        a[..., 1, 0] = -self.psi2 * self.M1 * scale
+        a[..., 1, 1] = 0.5 * self.psi2 * scale
+        return a
+
+
+def _cell_of(track) -> PeriodicCell:
+    if isinstance(track, PeriodicCell):
+        return track
+    if isinstance(track, Track):
+        return track.cell()
+    raise TypeError(f"track must be a Track or a PeriodicCell, got {type(track).__name__}")
+
+
+def _settings(method: str, options: dict) -> WavenumberSettings | None:
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+    if method == "transfer":
+        if options:
+            raise TypeError(f"method='transfer' takes no discretisation settings, got {sorted(options)}")
+        return None
+    allowed = {"beta_max", "dbeta", "j_max", "dx", "settings"}
+    unknown = sorted(set(options) - allowed)
+    if unknown:
+        raise TypeError(f"unknown wavenumber setting(s) {unknown}; allowed: {sorted(allowed)}")
+    if "settings" in options:
+        base = options.pop("settings")
+        if not isinstance(base, WavenumberSettings):
+            raise TypeError(f"settings must be a WavenumberSettings, got {type(base).__name__}")
+        return WavenumberSettings(**{**base.__dict__, **options})
+    return WavenumberSettings(**options)
+
+
+def central_response(track, f, method: str = "transfer", **settings) -> CentralResponse:
+    """Central responses w1, psi2, Q2, M1 of the infinite track (paper Eq. 14-16).
+
+    Parameters
+    ----------
+    track : Track or PeriodicCell
+        The track; a :class:`PeriodicCell` allows several supports per period.
+    f : array_like
+        Frequencies (Hz), positive and finite.
+    method : {"transfer", "wavenumber"}
+        "transfer" (default) is exact; "wavenumber" is the paper's Eq. (12) with the
+        finite-difference slopes of Sec. 4.1.
+    **settings
+        For "wavenumber" only: ``beta_max`` (rad/m), ``dbeta`` (rad/m), ``j_max``, ``dx`` (m), or
+        ``settings=WavenumberSettings(...)``. Defaults are the paper's.
+
+    Returns
+    -------
+    CentralResponse
+        Arrays of the same shape as ``f``.
+    """
+    f = as_frequencies(f)
+    cell = _cell_of(track)
+    ws = _settings(method, dict(settings))
+    omega = 2 * np.pi * f.ravel()
+    rail = cell.track
+    if ws is None:
+        k_right, k_left = end_stiffness(cell, omega, cell.mid_span)
+        h = np.linalg.inv(k_right + k_left)
+        loads = k_right @ h  # loads on the right part: column 0 unit force, column 1 unit moment
+        w1, psi2 = h[:, 0, 0], h[:, 1, 1]
+        m1, q2 = loads[:, 1, 0], loads[:, 0, 1]
+    else:
+        q = central_fields(cell, omega, ws)  # (n, 3 points, response, load)
+        w1, psi2 = q[:, 0, 0, 0], q[:, 0, 1, 1]
+        dpsi1 = odd_slope(q[:, 1, 1, 0], q[:, 2, 1, 0], ws.dx)
+        dw2 = odd_slope(q[:, 1, 0, 1], q[:, 2, 0, 1], ws.dx)
+        m1 = -rail.EI * dpsi1  # Eq. (15)
+        q2 = -rail.kAG * (dw2 - psi2)  # Eq. (16)
+    shape = f.shape
+    return CentralResponse(f=f, w1=w1.reshape(shape), psi2=psi2.reshape(shape), Q2=q2.reshape(shape),
+                           M1=m1.reshape(shape), method=method)
+
+
+def semi_infinite_receptance(track, f, method: str = "transfer", **settings) -> np.ndarray:
+    """2x2 receptance alpha at the end of the semi-infinite track (paper Eq. 13).
+
+    The track is cut at a mid-span (the central cross-section). ``alpha[..., i, k]`` is response
+    i (0: w, downward, m; 1: psi, clockwise, rad) per end load k (0: force Q, downward, N;
+    1: moment M, clockwise, N m).
+
+    Parameters
+    ----------
+    track : Track or PeriodicCell
+        The track.
+    f : array_like
+        Frequencies (Hz), positive and finite.
+    method : {"transfer", "wavenumber"}
+        "transfer" (default): exact Bloch-wave method. "wavenumber": the paper's method, Eq. (14)
+        from the central responses of Eq. (12).
+    **settings
+        Wavenumber settings, see :func:`central_response`.
+
+    Returns
+    -------
+    ndarray of complex, shape ``f.shape + (2, 2)``
+        Units [[m/N, m/(N m)], [rad/N, rad/(N m)]].
+    """
+    f = as_frequencies(f)
+    cell = _cell_of(track)
+    if method == "transfer":
+        _settings(method, dict(settings))
+        k_right, _ = end_stiffness(cell, 2 * np.pi * f.ravel(), cell.mid_span)
+        return np.linalg.inv(k_right).reshape(f.shape + (2, 2))
+    return central_response(cell, f, method, **settings).alpha
+
+
+def point_receptance(track, f, x: float = 0.0) -> np.ndarray:
+    """2x2 receptance of the infinite periodic track at position ``x`` (exact method).
+
+    Parameters
+    ----------
+    track : Track or PeriodicCell
+        The track.
+    f : array_like
+        Frequencies (Hz).
+    x : float
+        Position of load and response, measured from a support (m); any real value, the track
+        being periodic. ``x = spacing / 2`` is mid-span.
+
+    Returns
+    -------
+    ndarray of complex, shape ``f.shape + (2, 2)``
+        Response (w, psi) per load (F, M) at the same point.
+    """
+    f = as_frequencies(f)
+    cell = _cell_of(track)
+    x = check_real("x", x) % cell.period
+    return infinite_receptance(cell, 2 * np.pi * f.ravel(), x).reshape(f.shape + (2, 2))

@@ -1,0 +1,307 @@
+"""Track parameters (paper Tables 2 and 5), their validation, and the support dynamic stiffness.
+
+A :class:`Track` holds the rail (a Timoshenko beam), the rail pad and, for a ballasted track, the
+sleeper mass and the ballast stiffness. Damping is by loss factors, entered as complex stiffness:
+``E(1 + i eta_rail)``, ``G(1 + i eta_rail)``, ``kv(1 + i eta_pad)``, ``kphi(1 + i eta_pad)`` and
+``kb(1 + i eta_ballast)``; the harmonic time factor is ``exp(i omega t)``.
+
+A :class:`PeriodicCell` is the repeating unit that the wavenumber and transfer methods work on:
+one period ``L`` of the track holding ``S`` supports (paper Sec. 2.1, Eq. 3). Both paper tracks
+have ``S = 1``; ``S = 2`` (two identical supports per period) is the same track and serves as a
+check of the general formulation.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from ._validation import as_frequencies, check_int_at_least, check_nonnegative, check_positive
+
+# Fields checked as "positive and finite" and as "non-negative and finite" (zero allowed).
+_POSITIVE = ("rho", "E", "G", "A", "I", "kappa", "kv", "spacing")
+_NONNEGATIVE = ("eta_rail", "kphi", "eta_pad", "eta_ballast")
+
+
+@dataclass(frozen=True)
+class Track:
+    """A periodically supported rail: Timoshenko beam on discrete supports.
+
+    All quantities in SI units. The presets :func:`slab_track` and :func:`ballasted_track` give
+    the paper's parameters; every field can be overridden by keyword there.
+
+    Parameters
+    ----------
+    rho : float
+        Rail density (kg/m^3).
+    E, G : float
+        Young's and shear modulus of the rail (N/m^2).
+    A : float
+        Cross-sectional area of the rail (m^2).
+    I : float
+        Second moment of area of the rail (m^4).
+    kappa : float
+        Shear coefficient of the rail cross-section (-).
+    eta_rail : float
+        Loss factor of the rail (-), applied to E and G.
+    kv : float
+        Vertical rail pad stiffness (N/m).
+    kphi : float
+        Rotational rail pad stiffness (N m/rad); zero is allowed.
+    eta_pad : float
+        Loss factor of the rail pad (-).
+    spacing : float
+        Support (fastener or sleeper) spacing d (m).
+    sleeper_mass : float or None
+        Mass supported under one rail seat (half a sleeper) (kg). ``None`` means the pad sits on
+        a rigid foundation (the slab track of the paper).
+    kb : float or None
+        Ballast stiffness under one rail seat (N/m); required with ``sleeper_mass``.
+    eta_ballast : float
+        Loss factor of the ballast (-).
+    name : str
+        A label used in tables and plots.
+    """
+
+    rho: float
+    E: float
+    G: float
+    A: float
+    I: float  # noqa: E741 - the paper's symbol
+    kappa: float
+    eta_rail: float
+    kv: float
+    kphi: float
+    eta_pad: float
+    spacing: float
+    sleeper_mass: float | None = None
+    kb: float | None = None
+    eta_ballast: float = 0.0
+    name: str = "track"
+
+    def __post_init__(self):
+        for key in _POSITIVE:
+            object.__setattr__(self, key, check_positive(key, getattr(self, key)))
+        for key in _NONNEGATIVE:
+            object.__setattr__(self, key, check_nonnegative(key, getattr(self, key)))
+        if (self.sleeper_mass is None) != (self.kb is None):
+            raise ValueError(
+                "sleeper_mass and kb go together: give both for a ballasted track or neither for a "
+                f"rigid foundation, got sleeper_mass={self.sleeper_mass!r}, kb={self.kb!r}"
+            )
+        if self.sleeper_mass is not None:
+            object.__setattr__(self, "sleeper_mass", check_positive("sleeper_mass", self.sleeper_mass))
+            object.__setattr__(self, "kb", check_positive("kb", self.kb))
+        if not isinstance(self.name, str):
+            raise TypeError(f"name must be a string, got {self.name!r}")
+
+    # ----------------------------------------------------------------------------------------
+    @property
+    def is_ballasted(self) -> bool:
+        """True when the pad rests on a sleeper mass on ballast (paper Sec. 5)."""
+        return self.sleeper_mass is not None
+
+    @property
+    def EI(self) -> complex:
+        """Complex bending stiffness E(1 + i eta_rail) I (N m^2)."""
+        return self.E * (1 + 1j * self.eta_rail) * self.I
+
+    @property
+    def kAG(self) -> complex:
+        """Complex shear stiffness kappa A G(1 + i eta_rail) (N)."""
+        return self.kappa * self.A * self.G * (1 + 1j * self.eta_rail)
+
+    @property
+    def mass_per_length(self) -> float:
+        """rho A (kg/m)."""
+        return self.rho * self.A
+
+    @property
+    def rotary_inertia(self) -> float:
+        """rho I (kg m)."""
+        return self.rho * self.I
+
+    @property
+    def bouncing_frequency_estimate(self) -> float:
+        """The paper's estimate sqrt(kv / (rho A d)) / (2 pi) of the bouncing frequency (Hz).
+
+        Only meaningful for the slab track (rail on pads on a rigid foundation).
+        """
+        return float(np.sqrt(self.kv / (self.mass_per_length * self.spacing)) / (2 * np.pi))
+
+    def replace(self, **changes) -> "Track":
+        """A copy with some fields changed (validated again)."""
+        return dataclasses.replace(self, **changes)
+
+    # ----------------------------------------------------------------------------------------
+    def pad_stiffness(self) -> tuple[complex, complex]:
+        """Complex pad stiffness (vertical N/m, rotational N m/rad), loss factor included."""
+        c = 1 + 1j * self.eta_pad
+        return self.kv * c, self.kphi * c
+
+    def foundation_receptance(self, f) -> np.ndarray:
+        """Vertical receptance under the pad, G(omega) of the paper's Eq. (3) (m/N).
+
+        Zero for a rigid foundation; ``1 / (kb(1 + i eta_ballast) - omega^2 m_s)`` for a sleeper
+        mass on ballast. Same shape as ``f`` (Hz).
+        """
+        f = as_frequencies(f)
+        if not self.is_ballasted:
+            return np.zeros(f.shape, dtype=complex)
+        omega = 2 * np.pi * f
+        kb = self.kb * (1 + 1j * self.eta_ballast)
+        return 1.0 / (kb - omega**2 * self.sleeper_mass)
+
+    def support_stiffness(self, f) -> tuple[np.ndarray, np.ndarray]:
+        """Dynamic stiffness of one support seen from the rail.
+
+        Parameters
+        ----------
+        f : array_like
+            Frequencies (Hz).
+
+        Returns
+        -------
+        kv_dyn : ndarray of complex
+            Vertical dynamic stiffness (N/m): the pad, in series with the sleeper mass on ballast
+            for a ballasted track, ``1 / (1/kv* + G(omega))``.
+        kphi_dyn : ndarray of complex
+            Rotational dynamic stiffness (N m/rad): the pad alone (the sleeper does not rotate).
+        """
+        f = as_frequencies(f)
+        kv, kphi = self.pad_stiffness()
+        g = self.foundation_receptance(f)
+        kv_dyn = kv / (1.0 + kv * g)
+        return kv_dyn, np.full(f.shape, kphi, dtype=complex)
+
+    def cell(self, supports_per_period: int = 1) -> "PeriodicCell":
+        """The periodic cell of this track with ``supports_per_period`` identical supports."""
+        return PeriodicCell.uniform(self, supports_per_period)
+
+
+def slab_track(**overrides) -> Track:
+    """The paper's high-speed slab track (Table 2): rail on pads on a rigid slab.
+
+    Keyword overrides: ``rho, E, G, A, I, kappa, eta_rail, kv, kphi, eta_pad, spacing, name``.
+    The paper states ``kphi = kv b^2 / 12`` with pad length b = 0.25 m; Table 2 prints the
+    rounded value 2.83e5 N m/rad, which is used here.
+    """
+    params = dict(
+        rho=7850.0, E=2.1e11, G=0.81e11, A=7.69e-3, I=30.55e-6, kappa=0.4, eta_rail=0.01,
+        kv=5.44e7, kphi=2.83e5, eta_pad=0.1, spacing=0.65, name="slab",
+    )
+    return _build(params, overrides, ("sleeper_mass", "kb", "eta_ballast"))
+
+
+def ballasted_track(**overrides) -> Track:
+    """The paper's ballasted track (Table 5): rail as in Table 2, pad, half sleeper, ballast.
+
+    Keyword overrides: the rail fields, ``kv, kphi, eta_pad, spacing, sleeper_mass, kb,
+    eta_ballast, name``.
+    """
+    params = dict(
+        rho=7850.0, E=2.1e11, G=0.81e11, A=7.69e-3, I=30.55e-6, kappa=0.4, eta_rail=0.01,
+        kv=3.5e8, kphi=1.82e6, eta_pad=0.1, spacing=0.6, sleeper_mass=150.0, kb=100e6,
+        eta_ballast=0.3, name="ballasted",
+    )
+    return _build(params, overrides, ())
+
+
+def _build(params: dict, overrides: dict, forbidden: tuple[str, ...]) -> Track:
+    known = {f.name for f in dataclasses.fields(Track)} - set(forbidden)
+    unknown = sorted(set(overrides) - known)
+    if unknown:
+        raise TypeError(f"unknown track parameter(s) {unknown}; allowed: {sorted(known)}")
+    params.update(overrides)
+    return Track(**params)
+
+
+@dataclass(frozen=True)
+class PeriodicCell:
+    """One period of an infinitely long periodic track (paper Sec. 2.1).
+
+    Parameters
+    ----------
+    track : Track
+        Rail properties and the support model.
+    period : float
+        Period L (m).
+    positions : tuple of float
+        Support positions x_s within the period, 0 <= x_s < L (m).
+    foundation : callable, optional
+        ``foundation(f) -> (n_f, S, S)`` complex array: the vertical receptance matrix G_rs of the
+        foundation under the S pads (m/N), the paper's Eq. (3). By default each support has its
+        own foundation, ``G_rs = delta_rs * track.foundation_receptance(f)``; a coupled slab can be
+        given here (the wavenumber method accepts it, the transfer method needs it diagonal).
+    """
+
+    track: Track
+    period: float
+    positions: tuple[float, ...]
+    foundation: Callable[[np.ndarray], np.ndarray] | None = field(default=None, compare=False)
+
+    def __post_init__(self):
+        check_positive("period", self.period)
+        pos = tuple(float(x) for x in self.positions)
+        if len(pos) == 0:
+            raise ValueError("positions must hold at least one support position, got none")
+        for x in pos:
+            if not (0.0 <= x < self.period):
+                raise ValueError(f"support positions must satisfy 0 <= x_s < period={self.period}, got {x}")
+        if list(pos) != sorted(pos) or len(set(pos)) != len(pos):
+            raise ValueError(f"support positions must be distinct and increasing, got {pos}")
+        object.__setattr__(self, "positions", pos)
+
+    @classmethod
+    def uniform(cls, track: Track, supports_per_period: int = 1) -> "PeriodicCell":
+        """``S`` identical, equally spaced supports per period (period = S x spacing)."""
+        s = check_int_at_least("supports_per_period", supports_per_period, 1)
+        return cls(track, s * track.spacing, tuple(track.spacing * np.arange(s)))
+
+    @property
+    def n_supports(self) -> int:
+        """S, the number of supports in one period."""
+        return len(self.positions)
+
+    @property
+    def mid_span(self) -> float:
+        """Position of the first mid-span, between the first support and the next (m)."""
+        nxt = self.positions[1] if self.n_supports > 1 else self.period
+        return 0.5 * (self.positions[0] + nxt)
+
+    def foundation_matrix(self, f) -> np.ndarray:
+        """G_rs(f), shape ``(n_f, S, S)`` (m/N)."""
+        f = np.atleast_1d(as_frequencies(f))
+        if self.foundation is not None:
+            g = np.asarray(self.foundation(f), dtype=complex)
+            expected = (f.size, self.n_supports, self.n_supports)
+            if g.shape != expected:
+                raise ValueError(f"foundation(f) must return shape {expected}, got {g.shape}")
+            return g
+        g = self.track.foundation_receptance(f)
+        return g[:, None, None] * np.eye(self.n_supports)
+
+    def has_uncoupled_supports(self, f) -> bool:
+        """True when no foundation receptance couples two different supports."""
+        g = self.foundation_matrix(f)
+        off = g * (1 - np.eye(self.n_supports))
+        return bool(np.all(off == 0))
+
+    def support_stiffness_matrix(self, f) -> np.ndarray:
+        """Dynamic stiffness of all supports of the period, shape ``(n_f, 2S, 2S)``.
+
+        The DOFs are ordered (w_1, psi_1, w_2, psi_2, ...). This is the inverse of the paper's
+        H_rs(omega) (Eq. 3), written as a stiffness so that ``kphi = 0`` stays finite.
+        """
+        f = np.atleast_1d(as_frequencies(f))
+        s = self.n_supports
+        kv, kphi = self.track.pad_stiffness()
+        hv = self.foundation_matrix(f) + np.eye(s) / kv  # vertical receptance of the supports
+        kvv = np.linalg.inv(hv)
+        out = np.zeros((f.size, 2 * s, 2 * s), dtype=complex)
+        out[:, 0::2, 0::2] = kvv
+        out[:, 1::2, 1::2] = kphi * np.eye(s)
+        return out

@@ -1,0 +1,180 @@
+"""The paper's method (Sec. 2.4 and 4.1): responses of the infinite periodic track by Eq. (12).
+
+The rail displacement q = (w, psi) at a distance x' from a harmonic load p0 at x0 is
+
+    q(x') = (1/2pi) int D(beta)^-1 e^{i beta x'} dbeta p0
+            - sum_j (1/(2pi L)) e^{-i 2pi j (x'+x0)/L}
+                    int D(beta_j)^-1 C(beta_j) A(beta)^-1 B(beta) D(beta)^-1 e^{i beta x'} dbeta p0
+
+with beta_j = beta - 2 pi j / L, C, B of Eq. (7)-(8) and A(beta) of Eq. (10). As in the paper the
+integrals are Riemann sums over beta in [-beta_max, beta_max) with step dbeta and the sum over j
+is truncated at |j| <= j_max. The support receptance H_rs of Eq. (3) enters A as
+``A^-1 = K (I + R K)^-1`` with K = H^-1 the support stiffness, which stays finite for kphi = 0.
+
+The central responses of Eq. (14)-(16) need dpsi_1/dx and dw_2/dx at the load. The paper fits the
+odd fields by a x + b x^3 through the samples at dx and 2 dx, giving the slope (8 y1 - y2)/(6 dx).
+The fields have a kink in their slope at the load (Table 1), so this estimate is only first-order
+accurate in dx; together with the truncated beta range this is what limits the accuracy of the
+paper's numbers (see :mod:`semitrack.transfer` for the exact method).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._validation import check_int_at_least, check_positive
+from .timoshenko import operator_inverse
+from .tracks import PeriodicCell
+
+#: The paper's settings (Sec. 4.1): beta_max = 5000 x 0.0025 x 2 pi rad/m, dbeta = 2 pi x 0.0025 rad/m.
+PAPER_BETA_MAX = 5000 * 0.0025 * 2 * np.pi
+PAPER_DBETA = 2 * np.pi * 0.0025
+PAPER_J_MAX = 20
+PAPER_DX = 0.04
+
+
+@dataclass(frozen=True)
+class WavenumberSettings:
+    """Discretisation of Eq. (12); the defaults are the paper's (Sec. 4.1).
+
+    Parameters
+    ----------
+    beta_max : float
+        Half-width of the wavenumber range (rad/m); the grid is [-beta_max, beta_max).
+    dbeta : float
+        Wavenumber step (rad/m). Responses repeat with period 2 pi / dbeta in x.
+    j_max : int
+        The sum over j runs from -j_max to j_max.
+    dx : float
+        Step of the finite-difference slope (8 y1 - y2) / (6 dx) (m).
+    """
+
+    beta_max: float = PAPER_BETA_MAX
+    dbeta: float = PAPER_DBETA
+    j_max: int = PAPER_J_MAX
+    dx: float = PAPER_DX
+
+    def __post_init__(self):
+        check_positive("beta_max", self.beta_max)
+        check_positive("dbeta", self.dbeta)
+        check_int_at_least("j_max", self.j_max, 0)
+        check_positive("dx", self.dx)
+        if self.dbeta >= self.beta_max:
+            raise ValueError(f"dbeta must be smaller than beta_max, got dbeta={self.dbeta}, beta_max={self.beta_max}")
+
+    @property
+    def beta(self) -> np.ndarray:
+        """The wavenumber grid (rad/m)."""
+        n_half = int(round(self.beta_max / self.dbeta))
+        return self.dbeta * np.arange(-n_half, n_half)
+
+
+def displacement_fields(cell: PeriodicCell, omega, x_rel, settings: WavenumberSettings | None = None,
+                        x0: float | None = None, chunk_bytes: float = 192e6) -> np.ndarray:
+    """Rail displacement of the infinite track due to a unit force and a unit moment, Eq. (12).
+
+    Parameters
+    ----------
+    cell : PeriodicCell
+        One period of the track.
+    omega : array_like
+        Circular frequencies (rad/s), shape ``(n,)``.
+    x_rel : array_like
+        Observation points x' = x - x0 relative to the load (m), shape ``(p,)``.
+    settings : WavenumberSettings, optional
+        Discretisation; the paper's by default.
+    x0 : float, optional
+        Load position (m); the first mid-span by default.
+    chunk_bytes : float
+        Rough memory budget of one frequency chunk (bytes).
+
+    Returns
+    -------
+    ndarray, shape (n, p, 2, 2)
+        ``q[..., i, k]``: response i (0: w in m, 1: psi in rad) to load k (0: unit force in N,
+        1: unit moment in N m).
+    """
+    settings = settings or WavenumberSettings()
+    omega = np.atleast_1d(np.asarray(omega, dtype=float))
+    x_rel = np.atleast_1d(np.asarray(x_rel, dtype=float))
+    x0 = cell.mid_span if x0 is None else float(x0)
+    grid = _Grid(cell, settings, x_rel, x0)
+    # Three (J, N) component arrays of D(beta_j)^-1 per frequency, plus their temporaries.
+    per_freq = 16 * grid.beta_j.size * 8
+    step = max(1, int(chunk_bytes // per_freq))
+    out = np.empty((omega.size, x_rel.size, 2, 2), dtype=complex)
+    for start in range(0, omega.size, step):
+        sl = slice(start, start + step)
+        out[sl] = grid.fields(omega[sl])
+    return out
+
+
+class _Grid:
+    """Frequency-independent parts of Eq. (12): wavenumber grid and the phase factors.
+
+    Every phase in Eq. (10) and (12) has the form exp(i beta_j y) = exp(i beta y) exp(-i 2 pi j y / L),
+    so each sum over j is a matrix product of a (rows, J) coefficient matrix with D(beta_j)^-1
+    laid out as (J, N): one BLAS call per frequency instead of a loop over j.
+    """
+
+    def __init__(self, cell, settings, x_rel, x0):
+        self.cell, self.x_rel, self.dbeta = cell, x_rel, settings.dbeta
+        self.beta = settings.beta
+        period = cell.period
+        pos = np.asarray(cell.positions)
+        self.pos = pos
+        j = np.arange(-settings.j_max, settings.j_max + 1)
+        self.j0 = settings.j_max
+        self.beta_j = self.beta[None, :] - 2 * np.pi * j[:, None] / period  # (J, N)
+        # Rows for R_rs (Eq. 10): separation y = x_r - x_s, weight 1/L.
+        sep = (pos[:, None] - pos[None, :]).ravel()  # (S*S,)
+        # Rows for the periodic term at point p from support s: y = x'_p - x_s, an extra
+        # e^{-i 2 pi j x0/L}, and the 1/L of Eq. (12).
+        obs = (x_rel[:, None] - pos[None, :]).ravel()  # (P*S,)
+        coef_r = np.exp(-2j * np.pi * np.outer(sep, j) / period) / period
+        coef_p = np.exp(-2j * np.pi * np.outer(obs + x0, j) / period) / period
+        self.coef = np.concatenate([coef_r, coef_p])  # (S*S + P*S, J)
+        self.n_r = sep.size
+        self.phase_r = np.exp(1j * np.outer(sep, self.beta))  # (S*S, N)
+        self.phase_p = np.exp(1j * np.outer(obs, self.beta))  # (P*S, N)
+        self.phase_direct = np.exp(1j * np.outer(x_rel, self.beta))  # (P, N)
+        self.phase_b = np.exp(1j * np.outer(self.beta, pos))  # (N, S): B(beta) of Eq. (8)
+
+    def fields(self, omega):
+        cell, n_s = self.cell, self.pos.size
+        n_w, n_beta, n_p = omega.size, self.beta.size, self.x_rel.size
+        d11, d12, d21, d22 = operator_inverse(cell.track, omega[:, None, None], self.beta_j[None])
+        comps = (d11, d12, d21, d22)
+        d0 = np.stack([c[:, self.j0] for c in comps], -1).reshape(n_w, n_beta, 2, 2)  # D(beta)^-1
+        # Sums over j for every row of self.coef, per component: (w, rows, N, 2, 2).
+        summed = np.stack([self.coef @ c for c in comps], -1).reshape(n_w, -1, n_beta, 2, 2)
+        r_sum = summed[:, : self.n_r] * self.phase_r[None, :, :, None, None]
+        p_sum = summed[:, self.n_r :] * self.phase_p[None, :, :, None, None]
+
+        # R(beta) as (w, N, 2S, 2S) with DOFs (w_1, psi_1, w_2, ...).
+        r_mat = r_sum.reshape(n_w, n_s, n_s, n_beta, 2, 2).transpose(0, 3, 1, 4, 2, 5)
+        r_mat = r_mat.reshape(n_w, n_beta, 2 * n_s, 2 * n_s)
+        # A(beta)^-1 = K (I + R K)^-1 with K the support stiffness (inverse of H of Eq. 3).
+        k_sup = cell.support_stiffness_matrix(omega / (2 * np.pi))[:, None]
+        a_inv = k_sup @ np.linalg.inv(np.eye(2 * n_s) + r_mat @ k_sup)
+        # G(beta) = A^-1 B D^-1 for both unit loads (p0 = identity).
+        bd = (self.phase_b[None, :, :, None, None] * d0[:, :, None]).reshape(n_w, n_beta, 2 * n_s, 2)
+        g = (a_inv @ bd).reshape(n_w, n_beta, n_s, 2, 2)
+
+        p_sum = p_sum.reshape(n_w, n_p, n_s, n_beta, 2, 2)
+        periodic = np.einsum("wpsnab,wnsbk->wpak", p_sum, g, optimize=True)
+        direct = np.einsum("pn,wnab->wpab", self.phase_direct, d0, optimize=True)
+        return (self.dbeta / (2 * np.pi)) * (direct - periodic)
+
+
+def central_fields(cell: PeriodicCell, omega, settings: WavenumberSettings | None = None):
+    """Fields at x' = 0, dx, 2 dx needed by Eq. (14)-(16); shape ``(n, 3, 2, 2)``."""
+    settings = settings or WavenumberSettings()
+    return displacement_fields(cell, omega, [0.0, settings.dx, 2 * settings.dx], settings)
+
+
+def odd_slope(y1, y2, dx):
+    """Slope at 0 of an odd function sampled at dx and 2 dx: fit a x + b x^3, return a."""
+    return (8 * y1 - y2) / (6 * dx)
