@@ -1,0 +1,55 @@
+"""Characteristic frequencies: detection, refinement, and the paper's Tables 3 and 6."""
+
+import numpy as np
+import pytest
+
+import semitrack as st
+from semitrack.features import grid_extrema, parabolic_refine, refine_extremum
+
+
+def test_grid_extrema_and_parabola():
+    f = np.linspace(0.0, 10.0, 101)
+    y = np.exp(-((f - 3.33) ** 2)) + 0.5 * np.exp(-((f - 7.0) ** 2) / 0.5)
+    peaks, dips = grid_extrema(y)
+    assert len(peaks) == 2 and len(dips) == 1
+    # log|y| of a Gaussian is an exact parabola: the vertex is recovered to rounding.
+    assert parabolic_refine(f, y, peaks[0]) == pytest.approx(3.33, abs=1e-9)
+
+
+def test_brent_refinement_of_a_resonance():
+    f0, zeta = 183.7, 0.05
+    h = lambda f: 1.0 / (f0**2 - f**2 + 2j * zeta * f0 * f)  # noqa: E731
+    exact_peak = f0 * np.sqrt(1 - 2 * zeta**2)
+    assert refine_extremum(h, 177.0, 189.0, "peak") == pytest.approx(exact_peak, abs=2e-3)
+    with pytest.raises(ValueError, match="kind"):
+        refine_extremum(h, 1.0, 2.0, "max")
+
+
+@pytest.mark.parametrize("maker,bouncing,pinned", [
+    (st.slab_track, 183.0, 940.0),       # Table 3
+    (st.ballasted_track, 117.0, 1077.0),  # Table 6
+])
+def test_bouncing_and_pinned_pinned_within_2_percent(maker, bouncing, pinned):
+    ex = st.characteristic_frequencies(maker())
+    peaks = ex[(ex.quantity == "w1") & (ex.kind == "peak")]["f"].to_numpy()
+    for f_paper in (bouncing, pinned):
+        nearest = peaks[np.argmin(np.abs(peaks - f_paper))]
+        # The paper's values sit on a 6 Hz grid (+-3 Hz); 2 % is the issue's tolerance.
+        assert abs(nearest - f_paper) / f_paper < 0.02, (f_paper, nearest)
+
+
+def test_refined_frequencies_do_not_depend_on_grid():
+    t = st.slab_track()
+    a = st.characteristic_frequencies(t, band=(3.0, 1200.0), df=6.0)
+    b = st.characteristic_frequencies(t, band=(3.0, 1200.0), df=4.0)
+    fa = a[(a.quantity == "w1")]["f"].to_numpy()
+    fb = b[(b.quantity == "w1")]["f"].to_numpy()
+    np.testing.assert_allclose(fa, fb, atol=0.01)
+
+
+def test_paper_table_lists_every_entry(track):
+    table = st.paper_frequency_table(track, with_wavenumber=False)
+    assert len(table) == (19 if not track.is_ballasted else 21)
+    assert table["exact (Hz)"].notna().all(), table[table["exact (Hz)"].isna()]
+    # Every stated feature is found within 6 % (the largest, alpha22's anti-resonance dip, 5.3 %).
+    assert table["exact dev. (%)"].abs().max() < 6.0

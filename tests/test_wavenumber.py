@@ -1,0 +1,73 @@
+"""The paper's wavenumber method: agreement with and convergence to the exact method."""
+
+import numpy as np
+import pytest
+
+import semitrack as st
+from semitrack.wavenumber import PAPER_BETA_MAX, WavenumberSettings, displacement_fields
+
+CHECK_F = np.array([3.0, 183.0, 945.0])  # the frequencies named in the issue
+# Refined setting: ten times the paper's wavenumber range, one twentieth of its dx.
+REFINED = dict(beta_max=10 * PAPER_BETA_MAX, dx=0.002)
+
+
+def _max_rel_error(alpha, ref):
+    return (np.abs(alpha - ref) / np.abs(ref)).reshape(len(ref), 4).max(axis=1)
+
+
+def test_paper_settings_are_the_default():
+    s = WavenumberSettings()
+    assert s.beta_max == pytest.approx(78.54, abs=0.01) and s.dbeta == pytest.approx(2 * np.pi * 0.0025)
+    assert s.j_max == 20 and s.dx == 0.04
+    assert s.beta.size == 10000 and np.pi / s.beta_max == pytest.approx(0.04)  # FFT x-step of the paper
+
+
+def test_wavenumber_converges_to_exact(track):
+    exact = st.semi_infinite_receptance(track, CHECK_F)
+    err_paper = _max_rel_error(st.semi_infinite_receptance(track, CHECK_F, method="wavenumber"), exact)
+    err_refined = _max_rel_error(st.semi_infinite_receptance(track, CHECK_F, method="wavenumber", **REFINED), exact)
+    # The issue asks for a 10x reduction at each frequency; measured 15x-300x.
+    ratio = err_paper / err_refined
+    assert np.all(ratio >= 10), f"paper error {err_paper}, refined {err_refined}"
+    # The paper's settings are not exact: their error is reported (book, benchmark), here only
+    # bounded so that a gross regression (a wrong sign, a lost factor) fails. Measured 5-68 %.
+    assert np.all(err_paper < 1.0) and np.all(err_refined < 0.02)
+
+
+def test_central_displacement_converges_fast(track):
+    """w1 is a value, not a slope: at the paper's settings it is already within 2 %."""
+    exact = st.central_response(track, CHECK_F)
+    wn = st.central_response(track, CHECK_F, method="wavenumber")
+    np.testing.assert_allclose(wn.w1, exact.w1, rtol=0.02)
+
+
+def test_two_supports_per_period_equal_one(track):
+    """Period 2d with two supports (S = 2): the same sum over beta_j when j_max doubles."""
+    a1 = st.semi_infinite_receptance(track, CHECK_F, method="wavenumber")
+    a2 = st.semi_infinite_receptance(track.cell(2), CHECK_F, method="wavenumber", j_max=40)
+    np.testing.assert_allclose(a2, a1, rtol=1e-6)  # measured 5e-8
+
+
+def test_field_symmetries_table1(track):
+    """Force: w1 even, psi1 odd; moment: w2 odd, psi2 even about the load (paper Table 1)."""
+    cell = track.cell()
+    x = np.array([-0.3, -0.1, 0.0, 0.1, 0.3])
+    q = displacement_fields(cell, 2 * np.pi * np.array([100.0, 800.0]), x)
+    # The grid [-beta_max, beta_max) has one more negative than positive wavenumber, which breaks
+    # the symmetry at the 1e-6 level (measured 4e-6 at most); 2e-5 of the field's peak.
+    for (i, k), parity in {(0, 0): 1, (1, 0): -1, (0, 1): -1, (1, 1): 1}.items():
+        field = q[:, :, i, k]
+        tol = 2e-5 * np.abs(field).max()
+        np.testing.assert_allclose(field[:, ::-1], parity * field, atol=tol)
+    # psi1 and w2 vanish at the load: the odd fields the slopes of Eq. (15)-(16) are taken from.
+    assert np.abs(q[:, 2, 1, 0]).max() < 2e-5 * np.abs(q[:, :, 1, 0]).max()
+    assert np.abs(q[:, 2, 0, 1]).max() < 2e-5 * np.abs(q[:, :, 0, 1]).max()
+
+
+@pytest.mark.parametrize("kw,err", [
+    (dict(beta_max=-1.0), ValueError), (dict(dx=0.0), ValueError), (dict(j_max=-1), ValueError),
+    (dict(j_max=2.5), TypeError), (dict(beta_max=1.0, dbeta=2.0), ValueError),
+])
+def test_bad_settings(kw, err):
+    with pytest.raises(err):
+        st.semi_infinite_receptance(st.slab_track(), 100.0, method="wavenumber", **kw)
