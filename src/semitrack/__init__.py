@@ -5,9 +5,14 @@ semi-infinite periodic railway track and an equivalent multi-rigid body system f
 truncated track models". SI units; frequencies in Hz at the API.
 """
 
+from .constraints import ballasted_from_free, cell_frequencies, slab_from_free, unit_cell_frequencies
 from .continuous import continuous_foundation_receptance
+from .equivalent import BallastedEquivalent, EquivalentSystem, SlabEquivalent
+from .io import export_system, load_system_csv, load_system_json, load_system_mat
+from .metrics import ErrorSummary, error_band_grid, error_summary, receptance_errors
 from .features import QUANTITIES, characteristic_frequencies, find_extrema, response_curves
 from .paper import paper_frequency_table
+from .paper_systems import paper_consistency_report, paper_table4, paper_table7
 from .receptance import CentralResponse, central_response, point_receptance, semi_infinite_receptance
 from .tracks import PeriodicCell, Track, ballasted_track, slab_track
 from .wavenumber import WavenumberSettings
@@ -15,8 +20,12 @@ from .wavenumber import WavenumberSettings
 __version__ = "0.1.0"
 
 __all__ = [
-    "CentralResponse", "PeriodicCell", "QUANTITIES", "Track", "WavenumberSettings",
-    "ballasted_track", "central_response", "characteristic_frequencies",
-    "continuous_foundation_receptance", "find_extrema", "paper_frequency_table",
-    "point_receptance", "response_curves", "semi_infinite_receptance", "slab_track",
+    "BallastedEquivalent", "CentralResponse", "EquivalentSystem", "ErrorSummary", "PeriodicCell",
+    "QUANTITIES", "SlabEquivalent", "Track", "WavenumberSettings",
+    "ballasted_from_free", "ballasted_track", "cell_frequencies", "central_response",
+    "characteristic_frequencies", "continuous_foundation_receptance", "error_band_grid",
+    "error_summary", "export_system", "find_extrema", "load_system_csv", "load_system_json",
+    "load_system_mat", "paper_consistency_report", "paper_frequency_table", "paper_table4",
+    "paper_table7", "point_receptance", "receptance_errors", "response_curves",
+    "semi_infinite_receptance", "slab_from_free", "slab_track", "unit_cell_frequencies",
 ]

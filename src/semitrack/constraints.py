@@ -1,0 +1,195 @@
+"""Constraint relations that tie the equivalent systems to the track's characteristic frequencies.
+
+Slab layout (paper Sec. 4.4): each bar on its two end springs has its bouncing and pitching
+frequencies both equal to ``f_n`` when (Eq. 19, 20)::
+
+    k_j = m_j omega_n^2 / 2,        J_j = m_j L_j^2 / 4.
+
+Ballasted layout (paper Sec. 5.2): the support mass on its upper and lower springs (upper end
+held) resonates at the anti-resonance ``f_anti`` (Eq. 23), and each unit cell (paper Fig. 13)
+has its two symmetric and two antisymmetric frequencies pairwise equal to ``f_n1`` and ``f_n2``
+(Eq. 28-30)::
+
+    mu_j = (k_j + s_j) / omega_anti^2,
+    J_j  = m_j L_j^2 / 4,
+    k_j  = m_j (omega_n1^2 + omega_n2^2 - omega_anti^2) / 2,
+    s_j  = omega_n1^2 omega_n2^2 k_j / ((omega_n1^2 + omega_n2^2 - omega_anti^2) omega_anti^2
+                                        - omega_n1^2 omega_n2^2).
+
+The denominator of Eq. (30) equals ``(omega_anti^2 - omega_n1^2)(omega_n2^2 - omega_anti^2)``,
+so a positive ``s_j`` needs ``f_n1 < f_anti < f_n2``. Frequencies are in Hz at this API.
+
+:func:`unit_cell_frequencies` computes the natural frequencies of one cell by an eigenvalue
+solution with its own set of coordinates (centre displacement and rotation of the bar), so that
+the relations above can be checked numerically.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg
+
+from ._validation import check_positive
+from .equivalent import BallastedEquivalent, EquivalentSystem, SlabEquivalent, _param_array
+
+__all__ = [
+    "slab_constraints",
+    "ballasted_constraints",
+    "slab_from_free",
+    "ballasted_from_free",
+    "unit_cell_frequencies",
+    "cell_frequencies",
+    "support_mass_frequency",
+]
+
+_TWO_PI = 2 * np.pi
+
+
+def slab_constraints(m, L, f_n: float) -> dict[str, np.ndarray]:
+    """Spring stiffness and inertia of the slab layout from Eq. (19) and (20).
+
+    Parameters
+    ----------
+    m, L : array_like, shape (N,)
+        Bar masses (kg) and lengths (m).
+    f_n : float
+        The repeated natural frequency of every bar on its end springs (Hz).
+
+    Returns
+    -------
+    dict
+        ``{"k": k (N/m), "J": J (kg m^2)}``.
+    """
+    m = _param_array("m", m)
+    L = _param_array("L", L, positive=True)
+    _same_length(m=m, L=L)
+    w2 = (_TWO_PI * check_positive("f_n", f_n)) ** 2
+    return {"k": 0.5 * m * w2, "J": 0.25 * m * L**2}
+
+
+def ballasted_constraints(m, L, f_n1: float, f_n2: float, f_anti: float) -> dict[str, np.ndarray]:
+    """Stiffnesses, inertia and support masses of the ballasted layout, Eq. (23), (28)-(30).
+
+    Parameters
+    ----------
+    m, L : array_like, shape (N,)
+        Bar masses (kg) and lengths (m).
+    f_n1, f_n2 : float
+        The two repeated natural frequencies of each unit cell (Hz).
+    f_anti : float
+        Natural frequency of a support mass on its upper and lower springs (Hz); must lie
+        strictly between ``f_n1`` and ``f_n2`` for ``s`` to be positive.
+
+    Returns
+    -------
+    dict
+        ``{"k": (N/m), "J": (kg m^2), "s": (N/m), "mu": (kg)}``.
+    """
+    m = _param_array("m", m)
+    L = _param_array("L", L, positive=True)
+    _same_length(m=m, L=L)
+    w1 = (_TWO_PI * check_positive("f_n1", f_n1)) ** 2
+    w2 = (_TWO_PI * check_positive("f_n2", f_n2)) ** 2
+    wa = (_TWO_PI * check_positive("f_anti", f_anti)) ** 2
+    if not (f_n1 < f_anti < f_n2):
+        raise ValueError(
+            f"f_anti must lie strictly between f_n1 and f_n2 (Eq. 30 gives s > 0 only then), "
+            f"got f_n1={f_n1!r}, f_anti={f_anti!r}, f_n2={f_n2!r} Hz"
+        )
+    a = w1 + w2 - wa  # > 0 because f_n2 > f_anti
+    k = 0.5 * m * a  # Eq. (29)
+    s = w1 * w2 * k / (a * wa - w1 * w2)  # Eq. (30)
+    mu = (k + s) / wa  # Eq. (23)
+    return {"k": k, "J": 0.25 * m * L**2, "s": s, "mu": mu}  # J: Eq. (28)
+
+
+def slab_from_free(m, L, c_l, c_r, k_phi, c_phi, f_n: float) -> SlabEquivalent:
+    """A :class:`SlabEquivalent` whose ``k`` and ``J`` follow Eq. (19)-(20) at ``f_n`` (Hz).
+
+    The free parameters are the 6N - 2 of the paper's fit: ``m, L, c_l, c_r`` (length N, in kg,
+    m, N s/m, N s/m) and ``k_phi, c_phi`` (length N - 1, N m/rad and N m s/rad).
+    """
+    derived = slab_constraints(m, L, f_n)
+    return SlabEquivalent(m=m, J=derived["J"], L=L, k=derived["k"], c_l=c_l, c_r=c_r,
+                          k_phi=k_phi, c_phi=c_phi)
+
+
+def ballasted_from_free(m, L, c_l, c_r, k_phi, c_phi, d_l, d_r,
+                        f_n1: float, f_n2: float, f_anti: float) -> BallastedEquivalent:
+    """A :class:`BallastedEquivalent` whose ``k, J, s, mu`` follow Eq. (23), (28)-(30).
+
+    The free parameters are the 8N - 2 of the paper's fit: ``m, L, c_l, c_r, d_l, d_r``
+    (length N) and ``k_phi, c_phi`` (length N - 1); frequencies in Hz.
+    """
+    derived = ballasted_constraints(m, L, f_n1, f_n2, f_anti)
+    return BallastedEquivalent(m=m, J=derived["J"], L=L, k=derived["k"], c_l=c_l, c_r=c_r,
+                               k_phi=k_phi, c_phi=c_phi, mu=derived["mu"], s=derived["s"],
+                               d_l=d_l, d_r=d_r)
+
+
+def support_mass_frequency(k, s, mu) -> np.ndarray:
+    """Natural frequency ``sqrt((k + s) / mu) / (2 pi)`` (Hz) of a support mass ``mu`` (kg)
+    between an upper spring ``k`` and a lower spring ``s`` (N/m) with the upper end held;
+    Eq. (23) sets it to ``f_anti``."""
+    k = _param_array("k", k)
+    s = _param_array("s", s)
+    mu = _param_array("mu", mu, positive=True)
+    return np.sqrt((k + s) / mu) / _TWO_PI
+
+
+def unit_cell_frequencies(m: float, J: float, L: float, k: float,
+                          mu: float | None = None, s: float | None = None) -> np.ndarray:
+    """Undamped natural frequencies (Hz, ascending) of one unit cell (paper Fig. 13).
+
+    The cell is one rigid bar (mass ``m`` kg, inertia ``J`` kg m^2 about its centre, length
+    ``L`` m) with a spring ``k`` (N/m) under each end. Without ``mu``/``s`` the springs go to
+    the ground (slab layout, 2 frequencies). With them, each spring rests on a support mass
+    ``mu`` (kg) on a lower spring ``s`` (N/m) (ballasted layout, 4 frequencies).
+
+    Coordinates are the centre displacement and rotation of the bar (and the two support
+    masses), not the end coordinates of Eq. (21)/(31). ``m``, ``J`` (and ``mu``) must be
+    positive so that the mass matrix is positive definite.
+    """
+    m = check_positive("m", m)
+    J = check_positive("J", J)
+    L = check_positive("L", L)
+    k = check_positive("k", k)
+    h = 0.5 * L
+    if (mu is None) != (s is None):
+        raise ValueError(f"mu and s go together (ballasted cell) or are both omitted, got mu={mu!r}, s={s!r}")
+    if mu is None:
+        M = np.diag([m, J])
+        ends = np.array([[1.0, -h], [1.0, h]])  # left and right end displacements
+        K = k * ends.T @ ends
+    else:
+        mu = check_positive("mu", mu)
+        s = check_positive("s", s)
+        M = np.diag([m, J, mu, mu])
+        upper = np.array([[1.0, -h, -1.0, 0.0], [1.0, h, 0.0, -1.0]])  # end minus support mass
+        lower = np.array([[0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
+        K = k * upper.T @ upper + s * lower.T @ lower
+    lam = scipy.linalg.eigh(K, M, eigvals_only=True)
+    return np.sqrt(np.clip(lam, 0.0, None)) / _TWO_PI
+
+
+def cell_frequencies(system: EquivalentSystem) -> np.ndarray:
+    """Natural frequencies (Hz) of every unit cell of ``system``, shape ``(N, 2)`` for the slab
+    layout and ``(N, 4)`` for the ballasted one; rows of bars whose cell is degenerate (a zero
+    mass, inertia, spring or support mass, such as the massless bars of Table 4) are NaN."""
+    if not isinstance(system, EquivalentSystem):
+        raise TypeError(f"system must be an EquivalentSystem, got {type(system).__name__}")
+    ballasted = isinstance(system, BallastedEquivalent)
+    out = np.full((system.n_bars, 4 if ballasted else 2), np.nan)
+    for j in range(system.n_bars):
+        args = [system.m[j], system.J[j], system.L[j], system.k[j]]
+        if ballasted:
+            args += [system.mu[j], system.s[j]]
+        if min(args) > 0:
+            out[j] = unit_cell_frequencies(*args)
+    return out
+
+
+def _same_length(**arrays: np.ndarray) -> None:
+    sizes = {name: a.size for name, a in arrays.items()}
+    if len(set(sizes.values())) > 1:
+        raise ValueError(f"per-bar parameters must have the same length, got lengths {sizes}")

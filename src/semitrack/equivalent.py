@@ -1,0 +1,530 @@
+"""Multi-rigid-body systems equivalent to a semi-infinite track (paper Sec. 4.4, 5.2, App. A, B).
+
+Two layouts, both a train of ``N`` rigid bars hinged together, bar ``j`` having mass ``m_j``,
+moment of inertia ``J_j`` about its centre of mass (taken at mid-length) and length ``L_j``;
+neighbouring bars ``j`` and ``j+1`` are joined by a rotational spring ``k_phi_j`` and damper
+``c_phi_j``:
+
+* :class:`SlabEquivalent` (paper Fig. 7): each bar end rests on a vertical spring ``k_j`` to the
+  ground, with dampers ``c_l_j`` (left end) and ``c_r_j`` (right end). Degrees of freedom
+  (Eq. 21): ``q = (w1, phi_1, ..., phi_N)``, N + 1 in all.
+* :class:`BallastedEquivalent` (paper Fig. 12): each bar end rests on a spring ``k_j`` (damper
+  ``c_l_j``/``c_r_j``) on a support mass ``mu_j``, which rests on a spring ``s_j`` (damper
+  ``d_l_j``/``d_r_j``) to the ground. Degrees of freedom (Eq. 31):
+  ``q = (w1, phi_1..phi_N, w_l1..w_lN, w_r1..w_rN)``, 3N + 1 in all.
+
+``w1`` is the downward displacement of the left end of bar 1, ``phi_j`` the clockwise rotation
+of bar ``j``; the harmonic time factor is ``exp(i omega t)``. The receptance at the left end of
+bar 1 is ordered ``[[w/Q, w/M], [phi_1/Q, phi_1/M]]`` like the track receptance of the paper.
+
+The matrices follow Appendix A (Eq. A.16, A.18, A.24) and Appendix B (Eq. B.15, B.20, B.26),
+written here as sums of ``P^T diag(v) P`` terms, one per family of springs or dampers, where
+``P`` maps ``q`` to the elongation of each spring of the family.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from ._validation import as_frequencies
+
+__all__ = [
+    "EquivalentSystem",
+    "SlabEquivalent",
+    "BallastedEquivalent",
+    "PassivityReport",
+    "PARAMETER_UNITS",
+]
+
+#: SI unit of every parameter of the two layouts.
+PARAMETER_UNITS: dict[str, str] = {
+    "m": "kg",
+    "J": "kg m^2",
+    "L": "m",
+    "k": "N/m",
+    "c_l": "N s/m",
+    "c_r": "N s/m",
+    "k_phi": "N m/rad",
+    "c_phi": "N m s/rad",
+    "mu": "kg",
+    "s": "N/m",
+    "d_l": "N s/m",
+    "d_r": "N s/m",
+}
+
+# A dynamic stiffness matrix whose condition number, after symmetric diagonal scaling, exceeds
+# this is treated as singular: about 1e4 * machine epsilon of relative accuracy is left at most.
+_COND_LIMIT = 1e12
+
+# Relative asymmetry tolerated in an assembled matrix before it counts as an assembly bug: the
+# P^T diag(v) P products are symmetric up to a few roundings of the largest entry.
+_SYMMETRY_RTOL = 1e-12
+
+
+def _param_array(name: str, value, *, positive: bool = False) -> np.ndarray:
+    """Convert one per-bar parameter to a 1-D float array and check its entries.
+
+    Every entry must be finite and >= 0 (> 0 with ``positive``). Raises TypeError for
+    non-numeric input and ValueError naming the offending entry otherwise.
+    """
+    try:
+        arr = np.atleast_1d(np.asarray(value))
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be an array of real numbers, got {value!r}") from None
+    if arr.size and arr.dtype.kind not in "iuf":  # bool, complex, str and object are refused
+        raise TypeError(f"{name} must be an array of real numbers, got {value!r} (dtype {arr.dtype})")
+    arr = np.array(arr, dtype=float)  # a private copy
+    if arr.ndim != 1:
+        raise ValueError(f"{name} must be one-dimensional (one value per bar), got shape {arr.shape}")
+    rule = "positive and finite" if positive else "non-negative and finite"
+    for i, v in enumerate(arr):
+        ok = np.isfinite(v) and (v > 0 if positive else v >= 0)
+        if not ok:
+            raise ValueError(f"{name}[{i}] must be {rule}, got {float(v)!r}")
+    arr.setflags(write=False)
+    return arr
+
+
+def _quad(P: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``P^T diag(v) P``: the matrix of a family of springs (or dampers) ``v`` stretched by ``P q``."""
+    return P.T @ (v[:, None] * P)
+
+
+def _bar_maps(L: np.ndarray, n_dof: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Maps from ``q`` to the displacements of the bar ends and centres (Eq. A.1-A.12, B.1-B.9).
+
+    Returns ``(A1, A0, A2)``, each ``(N, n_dof)``: row ``j`` gives the downward displacement of
+    the left end, the centre and the right end of bar ``j``. Only the first N + 1 columns
+    (``w1, phi_1..phi_N``) are non-zero.
+    """
+    N = L.size
+    A1 = np.zeros((N, n_dof))
+    A1[:, 0] = 1.0
+    A1[:, 1 : N + 1] = np.tril(np.ones((N, N)), -1) * L  # [j, i] = L_i for bars i left of j
+    A0 = A1.copy()
+    A0[:, 1 : N + 1] += np.diag(0.5 * L)
+    A2 = A1.copy()
+    A2[:, 1 : N + 1] += np.diag(L)
+    return A1, A0, A2
+
+
+def _hinge_map(N: int, n_dof: int) -> np.ndarray:
+    """``(N-1, n_dof)`` map from ``q`` to the relative rotations ``phi_{j+1} - phi_j``.
+
+    ``R^T diag(k_phi) R`` equals the term ``diag(0, K'_phi + K''_phi - K'''_phi)`` of Eq. (A.18).
+    """
+    R = np.zeros((max(N - 1, 0), n_dof))
+    for j in range(N - 1):
+        R[j, 1 + j] = -1.0
+        R[j, 2 + j] = 1.0
+    return R
+
+
+def _symmetrised(name: str, X: np.ndarray) -> np.ndarray:
+    """Check that an assembled matrix is symmetric to rounding, then return it exactly symmetric."""
+    scale = np.max(np.abs(X)) if X.size else 0.0
+    asym = np.max(np.abs(X - X.T)) if X.size else 0.0
+    if asym > _SYMMETRY_RTOL * max(scale, np.finfo(float).tiny):
+        raise RuntimeError(f"assembled {name} matrix is not symmetric: max |{name} - {name}^T| = {asym:.3e}")
+    S = 0.5 * (X + X.T)
+    S.setflags(write=False)
+    return S
+
+
+@dataclass(frozen=True)
+class PassivityReport:
+    """Outcome of :meth:`EquivalentSystem.is_passive`; truthy when the system is passive.
+
+    Attributes
+    ----------
+    passive : bool
+        All checks passed.
+    min_eig_M, min_eig_C, min_eig_K : float
+        Smallest eigenvalue of M, C and K divided by their largest absolute eigenvalue (-).
+    min_eig_mobility : ndarray
+        Per frequency, the smallest eigenvalue of the Hermitian part of the end mobility
+        ``i omega alpha`` divided by the spectral norm of the mobility (-).
+    frequencies : ndarray
+        The frequencies checked (Hz).
+    worst_frequency : float
+        Frequency of the smallest ``min_eig_mobility`` (Hz).
+    tol : float
+        A relative eigenvalue counts as non-negative when it is >= ``-tol``.
+    """
+
+    passive: bool
+    min_eig_M: float
+    min_eig_C: float
+    min_eig_K: float
+    min_eig_mobility: np.ndarray
+    frequencies: np.ndarray
+    worst_frequency: float
+    tol: float
+
+    def __bool__(self) -> bool:
+        return bool(self.passive)
+
+
+def _relative_min_eig(X: np.ndarray) -> float:
+    ev = np.linalg.eigvalsh(X)
+    big = np.max(np.abs(ev))
+    return float(ev[0] / big) if big > 0 else 0.0
+
+
+@dataclass(frozen=True, eq=False)
+class EquivalentSystem:
+    """Common base of the two layouts; not meant to be instantiated itself.
+
+    Parameters
+    ----------
+    m : array_like, shape (N,)
+        Bar masses (kg).
+    J : array_like, shape (N,)
+        Moments of inertia of the bars about their centres (kg m^2).
+    L : array_like, shape (N,)
+        Bar lengths (m); must be positive.
+    k : array_like, shape (N,)
+        Stiffness of the vertical spring at each end of a bar (N/m).
+    c_l, c_r : array_like, shape (N,)
+        Damping coefficients of the left and right end dampers of each bar (N s/m).
+    k_phi : array_like, shape (N-1,)
+        Rotational stiffness between bars j and j+1 (N m/rad).
+    c_phi : array_like, shape (N-1,)
+        Rotational damping between bars j and j+1 (N m s/rad).
+
+    All entries must be finite and >= 0. The arrays are stored read-only.
+    """
+
+    layout: ClassVar[str] = ""
+    _per_bar: ClassVar[tuple[str, ...]] = ("m", "J", "L", "k", "c_l", "c_r")
+    _per_hinge: ClassVar[tuple[str, ...]] = ("k_phi", "c_phi")
+
+    m: np.ndarray
+    J: np.ndarray
+    L: np.ndarray
+    k: np.ndarray
+    c_l: np.ndarray
+    c_r: np.ndarray
+    k_phi: np.ndarray
+    c_phi: np.ndarray
+
+    def __post_init__(self):
+        if type(self) is EquivalentSystem:
+            raise TypeError("EquivalentSystem is abstract: use SlabEquivalent or BallastedEquivalent")
+        for name in self.parameter_names():
+            object.__setattr__(self, name, _param_array(name, getattr(self, name), positive=(name == "L")))
+        N = self.m.size
+        if N < 1:
+            raise ValueError("m must hold at least one bar, got an empty array")
+        for name in self._per_bar:
+            if getattr(self, name).size != N:
+                raise ValueError(
+                    f"{name} must have one value per bar (length N = {N} as m), "
+                    f"got length {getattr(self, name).size}"
+                )
+        for name in self._per_hinge:
+            if getattr(self, name).size != N - 1:
+                raise ValueError(
+                    f"{name} must have one value per hinge (length N - 1 = {N - 1}), "
+                    f"got length {getattr(self, name).size}"
+                )
+
+    # --- bookkeeping ------------------------------------------------------------------------
+    @classmethod
+    def parameter_names(cls) -> tuple[str, ...]:
+        """Names of the parameters in constructor order."""
+        return tuple(f.name for f in dataclasses.fields(cls))
+
+    @property
+    def n_bars(self) -> int:
+        """Number of bars N."""
+        return int(self.m.size)
+
+    @property
+    def n_dof(self) -> int:
+        """Number of degrees of freedom (N + 1 or 3N + 1)."""
+        raise NotImplementedError
+
+    def parameters(self) -> dict[str, np.ndarray]:
+        """The parameters as a dict of name -> writable float array (copies); units in
+        :data:`PARAMETER_UNITS`."""
+        return {name: np.array(getattr(self, name)) for name in self.parameter_names()}
+
+    @classmethod
+    def from_parameters(cls, params: dict) -> "EquivalentSystem":
+        """Build a system from a dict of parameters (as returned by :meth:`parameters`).
+
+        Called on :class:`EquivalentSystem` itself, the layout is taken from a ``"layout"`` key
+        if present, otherwise it is ballasted when ``mu`` is given and slab otherwise.
+        """
+        if not isinstance(params, dict):
+            raise TypeError(f"params must be a dict of parameter arrays, got {type(params).__name__}")
+        params = dict(params)
+        layout = params.pop("layout", None)
+        target = cls
+        if cls is EquivalentSystem:
+            if layout is None:
+                layout = "ballasted" if "mu" in params else "slab"
+            target = _LAYOUTS.get(layout)
+            if target is None:
+                raise ValueError(f"layout must be one of {sorted(_LAYOUTS)}, got {layout!r}")
+        elif layout is not None and layout != cls.layout:
+            raise ValueError(f"layout must be {cls.layout!r} for {cls.__name__}, got {layout!r}")
+        names = target.parameter_names()
+        unknown = sorted(set(params) - set(names))
+        missing = [n for n in names if n not in params]
+        if unknown:
+            raise TypeError(f"unknown parameter(s) for the {target.layout} layout: {unknown}")
+        if missing:
+            raise TypeError(f"missing parameter(s) for the {target.layout} layout: {missing}")
+        return target(**params)
+
+    def replace(self, **changes) -> "EquivalentSystem":
+        """A copy with some parameters changed (validated again)."""
+        return dataclasses.replace(self, **changes)
+
+    def __eq__(self, other):
+        if type(other) is not type(self):
+            return NotImplemented
+        return all(np.array_equal(getattr(self, n), getattr(other, n)) for n in self.parameter_names())
+
+    def __hash__(self):
+        return hash((type(self).__name__,) + tuple(getattr(self, n).tobytes() for n in self.parameter_names()))
+
+    def dof_names(self) -> list[str]:
+        """Names of the degrees of freedom with units, in the order of :meth:`matrices`."""
+        N = self.n_bars
+        return ["w1 (m)"] + [f"phi_{j} (rad)" for j in range(1, N + 1)]
+
+    # --- matrices ----------------------------------------------------------------------------
+    def _assemble(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        raise NotImplementedError
+
+    @functools.cached_property
+    def _mck(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        M, C, K = self._assemble()
+        return _symmetrised("M", M), _symmetrised("C", C), _symmetrised("K", K)
+
+    def matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Mass, damping and stiffness matrices ``(M, C, K)`` (SI units, DOFs of :meth:`dof_names`).
+
+        Rows are generalised forces (N for a displacement DOF, N m for a rotation), columns
+        are accelerations, velocities or displacements of the DOFs. Real, symmetric, copies.
+        """
+        return tuple(np.array(X) for X in self._mck)
+
+    def dynamic_stiffness(self, f) -> np.ndarray:
+        """``K + i omega C - omega^2 M`` at frequencies ``f`` (Hz), shape ``(n_f, n_dof, n_dof)``."""
+        f_arr = self._frequencies(f)
+        return self._dynamic_stiffness(2 * np.pi * f_arr)
+
+    def _dynamic_stiffness(self, omega: np.ndarray) -> np.ndarray:
+        M, C, K = self._mck
+        w = omega[:, None, None]
+        return K[None] + 1j * w * C[None] - w**2 * M[None]
+
+    @staticmethod
+    def _frequencies(f) -> np.ndarray:
+        f_arr = as_frequencies(f)
+        if f_arr.ndim > 1:
+            raise ValueError(f"f must be a scalar or a 1-D array of frequencies (Hz), got shape {f_arr.shape}")
+        return np.atleast_1d(f_arr)
+
+    def _solve(self, f_arr: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+        """Solve ``Z(f) x = rhs`` for every frequency, with symmetric diagonal scaling.
+
+        Raises ValueError when Z is singular or too ill-conditioned at some frequency.
+        """
+        Z = self._dynamic_stiffness(2 * np.pi * f_arr)
+        d = np.abs(np.diagonal(Z, axis1=1, axis2=2))
+        scale = np.where(d > 0, 1.0 / np.sqrt(np.where(d > 0, d, 1.0)), 1.0)
+        Zs = scale[:, :, None] * Z * scale[:, None, :]
+        with np.errstate(all="ignore"):
+            cond = np.linalg.cond(Zs)
+        bad = ~np.isfinite(cond) | (cond > _COND_LIMIT)
+        if np.any(bad):
+            i = int(np.argmax(bad))
+            raise ValueError(
+                f"the dynamic stiffness of this {self.layout} system is singular (condition number "
+                f"{cond[i]:.3g} > {_COND_LIMIT:.0e} after scaling) at f = {f_arr[i]!r} Hz "
+                f"({int(bad.sum())} of {f_arr.size} frequencies); the receptance is undefined there "
+                "(e.g. all-zero parameters, a free rigid-body motion, or an undamped resonance)"
+            )
+        Y = np.linalg.solve(Zs, scale[:, :, None] * rhs[None])
+        return scale[:, :, None] * Y
+
+    # --- end receptance ------------------------------------------------------------------------
+    def receptance(self, f) -> np.ndarray:
+        """Receptance at the left end of bar 1 (Eq. 22).
+
+        Parameters
+        ----------
+        f : float or array_like
+            Frequencies (Hz), positive and finite; scalar or 1-D.
+
+        Returns
+        -------
+        alpha : ndarray of complex, shape (n_f, 2, 2), or (2, 2) for a scalar ``f``
+            ``[[w1/Q (m/N), w1/M (1/N)], [phi_1/Q (rad/N), phi_1/M (rad/(N m))]]``, with Q a
+            downward force and M a clockwise moment at the left end of bar 1.
+        """
+        f_arr = self._frequencies(f)
+        rhs = np.zeros((self.n_dof, 2))
+        rhs[0, 0] = rhs[1, 1] = 1.0
+        alpha = self._solve(f_arr, rhs)[:, :2, :]
+        return alpha[0] if np.ndim(f) == 0 else alpha
+
+    def end_stiffness(self, f) -> np.ndarray:
+        """Dynamic stiffness condensed to ``(w1, phi_1)``: the inverse of :meth:`receptance`.
+
+        Units ``[[N/m, N/rad], [N m/m, N m/rad]]``; shape as :meth:`receptance`.
+        """
+        return np.linalg.inv(self.receptance(f))
+
+    def mirrored_receptance(self, f) -> np.ndarray:
+        """Receptance at the junction of this system and its mirror image (paper Sec. 5.3).
+
+        The second copy is this system turned 180 deg about a vertical axis through the left
+        end of bar 1, so it extends to the left; the two are joined rigidly at that end (shared
+        ``w1`` and ``phi_1``), as the two halves of a complete track meet at the central cross
+        section. Mirroring keeps downward displacements and forces but reverses clockwise
+        rotations and moments, so the end dynamic stiffness of the left copy is
+        ``T K_R T`` with ``T = diag(1, -1)`` and ``K_R`` = :meth:`end_stiffness`. The junction
+        receptance is ``inv(K_R + T K_R T) = diag(1 / (2 K_R[0,0]), 1 / (2 K_R[1,1]))``; its
+        off-diagonal terms vanish by symmetry.
+
+        Returns
+        -------
+        ndarray of complex, shape (n_f, 2, 2) or (2, 2)
+            ``[0, 0]`` (m/N) is the vertical point receptance compared with the complete track
+            in the paper's Fig. 16; ``[1, 1]`` (rad/(N m)) is the rotational one.
+        """
+        K_R = self.end_stiffness(f)
+        T = np.diag([1.0, -1.0])
+        return np.linalg.inv(K_R + T @ K_R @ T)
+
+    # --- passivity -------------------------------------------------------------------------------
+    def is_passive(self, f, tol: float = 1e-9) -> PassivityReport:
+        """Check passivity: M, C, K positive semi-definite and the Hermitian part of the end
+        mobility ``i omega alpha`` positive semi-definite at every frequency ``f`` (Hz).
+
+        Eigenvalues are compared relative to the largest one of each matrix (for the mobility,
+        to its spectral norm); ``tol`` (-) absorbs rounding. Returns a :class:`PassivityReport`,
+        which is truthy when passive.
+        """
+        if not (isinstance(tol, (int, float)) and np.isfinite(tol) and tol >= 0):
+            raise ValueError(f"tol must be non-negative and finite, got {tol!r}")
+        f_arr = self._frequencies(f)
+        M, C, K = self._mck
+        eM, eC, eK = (_relative_min_eig(X) for X in (M, C, K))
+        Y = 1j * (2 * np.pi * f_arr)[:, None, None] * self.receptance(f_arr)
+        H = 0.5 * (Y + np.conj(np.swapaxes(Y, 1, 2)))
+        ev = np.linalg.eigvalsh(H)[:, 0]
+        norm = np.linalg.norm(Y, ord=2, axis=(1, 2))
+        rel = np.where(norm > 0, ev / np.where(norm > 0, norm, 1.0), 0.0)
+        passive = bool(min(eM, eC, eK) >= -tol and np.all(rel >= -tol))
+        return PassivityReport(
+            passive=passive, min_eig_M=eM, min_eig_C=eC, min_eig_K=eK,
+            min_eig_mobility=rel, frequencies=f_arr, worst_frequency=float(f_arr[np.argmin(rel)]),
+            tol=float(tol),
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class SlabEquivalent(EquivalentSystem):
+    """Equivalent system of a semi-infinite slab track (paper Fig. 7, Appendix A).
+
+    Parameters as in :class:`EquivalentSystem`: ``m, J, L, k, c_l, c_r`` (length N) and
+    ``k_phi, c_phi`` (length N - 1). DOFs ``(w1, phi_1, ..., phi_N)`` (Eq. 21).
+    """
+
+    layout: ClassVar[str] = "slab"
+
+    @property
+    def n_dof(self) -> int:
+        return self.n_bars + 1
+
+    def _assemble(self):
+        n = self.n_dof
+        A1, A0, A2 = _bar_maps(self.L, n)
+        R = _hinge_map(self.n_bars, n)
+        M = _quad(A0, self.m)  # Eq. (A.16)
+        M[1:, 1:] += np.diag(self.J)
+        K = _quad(A1, self.k) + _quad(A2, self.k) + _quad(R, self.k_phi)  # Eq. (A.18)
+        C = _quad(A1, self.c_l) + _quad(A2, self.c_r) + _quad(R, self.c_phi)  # Eq. (A.24)
+        return M, C, K
+
+
+@dataclass(frozen=True, eq=False)
+class BallastedEquivalent(EquivalentSystem):
+    """Equivalent system of a semi-infinite ballasted track (paper Fig. 12, Appendix B).
+
+    Parameters
+    ----------
+    m, J, L, k, c_l, c_r, k_phi, c_phi
+        As in :class:`EquivalentSystem`; ``k``, ``c_l``, ``c_r`` are the upper springs and
+        dampers between the bar ends and the support masses.
+    mu : array_like, shape (N,)
+        Support mass under each end of bar j (kg).
+    s : array_like, shape (N,)
+        Lower spring under each support mass (N/m).
+    d_l, d_r : array_like, shape (N,)
+        Lower dampers under the left and right support masses (N s/m).
+
+    DOFs ``(w1, phi_1..phi_N, w_l1..w_lN, w_r1..w_rN)`` (Eq. 31).
+    """
+
+    layout: ClassVar[str] = "ballasted"
+    _per_bar: ClassVar[tuple[str, ...]] = ("m", "J", "L", "k", "c_l", "c_r", "mu", "s", "d_l", "d_r")
+
+    mu: np.ndarray
+    s: np.ndarray
+    d_l: np.ndarray
+    d_r: np.ndarray
+
+    @property
+    def n_dof(self) -> int:
+        return 3 * self.n_bars + 1
+
+    def dof_names(self) -> list[str]:
+        N = self.n_bars
+        return (
+            super().dof_names()
+            + [f"w_l{j} (m)" for j in range(1, N + 1)]
+            + [f"w_r{j} (m)" for j in range(1, N + 1)]
+        )
+
+    def _assemble(self):
+        N, n = self.n_bars, self.n_dof
+        B1, B0, B2 = _bar_maps(self.L, n)
+        Bl = np.zeros((N, n))
+        Bl[:, N + 1 : 2 * N + 1] = np.eye(N)  # Eq. (B.12)
+        Br = np.zeros((N, n))
+        Br[:, 2 * N + 1 :] = np.eye(N)
+        R = _hinge_map(N, n)
+        M = _quad(B0, self.m)  # Eq. (B.15)
+        M += np.diag(np.concatenate(([0.0], self.J, self.mu, self.mu)))
+        # Eq. (B.20): upper springs stretched by (bar end - support mass), lower ones by the mass.
+        K = (
+            _quad(B1 - Bl, self.k) + _quad(Bl, self.s)
+            + _quad(B2 - Br, self.k) + _quad(Br, self.s)
+            + _quad(R, self.k_phi)
+        )
+        # Eq. (B.26), the damping analogue (B.21-B.24).
+        C = (
+            _quad(B1 - Bl, self.c_l) + _quad(Bl, self.d_l)
+            + _quad(B2 - Br, self.c_r) + _quad(Br, self.d_r)
+            + _quad(R, self.c_phi)
+        )
+        return M, C, K
+
+
+_LAYOUTS: dict[str, type[EquivalentSystem]] = {
+    SlabEquivalent.layout: SlabEquivalent,
+    BallastedEquivalent.layout: BallastedEquivalent,
+}

@@ -1,0 +1,313 @@
+"""Export and import of equivalent systems: JSON, CSV and MATLAB ``.mat``.
+
+Every file holds the layout, the parameters with their units, and the matrices ``M``, ``C``,
+``K`` with the names (and units) of the degrees of freedom, so that the system can be used
+without this package. The parameters are the source of truth when a file is read back; the
+stored matrices are compared with the ones rebuilt from them and a warning is issued if they
+differ.
+
+Formats
+-------
+JSON (:func:`save_system_json`, :func:`load_system_json`)::
+
+    {"format": "semitrack.equivalent", "version": 1, "layout": "slab" | "ballasted",
+     "n_bars": N,
+     "parameters": {name: {"unit": "kg", "values": [...]}, ...},
+     "dof_names": ["w1 (m)", "phi_1 (rad)", ...],
+     "matrices": {"M": {"values": [[...]], "entry_units": [[...]]}, "C": ..., "K": ...}}
+
+CSV (:func:`save_system_csv`, :func:`load_system_csv`): one file of sections, each started by
+a line ``[name]``::
+
+    [meta]        rows "key,value": format, version, layout, n_bars
+    [parameters]  header "parameter,unit,bar_1,...,bar_N"; one row per parameter; k_phi and
+                  c_phi leave the bar_N cell empty (they have N - 1 values)
+    [M] [C] [K]   header "dof,<dof names>"; one row per DOF, first cell the DOF name
+
+Numbers are written with ``repr`` (17 significant digits), so a round trip is exact.
+
+MAT (:func:`save_system_mat`, :func:`load_system_mat`), via :func:`scipy.io.savemat`:
+variables ``layout`` (char), ``n_bars``, ``M``, ``C``, ``K`` (double matrices), ``dof_names``
+(cell array of char), ``parameters`` (struct of row vectors) and ``parameter_units`` (struct
+of char).
+
+All writes are atomic: the file is written to a temporary file in the target folder and moved
+into place with :func:`os.replace`, so an error never leaves a half-written file.
+"""
+
+from __future__ import annotations
+
+import csv
+import io as _io
+import json
+import os
+import tempfile
+import warnings
+from pathlib import Path
+
+import numpy as np
+import scipy.io
+
+from .equivalent import PARAMETER_UNITS, EquivalentSystem
+
+__all__ = [
+    "system_to_dict",
+    "system_from_dict",
+    "save_system_json",
+    "load_system_json",
+    "save_system_csv",
+    "load_system_csv",
+    "save_system_mat",
+    "load_system_mat",
+    "export_system",
+]
+
+FORMAT_NAME = "semitrack.equivalent"
+FORMAT_VERSION = 1
+
+# Stored matrices count as consistent with the parameters when they agree to this relative
+# (to the largest entry) tolerance: a JSON/CSV round trip is exact, a .mat one too (doubles).
+_MATRIX_RTOL = 1e-12
+
+
+def _dof_unit(name: str) -> str:
+    return name[name.index("(") + 1 : name.index(")")]
+
+
+def _entry_units(dof_names: list[str], per: str) -> list[list[str]]:
+    """Unit of each matrix entry: generalised force of row i per ``per``-derivative of DOF j."""
+    force = {"m": "N", "rad": "N m"}
+    units = [_dof_unit(d) for d in dof_names]
+    return [[f"{force[ui]}{per}/{uj}" for uj in units] for ui in units]
+
+
+def _check_system(system) -> EquivalentSystem:
+    if not isinstance(system, EquivalentSystem):
+        raise TypeError(f"system must be a SlabEquivalent or BallastedEquivalent, got {type(system).__name__}")
+    return system
+
+
+def _check_path(path) -> Path:
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path must be a str or os.PathLike, got {type(path).__name__}")
+    return Path(path)
+
+
+def _atomic_write(path, write, binary: bool) -> Path:
+    """Call ``write(fh)`` on a temporary file next to ``path``, then move it onto ``path``."""
+    path = _check_path(path)
+    folder = path.parent if str(path.parent) else Path(".")
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
+    try:
+        with os.fdopen(fd, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8", "newline": ""})) as fh:
+            write(fh)
+            fh.flush()
+            os.fsync(fh.fileno())
+        # mkstemp creates the file private (0600); give it the mode of the file it replaces,
+        # or the usual rw-r--r--.
+        os.chmod(tmp, path.stat().st_mode & 0o777 if path.exists() else 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
+    return path
+
+
+def _check_matrices(system: EquivalentSystem, stored: dict, source: str) -> None:
+    """Warn when stored matrices differ from those rebuilt from the parameters."""
+    for name, rebuilt in zip("MCK", system.matrices()):
+        if name not in stored:
+            continue
+        X = np.asarray(stored[name], dtype=float)
+        if X.shape != rebuilt.shape:
+            warnings.warn(f"{source}: stored {name} has shape {X.shape}, the parameters give "
+                          f"{rebuilt.shape}; the parameters are used", UserWarning, stacklevel=3)
+            continue
+        scale = max(np.max(np.abs(rebuilt)), np.finfo(float).tiny)
+        dev = np.max(np.abs(X - rebuilt)) / scale
+        if dev > _MATRIX_RTOL:
+            warnings.warn(f"{source}: stored {name} differs from the one rebuilt from the parameters "
+                          f"(max relative deviation {dev:.3e}); the parameters are used",
+                          UserWarning, stacklevel=3)
+
+
+# --- dict / JSON ----------------------------------------------------------------------------------
+def system_to_dict(system: EquivalentSystem) -> dict:
+    """Plain-Python description of a system (the JSON layout above)."""
+    system = _check_system(system)
+    names = system.dof_names()
+    M, C, K = system.matrices()
+    return {
+        "format": FORMAT_NAME,
+        "version": FORMAT_VERSION,
+        "layout": system.layout,
+        "n_bars": system.n_bars,
+        "parameters": {
+            name: {"unit": PARAMETER_UNITS[name], "values": values.tolist()}
+            for name, values in system.parameters().items()
+        },
+        "dof_names": names,
+        "matrices": {
+            "M": {"values": M.tolist(), "entry_units": _entry_units(names, " s^2")},
+            "C": {"values": C.tolist(), "entry_units": _entry_units(names, " s")},
+            "K": {"values": K.tolist(), "entry_units": _entry_units(names, "")},
+        },
+    }
+
+
+def system_from_dict(data: dict, source: str = "data") -> EquivalentSystem:
+    """Rebuild a system from :func:`system_to_dict` output (matrices checked if present)."""
+    if not isinstance(data, dict):
+        raise TypeError(f"{source} must be a dict, got {type(data).__name__}")
+    if data.get("format") != FORMAT_NAME:
+        raise ValueError(f"{source}: 'format' must be {FORMAT_NAME!r}, got {data.get('format')!r}")
+    if data.get("version") != FORMAT_VERSION:
+        raise ValueError(f"{source}: 'version' must be {FORMAT_VERSION}, got {data.get('version')!r}")
+    for key in ("layout", "parameters"):
+        if key not in data:
+            raise ValueError(f"{source}: missing key {key!r}")
+    params = {}
+    for name, entry in data["parameters"].items():
+        values = entry["values"] if isinstance(entry, dict) else entry
+        params[name] = np.asarray(values, dtype=float)
+    params["layout"] = data["layout"]
+    system = EquivalentSystem.from_parameters(params)
+    stored = {n: (m["values"] if isinstance(m, dict) else m) for n, m in data.get("matrices", {}).items()}
+    _check_matrices(system, stored, source)
+    return system
+
+
+def save_system_json(system: EquivalentSystem, path) -> Path:
+    """Write ``system`` to a JSON file (atomically); returns the path."""
+    data = system_to_dict(system)
+    return _atomic_write(path, lambda fh: json.dump(data, fh, indent=1), binary=False)
+
+
+def load_system_json(path) -> EquivalentSystem:
+    """Read a system written by :func:`save_system_json`."""
+    path = _check_path(path)
+    with open(path, encoding="utf-8") as fh:
+        data = json.load(fh)
+    return system_from_dict(data, source=str(path))
+
+
+# --- CSV --------------------------------------------------------------------------------------------
+def _fmt(x: float) -> str:
+    return repr(float(x))
+
+
+def save_system_csv(system: EquivalentSystem, path) -> Path:
+    """Write ``system`` to one sectioned CSV file (format in the module docstring)."""
+    system = _check_system(system)
+    N = system.n_bars
+    names = system.dof_names()
+    buf = _io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["[meta]"])
+    w.writerow(["key", "value"])
+    for key, value in (("format", FORMAT_NAME), ("version", FORMAT_VERSION),
+                       ("layout", system.layout), ("n_bars", N)):
+        w.writerow([key, value])
+    w.writerow(["[parameters]"])
+    w.writerow(["parameter", "unit"] + [f"bar_{j}" for j in range(1, N + 1)])
+    for name, values in system.parameters().items():
+        cells = [_fmt(v) for v in values]
+        w.writerow([name, PARAMETER_UNITS[name]] + cells + [""] * (N - len(cells)))
+    for label, X in zip("MCK", system.matrices()):
+        w.writerow([f"[{label}]"])
+        w.writerow(["dof"] + names)
+        for dof, row in zip(names, X):
+            w.writerow([dof] + [_fmt(v) for v in row])
+    text = buf.getvalue()
+    return _atomic_write(path, lambda fh: fh.write(text), binary=False)
+
+
+def load_system_csv(path) -> EquivalentSystem:
+    """Read a system written by :func:`save_system_csv`."""
+    path = _check_path(path)
+    sections: dict[str, list[list[str]]] = {}
+    current = None
+    with open(path, encoding="utf-8", newline="") as fh:
+        for row in csv.reader(fh):
+            if not row or not any(cell.strip() for cell in row):
+                continue
+            head = row[0].strip()
+            if head.startswith("[") and head.endswith("]"):
+                current = head[1:-1]
+                sections[current] = []
+            elif current is None:
+                raise ValueError(f"{path}: data before the first [section] line: {row!r}")
+            else:
+                sections[current].append(row)
+    for key in ("meta", "parameters"):
+        if key not in sections:
+            raise ValueError(f"{path}: missing section [{key}]")
+    meta = {row[0]: row[1] for row in sections["meta"][1:]}
+    data = {
+        "format": meta.get("format"),
+        "version": int(meta["version"]) if "version" in meta else None,
+        "layout": meta.get("layout"),
+        "parameters": {
+            row[0]: [float(c) for c in row[2:] if c.strip() != ""] for row in sections["parameters"][1:]
+        },
+        "matrices": {
+            label: [[float(c) for c in row[1:]] for row in sections[label][1:]]
+            for label in "MCK" if label in sections
+        },
+    }
+    return system_from_dict(data, source=str(path))
+
+
+# --- MAT --------------------------------------------------------------------------------------------
+def save_system_mat(system: EquivalentSystem, path) -> Path:
+    """Write ``system`` to a MATLAB .mat file (format 5) with :func:`scipy.io.savemat`."""
+    system = _check_system(system)
+    M, C, K = system.matrices()
+    content = {
+        "format": FORMAT_NAME,
+        "version": FORMAT_VERSION,
+        "layout": system.layout,
+        "n_bars": system.n_bars,
+        "M": M,
+        "C": C,
+        "K": K,
+        "dof_names": np.array(system.dof_names(), dtype=object),
+        "parameters": {name: values.reshape(1, -1) for name, values in system.parameters().items()},
+        "parameter_units": {name: PARAMETER_UNITS[name] for name in system.parameter_names()},
+    }
+    return _atomic_write(path, lambda fh: scipy.io.savemat(fh, content, oned_as="row"), binary=True)
+
+
+def load_system_mat(path) -> EquivalentSystem:
+    """Read a system written by :func:`save_system_mat`."""
+    path = _check_path(path)
+    raw = scipy.io.loadmat(path, simplify_cells=True)
+    for key in ("layout", "parameters"):
+        if key not in raw:
+            raise ValueError(f"{path}: missing variable {key!r}")
+    data = {
+        "format": raw.get("format"),
+        "version": int(raw["version"]) if "version" in raw else None,
+        "layout": raw["layout"],
+        "parameters": {n: np.atleast_1d(np.asarray(v, dtype=float)).ravel() for n, v in raw["parameters"].items()},
+        "matrices": {n: np.atleast_2d(raw[n]) for n in "MCK" if n in raw},
+    }
+    return system_from_dict(data, source=str(path))
+
+
+# --- dispatch ---------------------------------------------------------------------------------------
+_WRITERS = {".json": save_system_json, ".csv": save_system_csv, ".mat": save_system_mat}
+
+
+def export_system(system: EquivalentSystem, path, format: str | None = None) -> Path:
+    """Write ``system`` as JSON, CSV or MAT, chosen by ``format`` (``"json"``, ``"csv"``,
+    ``"mat"``) or else by the file suffix."""
+    path = _check_path(path)
+    key = f".{format.lower().lstrip('.')}" if format is not None else path.suffix.lower()
+    if key not in _WRITERS:
+        raise ValueError(f"format must be one of json, csv, mat (or a path with that suffix), got "
+                         f"{format if format is not None else path.suffix!r}")
+    return _WRITERS[key](system, path)

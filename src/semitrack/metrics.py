@@ -1,0 +1,116 @@
+"""Error metrics between an equivalent system's receptance and the track's (paper Sec. 4.4).
+
+The paper fits with the residuals ``Re(alpha_E - alpha)/|alpha|`` and ``Im(alpha_E - alpha)/|alpha|``;
+the matching scalar error per element and frequency is the complex relative error
+``|alpha_E - alpha| / |alpha|``, taken here for alpha11, alpha12 and alpha22 (alpha21 equals
+alpha12 by reciprocity).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["ELEMENTS", "ErrorSummary", "receptance_errors", "error_summary", "error_band_grid"]
+
+#: Receptance elements compared, with their (row, column) index in a 2x2 receptance.
+ELEMENTS: dict[str, tuple[int, int]] = {"alpha11": (0, 0), "alpha12": (0, 1), "alpha22": (1, 1)}
+
+
+@dataclass(frozen=True)
+class ErrorSummary:
+    """Median and maximum relative error over frequency and the three elements.
+
+    Attributes
+    ----------
+    median, max : float
+        Over all frequencies and the three elements (-).
+    per_element : dict
+        ``{"alpha11": errors, "alpha12": errors, "alpha22": errors}``, arrays over frequency (-).
+    """
+
+    median: float
+    max: float
+    per_element: dict
+
+    def element_medians(self) -> dict[str, float]:
+        """Median error of each element over frequency (-)."""
+        return {name: float(np.median(e)) for name, e in self.per_element.items()}
+
+    def element_maxima(self) -> dict[str, float]:
+        """Maximum error of each element over frequency (-)."""
+        return {name: float(np.max(e)) for name, e in self.per_element.items()}
+
+
+def _as_receptance(name: str, alpha) -> np.ndarray:
+    try:
+        a = np.asarray(alpha, dtype=complex)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be an array of complex receptances, got {type(alpha).__name__}") from None
+    if a.shape == (2, 2):
+        a = a[None]
+    if a.ndim != 3 or a.shape[1:] != (2, 2):
+        raise ValueError(f"{name} must have shape (n_f, 2, 2) or (2, 2), got {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be finite, got {int((~np.isfinite(a)).sum())} non-finite entries")
+    return a
+
+
+def receptance_errors(alpha_eq, alpha_ref) -> dict[str, np.ndarray]:
+    """Complex relative errors ``|alpha_E - alpha| / |alpha|`` per element and frequency.
+
+    Parameters
+    ----------
+    alpha_eq : array_like, shape (n_f, 2, 2) or (2, 2)
+        Receptance of the equivalent system.
+    alpha_ref : array_like, same shape
+        Reference receptance (the semi-infinite track); must be non-zero where compared.
+
+    Returns
+    -------
+    dict
+        ``{"alpha11": e11, "alpha12": e12, "alpha22": e22}``, each of shape (n_f,) (-).
+    """
+    a_e = _as_receptance("alpha_eq", alpha_eq)
+    a_r = _as_receptance("alpha_ref", alpha_ref)
+    if a_e.shape != a_r.shape:
+        raise ValueError(f"alpha_eq and alpha_ref must have the same shape, got {a_e.shape} and {a_r.shape}")
+    out = {}
+    for name, (i, j) in ELEMENTS.items():
+        ref = np.abs(a_r[:, i, j])
+        if np.any(ref == 0):
+            raise ValueError(f"alpha_ref {name} must be non-zero for a relative error, got zero at index "
+                             f"{int(np.argmax(ref == 0))}")
+        out[name] = np.abs(a_e[:, i, j] - a_r[:, i, j]) / ref
+    return out
+
+
+def error_summary(alpha_eq, alpha_ref) -> ErrorSummary:
+    """:class:`ErrorSummary` of :func:`receptance_errors`."""
+    errors = receptance_errors(alpha_eq, alpha_ref)
+    allv = np.concatenate(list(errors.values()))
+    return ErrorSummary(median=float(np.median(allv)), max=float(np.max(allv)), per_element=errors)
+
+
+def error_band_grid(band, df: float = 3.0) -> np.ndarray:
+    """A uniform frequency grid (Hz) from ``band[0]`` to ``band[1]`` inclusive, spacing <= ``df``.
+
+    Parameters
+    ----------
+    band : (float, float)
+        Lower and upper frequency (Hz), ``0 < band[0] < band[1]``, finite.
+    df : float
+        Largest allowed spacing (Hz), positive.
+    """
+    try:
+        lo, hi = (float(b) for b in band)
+    except (TypeError, ValueError):
+        raise TypeError(f"band must be a pair of frequencies (Hz), got {band!r}") from None
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
+        raise ValueError(f"band must satisfy 0 < band[0] < band[1] (finite, Hz), got {band!r}")
+    if isinstance(df, bool) or not isinstance(df, (int, float)) or not (math.isfinite(df) and df > 0):
+        raise ValueError(f"df must be positive and finite (Hz), got {df!r}")
+    n = int(math.ceil((hi - lo) / df - 1e-12)) + 1
+    return np.linspace(lo, hi, max(n, 2))
