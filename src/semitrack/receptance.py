@@ -21,7 +21,7 @@ import numpy as np
 from ._validation import as_frequencies, check_real
 from .tracks import PeriodicCell, Track
 from .transfer import end_stiffness, infinite_receptance
-from .wavenumber import WavenumberSettings, central_fields, odd_slope
+from .wavenumber import WavenumberSettings, central_quantities
 
 METHODS = ("transfer", "wavenumber")
 
@@ -122,7 +122,6 @@ def central_response(track, f, method: str = "transfer", **settings) -> CentralR
     cell = _cell_of(track)
     ws = _settings(method, dict(settings))
     omega = 2 * np.pi * f.ravel()
-    rail = cell.track
     if ws is None:
         k_right, k_left = end_stiffness(cell, omega, cell.mid_span)
         h = np.linalg.inv(k_right + k_left)
@@ -130,12 +129,7 @@ def central_response(track, f, method: str = "transfer", **settings) -> CentralR
         w1, psi2 = h[:, 0, 0], h[:, 1, 1]
         m1, q2 = loads[:, 1, 0], loads[:, 0, 1]
     else:
-        q = central_fields(cell, omega, ws)  # (n, 3 points, response, load)
-        w1, psi2 = q[:, 0, 0, 0], q[:, 0, 1, 1]
-        dpsi1 = odd_slope(q[:, 1, 1, 0], q[:, 2, 1, 0], ws.dx)
-        dw2 = odd_slope(q[:, 1, 0, 1], q[:, 2, 0, 1], ws.dx)
-        m1 = -rail.EI * dpsi1  # Eq. (15)
-        q2 = -rail.kAG * (dw2 - psi2)  # Eq. (16)
+        w1, psi2, q2, m1 = central_quantities(cell, omega, ws)
     shape = f.shape
     return CentralResponse(f=f, w1=w1.reshape(shape), psi2=psi2.reshape(shape), Q2=q2.reshape(shape),
                            M1=m1.reshape(shape), method=method)

@@ -142,18 +142,14 @@ class _Grid:
         self.phase_direct = np.exp(1j * np.outer(x_rel, self.beta))  # (P, N)
         self.phase_b = np.exp(1j * np.outer(self.beta, pos))  # (N, S): B(beta) of Eq. (8)
 
-    def fields(self, omega):
+    def fields(self, omega, points_per_block: int = 8):
         cell, n_s = self.cell, self.pos.size
         n_w, n_beta, n_p = omega.size, self.beta.size, self.x_rel.size
-        d11, d12, d21, d22 = operator_inverse(cell.track, omega[:, None, None], self.beta_j[None])
-        comps = (d11, d12, d21, d22)
+        comps = operator_inverse(cell.track, omega[:, None, None], self.beta_j[None])  # 4 x (w, J, N)
         d0 = np.stack([c[:, self.j0] for c in comps], -1).reshape(n_w, n_beta, 2, 2)  # D(beta)^-1
-        # Sums over j for every row of self.coef, per component: (w, rows, N, 2, 2).
-        summed = np.stack([self.coef @ c for c in comps], -1).reshape(n_w, -1, n_beta, 2, 2)
-        r_sum = summed[:, : self.n_r] * self.phase_r[None, :, :, None, None]
-        p_sum = summed[:, self.n_r :] * self.phase_p[None, :, :, None, None]
 
-        # R(beta) as (w, N, 2S, 2S) with DOFs (w_1, psi_1, w_2, ...).
+        # R(beta) of Eq. (10) as (w, N, 2S, 2S) with DOFs (w_1, psi_1, w_2, ...).
+        r_sum = self._sum_over_j(comps, slice(0, self.n_r)) * self.phase_r[None, :, :, None, None]
         r_mat = r_sum.reshape(n_w, n_s, n_s, n_beta, 2, 2).transpose(0, 3, 1, 4, 2, 5)
         r_mat = r_mat.reshape(n_w, n_beta, 2 * n_s, 2 * n_s)
         # A(beta)^-1 = K (I + R K)^-1 with K the support stiffness (inverse of H of Eq. 3).
@@ -163,16 +159,57 @@ class _Grid:
         bd = (self.phase_b[None, :, :, None, None] * d0[:, :, None]).reshape(n_w, n_beta, 2 * n_s, 2)
         g = (a_inv @ bd).reshape(n_w, n_beta, n_s, 2, 2)
 
-        p_sum = p_sum.reshape(n_w, n_p, n_s, n_beta, 2, 2)
-        periodic = np.einsum("wpsnab,wnsbk->wpak", p_sum, g, optimize=True)
+        periodic = np.empty((n_w, n_p, 2, 2), dtype=complex)
+        for start in range(0, n_p, points_per_block):  # blocks of points bound the memory
+            pts = slice(start, min(start + points_per_block, n_p))
+            rows = slice(self.n_r + pts.start * n_s, self.n_r + pts.stop * n_s)
+            p_sum = self._sum_over_j(comps, rows) * self.phase_p[None, rows.start - self.n_r : rows.stop - self.n_r, :, None, None]
+            p_sum = p_sum.reshape(n_w, pts.stop - pts.start, n_s, n_beta, 2, 2)
+            periodic[:, pts] = np.einsum("wpsnab,wnsbk->wpak", p_sum, g, optimize=True)
         direct = np.einsum("pn,wnab->wpab", self.phase_direct, d0, optimize=True)
         return (self.dbeta / (2 * np.pi)) * (direct - periodic)
 
+    def _sum_over_j(self, comps, rows):
+        """sum_j coef[row, j] D(beta_j)^-1 for the given rows, shape (w, rows, N, 2, 2)."""
+        coef = self.coef[rows]
+        n_w, n_beta = comps[0].shape[0], self.beta.size
+        return np.stack([coef @ c for c in comps], -1).reshape(n_w, -1, n_beta, 2, 2)
 
-def central_fields(cell: PeriodicCell, omega, settings: WavenumberSettings | None = None):
-    """Fields at x' = 0, dx, 2 dx needed by Eq. (14)-(16); shape ``(n, 3, 2, 2)``."""
+
+def central_quantities(cell: PeriodicCell, omega, settings: WavenumberSettings | None = None, dxs=None):
+    """w1, psi2, Q2, M1 of Eq. (14)-(16) from the fields at x' = 0, dx and 2 dx.
+
+    Parameters
+    ----------
+    cell : PeriodicCell
+        One period of the track.
+    omega : array_like
+        Circular frequencies (rad/s), shape ``(n,)``.
+    settings : WavenumberSettings, optional
+        Discretisation (the paper's by default).
+    dxs : array_like, optional
+        Several finite-difference steps (m) evaluated from one field computation, for
+        convergence studies; ``settings.dx`` by default.
+
+    Returns
+    -------
+    w1, psi2, Q2, M1 : ndarray
+        Shape ``(n,)``, or ``(n, len(dxs))`` when ``dxs`` is given. Units m/N, rad/(N m),
+        N/(N m), N m/N.
+    """
     settings = settings or WavenumberSettings()
-    return displacement_fields(cell, omega, [0.0, settings.dx, 2 * settings.dx], settings)
+    steps = np.atleast_1d(settings.dx if dxs is None else np.asarray(dxs, dtype=float))
+    x = np.concatenate([[0.0], steps, 2 * steps])
+    q = displacement_fields(cell, omega, x, settings)
+    n = steps.size
+    y1, y2 = q[:, 1 : 1 + n], q[:, 1 + n :]
+    rail = cell.track
+    w1, psi2 = q[:, 0, 0, 0], q[:, 0, 1, 1]
+    m1 = -rail.EI * odd_slope(y1[..., 1, 0], y2[..., 1, 0], steps)  # Eq. (15): M1 = -EI dpsi1/dx
+    q2 = -rail.kAG * (odd_slope(y1[..., 0, 1], y2[..., 0, 1], steps) - psi2[:, None])  # Eq. (16)
+    if dxs is None:
+        return w1, psi2, q2[:, 0], m1[:, 0]
+    return (np.repeat(w1[:, None], n, 1), np.repeat(psi2[:, None], n, 1), q2, m1)
 
 
 def odd_slope(y1, y2, dx):

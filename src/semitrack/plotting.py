@@ -1,0 +1,147 @@
+"""One house style for the book's figures. The library never selects a matplotlib backend."""
+
+from __future__ import annotations
+
+from contextlib import contextmanager
+
+import matplotlib as mpl
+import matplotlib.pyplot as plt
+import numpy as np
+
+#: Line styles per method, used in every figure so that a method always looks the same.
+METHOD_STYLE = {
+    "exact": dict(color="k", lw=1.4, ls="-"),
+    "transfer": dict(color="k", lw=1.4, ls="-"),
+    "wavenumber": dict(color="tab:orange", lw=1.1, ls="--"),
+    "paper system": dict(color="tab:red", lw=1.1, ls=":"),
+    "our system": dict(color="tab:blue", lw=1.1, ls="--"),
+}
+#: Colours of the receptance elements, as in the paper's Fig. 8 (black, green, red).
+ELEMENT_COLOR = {"alpha11": "k", "alpha12": "tab:green", "alpha22": "tab:red"}
+
+RC = {
+    "figure.figsize": (7.0, 4.0), "figure.dpi": 110, "axes.grid": True, "grid.alpha": 0.3,
+    "axes.spines.top": False, "axes.spines.right": False, "legend.frameon": False,
+    "font.size": 10, "axes.titlesize": 10, "legend.fontsize": 9,
+}
+
+
+@contextmanager
+def house_style():
+    """Context manager applying the house rcParams."""
+    with mpl.rc_context(RC):
+        yield
+
+
+def apply_house_style() -> None:
+    """Apply the house rcParams globally (for notebooks)."""
+    mpl.rcParams.update(RC)
+
+
+def magnitude_axes(ax, ylabel: str, xlabel: str = "Frequency (Hz)", logx: bool = False):
+    """Log-magnitude axes with units on both axes."""
+    ax.set_yscale("log")
+    if logx:
+        ax.set_xscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    return ax
+
+
+def plot_magnitude(ax, f, values, label: str, **style):
+    """Plot |values| against f."""
+    return ax.plot(f, np.abs(values), label=label, **style)
+
+
+def plot_phase(ax, f, values, label: str, **style):
+    """Plot the phase of values (rad) against f, in [-pi, pi]."""
+    ax.set_ylabel("Phase (rad)")
+    ax.set_yticks([-np.pi, -np.pi / 2, 0, np.pi / 2, np.pi], ["$-\\pi$", "$-\\pi/2$", "0", "$\\pi/2$", "$\\pi$"])
+    return ax.plot(f, np.angle(values), label=label, **style)
+
+
+def mark_frequencies(ax, freqs, labels=None, **style):
+    """Thin vertical lines at characteristic frequencies, with optional labels at the top."""
+    style = {"color": "0.5", "lw": 0.7, "ls": ":", **style}
+    for i, fr in enumerate(freqs):
+        ax.axvline(fr, **style)
+        if labels is not None:
+            ax.annotate(labels[i], (fr, 1.0), xycoords=("data", "axes fraction"), rotation=90,
+                        ha="right", va="top", fontsize=8, color="0.35")
+
+
+def new_figure(nrows: int = 1, ncols: int = 1, **kwargs):
+    """``plt.subplots`` with the house style applied and a constrained layout."""
+    apply_house_style()
+    kwargs.setdefault("layout", "constrained")
+    return plt.subplots(nrows, ncols, **kwargs)
+
+
+ELEMENT_UNITS = {"alpha11": "m/N", "alpha12": "rad/N", "alpha22": "rad/(N m)"}
+_ELEMENT_INDEX = {"alpha11": (0, 0), "alpha12": (0, 1), "alpha22": (1, 1)}
+_ELEMENT_TEX = {"alpha11": r"$|\alpha_{11}|$", "alpha12": r"$|\alpha_{12}|$", "alpha22": r"$|\alpha_{22}|$"}
+
+
+def receptance_figure(f, receptances: dict, title: str = "", logx: bool = False):
+    """Magnitudes of alpha11, alpha12, alpha22, one panel each, one line per method.
+
+    ``receptances`` maps a method label (a key of :data:`METHOD_STYLE` or any text) to an array
+    of shape ``(n_f, 2, 2)``. Returns ``(fig, axes)``.
+    """
+    fig, axes = new_figure(1, 3, figsize=(10.0, 3.4), sharex=True)
+    for ax, (name, (i, k)) in zip(axes, _ELEMENT_INDEX.items()):
+        for label, alpha in receptances.items():
+            plot_magnitude(ax, f, np.asarray(alpha)[:, i, k], label, **METHOD_STYLE.get(label, {}))
+        magnitude_axes(ax, f"{_ELEMENT_TEX[name]} ({ELEMENT_UNITS[name]})", logx=logx)
+    axes[0].legend()
+    if title:
+        fig.suptitle(title)
+    return fig, axes
+
+
+def fields_figure(x, q, title: str = ""):
+    """w and psi around a unit force (left) and a unit moment (right), real and imaginary parts.
+
+    ``q`` has shape ``(n_x, 2, 2)``: response (w, psi) by load (force, moment), at positions
+    ``x`` (m) relative to the load. Returns ``(fig, axes)``.
+    """
+    fig, axes = new_figure(2, 2, figsize=(9.0, 5.5), sharex=True)
+    labels = [[r"$w_1$ (m/N)", r"$w_2$ (m/(N m))"], [r"$\psi_1$ (rad/N)", r"$\psi_2$ (rad/(N m))"]]
+    for i in range(2):
+        for k in range(2):
+            ax = axes[i, k]
+            ax.plot(x, q[:, i, k].real, "k-", lw=1.2, label="real part")
+            ax.plot(x, q[:, i, k].imag, color="tab:blue", ls="--", lw=1.0, label="imaginary part")
+            ax.set_ylabel(labels[i][k])
+    axes[0, 0].set_title("unit vertical force at x' = 0")
+    axes[0, 1].set_title("unit moment at x' = 0")
+    for ax in axes[1]:
+        ax.set_xlabel("x' = x - x0 (m)")
+    axes[0, 0].legend()
+    if title:
+        fig.suptitle(title)
+    return fig, axes
+
+
+def convergence_figure(study, title: str = ""):
+    """Error of the wavenumber alpha against dx, one line per wavenumber range, one panel per f.
+
+    ``study`` is the table returned by :func:`semitrack.convergence.convergence_study`.
+    """
+    freqs = sorted(study["f (Hz)"].unique())
+    fig, axes = new_figure(1, len(freqs), figsize=(3.4 * len(freqs), 3.4), sharey=True)
+    axes = np.atleast_1d(axes)
+    for ax, fr in zip(axes, freqs):
+        sub = study[study["f (Hz)"] == fr]
+        for factor, grp in sub.groupby("beta factor"):
+            grp = grp.sort_values("dx (m)")
+            ax.loglog(grp["dx (m)"], grp["error"], marker="o", ms=3,
+                      label=rf"$\beta_{{max}}$ = {factor:g} x 78.5 rad/m")
+        ax.axvline(0.04, color="0.5", ls=":", lw=0.8)
+        ax.set_title(f"{fr:g} Hz")
+        ax.set_xlabel("dx (m)")
+    axes[0].set_ylabel(r"max relative error of $\alpha_{ij}$ (-)")
+    axes[-1].legend(fontsize=8)
+    if title:
+        fig.suptitle(title)
+    return fig, axes
