@@ -296,6 +296,22 @@ class EquivalentSystem:
     def __hash__(self):
         return hash((type(self).__name__,) + tuple(getattr(self, n).tobytes() for n in self.parameter_names()))
 
+    def to_frame(self):
+        """Parameters as a pandas DataFrame: one row per parameter (with unit), one column per bar.
+
+        The N - 1 hinge parameters ``k_phi``, ``c_phi`` sit in the columns of bars 1..N-1 (the
+        hinge between bar j and bar j+1 is listed under bar j, as in the paper's tables).
+        """
+        import pandas as pd
+
+        n = self.n_bars
+        rows = {}
+        for name, values in self.parameters().items():
+            padded = np.full(n, np.nan)
+            padded[: len(values)] = values
+            rows[f"{name} ({PARAMETER_UNITS[name]})"] = padded
+        return pd.DataFrame.from_dict(rows, orient="index", columns=[f"bar {j + 1}" for j in range(n)])
+
     def dof_names(self) -> list[str]:
         """Names of the degrees of freedom with units, in the order of :meth:`matrices`."""
         N = self.n_bars

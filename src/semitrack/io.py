@@ -93,7 +93,7 @@ def _check_path(path) -> Path:
     return Path(path)
 
 
-def _atomic_write(path, write, binary: bool) -> Path:
+def atomic_write(path, write, binary: bool) -> Path:
     """Call ``write(fh)`` on a temporary file next to ``path``, then move it onto ``path``."""
     path = _check_path(path)
     folder = path.parent if str(path.parent) else Path(".")
@@ -183,7 +183,7 @@ def system_from_dict(data: dict, source: str = "data") -> EquivalentSystem:
 def save_system_json(system: EquivalentSystem, path) -> Path:
     """Write ``system`` to a JSON file (atomically); returns the path."""
     data = system_to_dict(system)
-    return _atomic_write(path, lambda fh: json.dump(data, fh, indent=1), binary=False)
+    return atomic_write(path, lambda fh: json.dump(data, fh, indent=1), binary=False)
 
 
 def load_system_json(path) -> EquivalentSystem:
@@ -222,7 +222,7 @@ def save_system_csv(system: EquivalentSystem, path) -> Path:
         for dof, row in zip(names, X):
             w.writerow([dof] + [_fmt(v) for v in row])
     text = buf.getvalue()
-    return _atomic_write(path, lambda fh: fh.write(text), binary=False)
+    return atomic_write(path, lambda fh: fh.write(text), binary=False)
 
 
 def load_system_csv(path) -> EquivalentSystem:
@@ -278,7 +278,7 @@ def save_system_mat(system: EquivalentSystem, path) -> Path:
         "parameters": {name: values.reshape(1, -1) for name, values in system.parameters().items()},
         "parameter_units": {name: PARAMETER_UNITS[name] for name in system.parameter_names()},
     }
-    return _atomic_write(path, lambda fh: scipy.io.savemat(fh, content, oned_as="row"), binary=True)
+    return atomic_write(path, lambda fh: scipy.io.savemat(fh, content, oned_as="row"), binary=True)
 
 
 def load_system_mat(path) -> EquivalentSystem:

@@ -145,3 +145,84 @@ def convergence_figure(study, title: str = ""):
     if title:
         fig.suptitle(title)
     return fig, axes
+
+
+def central_response_figure(f, responses: dict, title: str = ""):
+    """|w1|, |psi2|, |Q2|, |M1| and |det(alpha^-1)| (paper Fig. 4/10), one panel each.
+
+    ``responses`` maps a method label to a :class:`semitrack.CentralResponse`.
+    """
+    fig, axes = new_figure(2, 3, figsize=(10.5, 6.0), sharex=True)
+    spec = [("w1", r"$|\tilde w_1|$ (m/N)"), ("psi2", r"$|\tilde\psi_2|$ (rad/(N m))"),
+            ("Q2", r"$|\tilde Q_2|$ (N/(N m))"), ("M1", r"$|\tilde M_1|$ (N m/N)"),
+            ("det", r"$|\det\alpha^{-1}|$ (N$^2$)")]
+    for ax, (attr, label) in zip(axes.flat, spec):
+        for name, r in responses.items():
+            plot_magnitude(ax, f, getattr(r, attr), name, **METHOD_STYLE.get(name, {}))
+        magnitude_axes(ax, label)
+    axes.flat[-1].set_visible(False)
+    axes.flat[0].legend()
+    if title:
+        fig.suptitle(title)
+    return fig, axes
+
+
+def phase_figure(f, receptances: dict, title: str = ""):
+    """Phases of alpha11, alpha12, alpha22 (paper Fig. 6/9/15), one panel each."""
+    fig, axes = new_figure(1, 3, figsize=(10.0, 3.2), sharex=True, sharey=True)
+    for ax, (name, (i, k)) in zip(axes, _ELEMENT_INDEX.items()):
+        for label, alpha in receptances.items():
+            plot_phase(ax, f, np.asarray(alpha)[:, i, k], label, **METHOD_STYLE.get(label, {}))
+        ax.set_title(name.replace("alpha", "alpha_"))
+        ax.set_xlabel("Frequency (Hz)")
+    axes[0].legend()
+    if title:
+        fig.suptitle(title)
+    return fig, axes
+
+
+def equivalent_schematic(system, ax=None, title: str = ""):
+    """Draw an equivalent system to scale in x (bar lengths in m), as the paper's Fig. 7 / 12.
+
+    Bars are drawn with a thickness that grows with their mass, springs as zig-zags whose
+    labels give the stiffness; support masses (ballasted layout) as boxes labelled with mu.
+    """
+    if ax is None:
+        _, ax = new_figure(figsize=(10.0, 3.2))
+    p = system.parameters()
+    lengths = p["L"]
+    x = np.concatenate([[0.0], np.cumsum(lengths)])
+    m_max = max(p["m"].max(), 1e-12)
+    ballasted = "mu" in p
+    spring_top, spring_bottom = 0.0, (-1.0 if not ballasted else -0.55)
+
+    def zigzag(x0, y0, y1, label=None):
+        ys = np.linspace(y0, y1, 14)
+        xs = x0 + 0.012 * np.array([0] + [(-1) ** i for i in range(12)] + [0]) * (x[-1] or 1)
+        ax.plot(xs, ys, color="0.3", lw=0.8)
+        if label:
+            ax.annotate(label, (x0, 0.5 * (y0 + y1)), xytext=(4, 0), textcoords="offset points", fontsize=7,
+                        va="center", color="0.3")
+
+    for j in range(system.n_bars):
+        lw = 1.0 + 7.0 * p["m"][j] / m_max
+        ax.plot([x[j], x[j + 1]], [0, 0], color="tab:blue", lw=lw, solid_capstyle="butt")
+        ax.annotate(f"bar {j + 1}\nm={p['m'][j]:.3g} kg", ((x[j] + x[j + 1]) / 2, 0.12), ha="center", fontsize=7)
+        for end in (x[j], x[j + 1]):
+            if p["k"][j] > 0:
+                zigzag(end, spring_top, spring_bottom, f"{p['k'][j]:.3g}" if end == x[j] else None)
+            if ballasted and p["mu"][j] > 0:
+                ax.add_patch(mpl.patches.Rectangle((end - 0.01 * x[-1], -0.7), 0.02 * x[-1], 0.15, color="tab:orange"))
+                zigzag(end, -0.7, -1.0, f"{p['s'][j]:.3g}" if end == x[j] else None)
+    for j in range(system.n_bars - 1):
+        ax.plot(x[j + 1], 0, "o", mfc="white", mec="k", ms=5)
+    ax.axhline(-1.0, color="0.2", lw=1.2)
+    ax.annotate("load (Q, M) at the left end of bar 1", (0, 0), xytext=(0, 0.45), fontsize=8,
+                arrowprops=dict(arrowstyle="->", lw=0.8))
+    ax.set_ylim(-1.15, 0.6)
+    ax.set_yticks([])
+    ax.set_xlabel("position along the equivalent system (m)")
+    ax.grid(False)
+    ax.spines["left"].set_visible(False)
+    ax.set_title(title or f"{system.layout} equivalent system, N = {system.n_bars} (springs labelled in N/m)")
+    return ax

@@ -305,3 +305,34 @@ class PeriodicCell:
         out[:, 0::2, 0::2] = kvv
         out[:, 1::2, 1::2] = kphi * np.eye(s)
         return out
+
+
+#: Symbol, description and unit of every Track field, in the order of the paper's Tables 2 and 5.
+PARAMETER_INFO = (
+    ("rho", "rho", "density of the rail", "kg/m^3"),
+    ("E", "E", "Young's modulus of the rail", "N/m^2"),
+    ("G", "G", "shear modulus of the rail", "N/m^2"),
+    ("eta_rail", "eta_R", "loss factor of the rail", "-"),
+    ("A", "A", "cross-sectional area of the rail", "m^2"),
+    ("I", "I", "second moment of area of the rail", "m^4"),
+    ("kappa", "kappa", "shear coefficient of the rail section", "-"),
+    ("kv", "k_v", "vertical rail pad stiffness", "N/m"),
+    ("kphi", "k_phi", "rotational rail pad stiffness", "N m/rad"),
+    ("eta_pad", "eta_P", "rail pad loss factor", "-"),
+    ("sleeper_mass", "m_S", "mass of half a sleeper", "kg"),
+    ("spacing", "d", "support spacing", "m"),
+    ("kb", "k_B", "ballast stiffness", "N/m"),
+    ("eta_ballast", "eta_B", "ballast loss factor", "-"),
+)
+
+
+def parameter_table(track: Track):
+    """The track's parameters as a pandas DataFrame (symbol, description, value, unit).
+
+    Fields that do not apply (the sleeper and ballast of a slab track) are left out.
+    """
+    import pandas as pd
+
+    rows = [(sym, desc, getattr(track, key), unit) for key, sym, desc, unit in PARAMETER_INFO
+            if not (key in ("sleeper_mass", "kb", "eta_ballast") and not track.is_ballasted)]
+    return pd.DataFrame(rows, columns=["symbol", "description", "value", "unit"])
