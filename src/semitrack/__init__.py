@@ -8,20 +8,25 @@ truncated track models". SI units; frequencies in Hz at the API.
 from .constraints import ballasted_from_free, cell_frequencies, slab_from_free, unit_cell_frequencies
 from .continuous import continuous_foundation_receptance
 from .equivalent import BallastedEquivalent, EquivalentSystem, SlabEquivalent
+from .fitting import FitResult, default_fit_frequencies, fit_characteristic_frequencies, fit_equivalent
 from .io import export_system, load_system_csv, load_system_json, load_system_mat
 from .metrics import ErrorSummary, error_band_grid, error_summary, receptance_errors
+from .fe import FETrack, TruncatedTrack, fe_central_receptance, fe_semi_infinite_receptance
 from .features import QUANTITIES, characteristic_frequencies, find_extrema, response_curves
 from .paper import paper_frequency_table
 from .paper_systems import paper_consistency_report, paper_table4, paper_table7
 from .receptance import CentralResponse, central_response, point_receptance, semi_infinite_receptance
-from .tracks import PeriodicCell, Track, ballasted_track, slab_track
+from .tracks import PeriodicCell, Track, ballasted_track, parameter_table, slab_track
+from .trackfile import TrackFileError, load_track_toml
 from .wavenumber import WavenumberSettings
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "BallastedEquivalent", "CentralResponse", "EquivalentSystem", "ErrorSummary", "PeriodicCell",
-    "QUANTITIES", "SlabEquivalent", "Track", "WavenumberSettings",
+    "BallastedEquivalent", "CentralResponse", "EquivalentSystem", "ErrorSummary", "FETrack", "FitResult",
+    "PeriodicCell", "QUANTITIES", "SlabEquivalent", "Track", "TrackFileError", "TruncatedTrack",
+    "WavenumberSettings", "default_fit_frequencies", "fe_central_receptance", "fe_semi_infinite_receptance",
+    "fit_characteristic_frequencies", "fit_equivalent", "load_track_toml", "parameter_table",
     "ballasted_from_free", "ballasted_track", "cell_frequencies", "central_response",
     "characteristic_frequencies", "continuous_foundation_receptance", "error_band_grid",
     "error_summary", "export_system", "find_extrema", "load_system_csv", "load_system_json",

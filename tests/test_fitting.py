@@ -1,0 +1,404 @@
+"""Tests of the least-squares fit of the equivalent systems (paper Sec. 4.4, 5.2; fitting.py).
+
+Fits are judged by error metrics, never by their parameters (those are not unique: e.g. the
+dampers at a slab joint are only determined as a sum). Every tolerance is stated with its reason.
+The module-scoped fixtures fit each of the paper's tracks once (N = 5, seed 0); the whole file
+runs in about 20-30 s on 2 cores.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import warnings
+
+import numpy as np
+import pytest
+
+import semitrack as st
+from semitrack.constraints import (
+    ballasted_constraints,
+    ballasted_from_free,
+    slab_constraints,
+    slab_from_free,
+)
+from semitrack.equivalent import BallastedEquivalent, SlabEquivalent
+from semitrack.features import characteristic_frequencies
+from semitrack.fitting import (
+    POOR_MEDIAN_ERROR,
+    FitResult,
+    _Model,
+    _Problem,
+    _references,
+    default_fit_frequencies,
+    fit_characteristic_frequencies,
+    fit_equivalent,
+)
+from semitrack.metrics import error_band_grid, error_summary
+from semitrack.paper_systems import (
+    TABLE4_FIT_FREQUENCIES,
+    TABLE7_FIT_FREQUENCIES,
+    paper_table4,
+    paper_table7,
+)
+
+PAPER_BANDS = {"slab": (3.0, 900.0), "ballasted": (3.0, 750.0)}  # where the paper says its fits hold
+TRACKS = {"slab": st.slab_track, "ballasted": st.ballasted_track}
+PAPER_SYSTEMS = {"slab": paper_table4, "ballasted": paper_table7}
+
+# Matrices assembled two ways (batched fitting model vs. EquivalentSystem) differ by rounding in
+# sums of products spanning ~1e-3..1e9; relative to the largest entry that is a few 1e-16.
+ASSEMBLY_RTOL = 1e-12
+# Central differences with h = 1e-6 in log-parameters: truncation ~h^2 = 1e-12 and rounding
+# ~eps/h ~ 1e-10 of the largest entry; 1e-6 leaves margin while any wrong term is O(1).
+JACOBIAN_RTOL = 1e-6
+# The paper's resonances, refined by the exact method to 1e-3 Hz (features module); the fit must
+# use exactly these, so 0.05 Hz only absorbs the refinement tolerance of a new search.
+CHAR_ATOL_HZ = 0.05
+# Passivity: relative eigenvalues >= -1e-9, the default of EquivalentSystem.is_passive.
+PASSIVITY_TOL = 1e-9
+
+
+@pytest.fixture(scope="module")
+def fits():
+    """One constrained fit per track, as the issue asks: N = 5, the paper's band, seed 0."""
+    return {layout: fit_equivalent(TRACKS[layout](), layout, 5, band=PAPER_BANDS[layout], seed=0)
+            for layout in ("slab", "ballasted")}
+
+
+@pytest.fixture(scope="module")
+def slab_unconstrained(fits):
+    """The unconstrained slab fit, started from the constrained one (so it can only improve)."""
+    c = fits["slab"]
+    return fit_equivalent(st.slab_track(), "slab", 5, band=PAPER_BANDS["slab"], seed=0, constrained=False,
+                          n_starts=4, initial=c.system)
+
+
+def paper_errors(layout):
+    f = error_band_grid(PAPER_BANDS[layout], 3.0)
+    return error_summary(PAPER_SYSTEMS[layout]().receptance(f), st.semi_infinite_receptance(TRACKS[layout](), f))
+
+
+# --- the model behind the residuals ---------------------------------------------------------------
+@pytest.mark.parametrize("layout", ["slab", "ballasted"])
+@pytest.mark.parametrize("constrained", [True, False])
+@pytest.mark.parametrize("n_bars", [1, 2, 5])
+def test_batched_assembly_matches_equivalent_system(layout, constrained, n_bars):
+    track = TRACKS[layout]()
+    char = fit_characteristic_frequencies(track, layout)
+    model = _Model(layout, n_bars, constrained, _references(track, layout, char), char)
+    rng = np.random.default_rng(3)
+    theta = rng.normal(scale=0.7, size=(2, model.n_theta))
+    M, C, K = model.matrices(theta)
+    for b in range(2):
+        system = model.system(theta[b])
+        for mine, ref in zip((M[b], C[b], K[b]), system.matrices()):
+            np.testing.assert_allclose(mine, ref, rtol=0, atol=ASSEMBLY_RTOL * np.max(np.abs(ref)))
+
+
+@pytest.mark.parametrize("layout", ["slab", "ballasted"])
+@pytest.mark.parametrize("constrained", [True, False])
+def test_residuals_and_analytic_jacobian(layout, constrained):
+    track = TRACKS[layout]()
+    char = fit_characteristic_frequencies(track, layout)
+    model = _Model(layout, 4, constrained, _references(track, layout, char), char)
+    f = np.geomspace(3.0, 900.0, 25)
+    alpha = st.semi_infinite_receptance(track, f)
+    problem = _Problem(model, f, alpha)
+    theta = np.random.default_rng(5).normal(scale=0.5, size=model.n_theta)
+    # residuals are the paper's Re and Im of (alpha_E - alpha)/|alpha| of alpha11, alpha12, alpha22
+    a_e = model.system(theta).receptance(f)
+    expected = []
+    for part in (np.real, np.imag):
+        d = np.stack([(a_e[:, i, j] - alpha[:, i, j]) / np.abs(alpha[:, i, j])
+                      for i, j in ((0, 0), (0, 1), (1, 1))], axis=1)
+        expected.append(part(d).ravel())
+    np.testing.assert_allclose(problem.fun(theta), np.concatenate(expected), rtol=0, atol=1e-10)
+    J = problem.jac(theta)
+    h = 1e-6
+    J_fd = np.array([(problem.fun(theta + h * e) - problem.fun(theta - h * e)) / (2 * h)
+                     for e in np.eye(model.n_theta)]).T
+    assert np.max(np.abs(J - J_fd)) <= JACOBIAN_RTOL * np.max(np.abs(J))
+
+
+# --- characteristic frequencies --------------------------------------------------------------------
+def test_characteristic_frequencies_of_the_paper_tracks():
+    # exact det(alpha^-1) extrema: slab dip 183.7 Hz; ballasted dips 114.9, 500.5 Hz, peak 244.8 Hz
+    slab = fit_characteristic_frequencies(st.slab_track(), "slab")
+    assert slab["f_n"] == pytest.approx(183.741, abs=CHAR_ATOL_HZ)
+    ball = fit_characteristic_frequencies(st.ballasted_track(), "ballasted")
+    assert ball["f_n1"] == pytest.approx(114.858, abs=CHAR_ATOL_HZ)
+    assert ball["f_n2"] == pytest.approx(500.481, abs=CHAR_ATOL_HZ)
+    assert ball["f_anti"] == pytest.approx(244.798, abs=CHAR_ATOL_HZ)
+
+
+def test_characteristic_frequencies_follow_the_track_not_constants():
+    # a stiffer pad moves the slab resonance (about sqrt(2) for twice kv); the fit must follow
+    track = st.slab_track(kv=2 * st.slab_track().kv)
+    table = characteristic_frequencies(track)
+    dips = table[(table["quantity"] == "det") & (table["kind"] == "dip")]["f"].to_numpy()
+    f_n = fit_characteristic_frequencies(track, "slab")["f_n"]
+    assert np.min(np.abs(dips - f_n)) < 1e-9
+    assert f_n == pytest.approx(np.sqrt(2) * 183.741, rel=0.1)
+    fit = fit_equivalent(track, "slab", 2, band=(3, 600), n_starts=1, max_nfev=20)
+    assert fit.characteristic_frequencies == {"f_n": f_n}
+    np.testing.assert_allclose(fit.system.k, slab_constraints(fit.system.m, fit.system.L, f_n)["k"], rtol=1e-12)
+
+
+def test_default_fit_frequencies():
+    char = {"f_n1": 114.9, "f_n2": 500.5, "f_anti": 244.8}
+    f = default_fit_frequencies((3.0, 750.0), char)
+    assert f[0] == 3.0 and f[-1] == 750.0
+    assert np.all(np.diff(f) > 0)
+    for v in char.values():
+        assert np.any(np.isclose(f, v, rtol=1e-12, atol=0))
+    assert 80 <= f.size <= 80 + 7 * 3
+    # a characteristic frequency outside the band adds nothing outside the band
+    g = default_fit_frequencies((3.0, 300.0), char)
+    assert g[-1] == 300.0
+
+
+# --- the paper's two tracks ------------------------------------------------------------------------
+@pytest.mark.parametrize("layout", ["slab", "ballasted"])
+def test_fit_beats_the_paper_tables_twice_over(fits, layout):
+    # the issue's claim: at least 2x better than Table 4 / Table 7 on both the median and the
+    # maximum complex relative error, over the same dense 3 Hz grid of the paper's band.
+    # (Measured: slab 0.022/0.090 vs 0.154/0.534; ballasted 0.056/0.142 vs 0.168/0.735.)
+    fit = fits[layout]
+    paper = paper_errors(layout)
+    np.testing.assert_allclose(fit.error_frequencies, error_band_grid(PAPER_BANDS[layout], 3.0))
+    assert fit.median_error <= paper.median / 2, (fit.median_error, paper.median)
+    assert fit.max_error <= paper.max / 2, (fit.max_error, paper.max)
+    # the reported errors are those of the returned system
+    again = error_summary(fit.system.receptance(fit.error_frequencies),
+                          st.semi_infinite_receptance(TRACKS[layout](), fit.error_frequencies))
+    assert again.median == pytest.approx(fit.median_error, rel=1e-9)
+    assert again.max == pytest.approx(fit.max_error, rel=1e-9)
+    assert fit.success and fit.status > 0
+    assert fit.n_bars == 5 and fit.layout == layout and fit.constrained
+
+
+@pytest.mark.parametrize("layout", ["slab", "ballasted"])
+def test_constrained_fit_obeys_the_paper_constraints(fits, layout):
+    fit = fits[layout]
+    s, ch = fit.system, fit.characteristic_frequencies
+    if layout == "slab":
+        derived = slab_constraints(s.m, s.L, ch["f_n"])
+    else:
+        derived = ballasted_constraints(s.m, s.L, ch["f_n1"], ch["f_n2"], ch["f_anti"])
+    for name, value in derived.items():
+        np.testing.assert_allclose(getattr(s, name), value, rtol=1e-12)
+
+
+def _check_passive(system, band):
+    params = system.parameters()
+    for name, value in params.items():
+        assert np.all(value >= 0), name
+    assert np.all(system.L > 0)
+    for X in system.matrices():
+        np.testing.assert_array_equal(X, X.T)
+        ev = np.linalg.eigvalsh(X)
+        assert ev[0] >= -PASSIVITY_TOL * np.max(np.abs(ev))
+    f = np.linspace(0.5, 2 * band[1], 800)  # beyond the band too: passivity is global
+    report = system.is_passive(f, tol=PASSIVITY_TOL)
+    assert report, (report.worst_frequency, float(np.min(report.min_eig_mobility)))
+
+
+@pytest.mark.parametrize("layout", ["slab", "ballasted"])
+def test_fitted_systems_are_passive(fits, layout):
+    _check_passive(fits[layout].system, PAPER_BANDS[layout])
+
+
+def test_unconstrained_fit_shows_what_the_constraints_cost(fits, slab_unconstrained):
+    c, u = fits["slab"], slab_unconstrained
+    assert not u.constrained
+    assert set(u.free_parameters) >= {"k", "J"}
+    # started from the constrained optimum, the free fit can only lower the cost (the solver
+    # accepts decreasing steps only); the 1e-12 relative slack absorbs rounding
+    assert u.cost <= c.cost * (1 + 1e-12)
+    # and it is no longer tied to Eq. (19)-(20)
+    derived = slab_constraints(u.system.m, u.system.L, c.characteristic_frequencies["f_n"])
+    assert not np.allclose(u.system.k, derived["k"], rtol=1e-6)
+    _check_passive(u.system, PAPER_BANDS["slab"])
+    paper = paper_errors("slab")
+    assert u.median_error <= paper.median / 2
+
+
+def test_fit_with_the_paper_frequency_sets():
+    slab = fit_equivalent(st.slab_track(), "slab", 5, fit_freqs="paper", n_starts=4)
+    np.testing.assert_array_equal(slab.fit_freqs, TABLE4_FIT_FREQUENCIES)
+    # 9 frequencies only; still better than Table 4 itself on the median (measured 0.035 vs 0.154)
+    assert slab.median_error < paper_errors("slab").median
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # 5 evaluations: not converged, by design
+        ball = fit_equivalent(st.ballasted_track(), "ballasted", 2, fit_freqs="paper", n_starts=1, max_nfev=5)
+    np.testing.assert_array_equal(ball.fit_freqs, TABLE7_FIT_FREQUENCIES)
+
+
+# --- synthetic round trips -------------------------------------------------------------------------
+# The target is made by a known system of the same layout, N and constraint frequencies, so the
+# optimum has zero residual. The issue asks for a median error < 1e-3; near a zero-residual
+# solution Gauss-Newton converges quadratically and we measured ~1e-14, so we ask for 1e-6
+# (median) and 1e-5 (max): tight enough to catch any modelling mismatch, loose to rounding.
+ROUND_TRIP_MEDIAN = 1e-6
+ROUND_TRIP_MAX = 1e-5
+
+
+def test_round_trip_slab_three_bars():
+    true = slab_from_free(m=[8.0, 30.0, 120.0], L=[0.15, 0.3, 0.4], c_l=[200.0, 1500.0, 3000.0],
+                          c_r=[500.0, 2000.0, 8000.0], k_phi=[1.5e7, 5e6], c_phi=[300.0, 1000.0], f_n=175.0)
+    fit = fit_equivalent(st.slab_track(), "slab", 3, band=(3, 900), target=true.receptance,
+                         characteristic={"f_n": 175.0}, n_starts=4, seed=1)
+    assert fit.median_error < ROUND_TRIP_MEDIAN
+    assert fit.max_error < ROUND_TRIP_MAX
+    assert fit.success
+    # identifiable combinations are recovered (masses, lengths, hinge springs; joint damper sums)
+    np.testing.assert_allclose(fit.system.m, true.m, rtol=1e-6)
+    np.testing.assert_allclose(fit.system.L, true.L, rtol=1e-6)
+    np.testing.assert_allclose(fit.system.k_phi, true.k_phi, rtol=1e-6)
+    joint = lambda s: s.c_r[:-1] + s.c_l[1:]  # noqa: E731 - hinged ends move together
+    np.testing.assert_allclose(joint(fit.system), joint(true), rtol=1e-6)
+
+
+def test_round_trip_ballasted_two_bars_sampled_target():
+    true = ballasted_from_free(m=[10.0, 60.0], L=[0.2, 0.5], c_l=[100.0, 2000.0], c_r=[3000.0, 500.0],
+                               k_phi=[1e7], c_phi=[800.0], d_l=[5000.0, 15000.0], d_r=[8000.0, 3000.0],
+                               f_n1=110.0, f_n2=480.0, f_anti=250.0)
+    f = np.linspace(3.0, 750.0, 250)
+    char = {"f_n1": 110.0, "f_n2": 480.0, "f_anti": 250.0}
+    fit = fit_equivalent(st.ballasted_track(), "ballasted", 2, band=(3, 750), target=(f, true.receptance(f)),
+                         characteristic=char, n_starts=4)
+    assert fit.median_error < ROUND_TRIP_MEDIAN
+    assert fit.max_error < ROUND_TRIP_MAX
+    np.testing.assert_array_equal(fit.error_frequencies, f)  # sampled target: errors on its samples
+    np.testing.assert_array_equal(fit.fit_freqs, f)
+    with pytest.raises(ValueError, match="fit_freqs"):
+        fit_equivalent(st.ballasted_track(), "ballasted", 2, target=(f, true.receptance(f)),
+                       characteristic=char, fit_freqs=[100.5])
+
+
+def test_characteristic_frequencies_from_a_callable_target():
+    # detection works on any receptance: here a 2-bar slab system (its own det dip, not 175 Hz)
+    true = slab_from_free(m=[20.0, 80.0], L=[0.3, 0.4], c_l=[500.0, 500.0], c_r=[500.0, 500.0],
+                          k_phi=[5e6], c_phi=[500.0], f_n=175.0)
+    f = np.arange(3.0, 3000.0, 3.0)
+    det = np.abs(1.0 / np.linalg.det(true.receptance(f)))
+    f_n = fit_characteristic_frequencies(st.slab_track(), "slab", target=true.receptance)["f_n"]
+    i = int(np.argmin(np.abs(f - f_n)))
+    assert det[i] <= det[i - 1] and det[i] <= det[i + 1]  # a dip of |det(alpha^-1)|
+
+
+# --- machinery --------------------------------------------------------------------------------------
+def test_deterministic_for_a_fixed_seed():
+    kw = dict(layout="slab", n_bars=3, band=(3, 600), n_starts=3, max_nfev=50)
+    a = fit_equivalent(st.slab_track(), seed=7, **kw)
+    b = fit_equivalent(st.slab_track(), seed=7, **kw)
+    c = fit_equivalent(st.slab_track(), seed=8, **kw)
+    np.testing.assert_array_equal(a.theta, b.theta)
+    np.testing.assert_array_equal(a.start_costs, b.start_costs)
+    assert a.system == b.system
+    assert a.start_costs[0] == c.start_costs[0]  # start 0 is the deterministic guess
+    assert not np.array_equal(a.start_costs[1:], c.start_costs[1:])
+
+
+def test_larger_n_runs_and_stays_passive():
+    # the machinery is meant for N >= 10: one short run on a wider band
+    fit = fit_equivalent(st.slab_track(), "slab", 10, band=(3, 1500), n_starts=2, max_nfev=60)
+    assert fit.n_bars == 10 and fit.system.n_bars == 10
+    assert fit.theta.size == 6 * 10 - 2
+    _check_passive(fit.system, (3, 1500))
+
+
+def test_warns_when_the_fit_did_not_converge():
+    with pytest.warns(RuntimeWarning, match=r"status 0.*n_starts 1"):
+        fit = fit_equivalent(st.slab_track(), "slab", 3, n_starts=1, max_nfev=2)
+    assert not fit.success and fit.status == 0
+
+
+def test_warns_when_the_fit_is_poor():
+    # one bar cannot follow the slab receptance up to 900 Hz (median error ~0.8)
+    with pytest.warns(RuntimeWarning, match="poor"):
+        fit = fit_equivalent(st.slab_track(), "slab", 1, n_starts=2)
+    assert fit.median_error > POOR_MEDIAN_ERROR
+
+
+def test_no_warning_for_a_good_fit(fits):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fit_equivalent(st.slab_track(), "slab", 3, band=(3, 300), n_starts=2)
+
+
+def test_fit_result_is_frozen_and_complete(fits):
+    fit = fits["slab"]
+    assert isinstance(fit, FitResult)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        fit.median_error = 0.0
+    for name in ("fit_freqs", "error_frequencies", "theta", "start_costs", "at_bound"):
+        assert not getattr(fit, name).flags.writeable, name
+    assert isinstance(fit.system, SlabEquivalent)
+    assert isinstance(fits["ballasted"].system, BallastedEquivalent)
+    assert fit.n_starts == 20 and fit.start_costs.size == 20
+    assert fit.cost <= np.min(fit.start_costs)  # continuing the screened starts only lowers the cost
+    assert 0 <= fit.best_start < fit.n_starts
+    d = fit.diagnostics()
+    assert {"status", "message", "cost", "nfev", "optimality", "n_starts"} <= set(d)
+    assert np.all(np.isin(fit.characteristic_frequencies["f_n"], fit.fit_freqs))
+    assert "median_error" in repr(fit)
+
+
+def test_fit_leaves_blas_threading_as_it_found_it():
+    """The fit limits BLAS to one thread only for its own duration."""
+    from threadpoolctl import threadpool_info
+
+    before = [lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"]
+    fit_equivalent(st.slab_track(), layout="slab", n_bars=1, band=(3.0, 200.0), n_starts=1, max_nfev=5)
+    after = [lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"]
+    assert before == after
+
+
+@pytest.mark.parametrize(
+    "kwargs, exc, match",
+    [
+        (dict(layout="rail"), ValueError, "layout"),
+        (dict(layout=3), TypeError, "layout"),
+        (dict(n_bars=0), ValueError, "n_bars"),
+        (dict(n_bars=2.5), TypeError, "n_bars"),
+        (dict(band=(900, 3)), ValueError, "band"),
+        (dict(band=(-1, 900)), ValueError, "band"),
+        (dict(band=5), TypeError, "band"),
+        (dict(fit_freqs="dense"), ValueError, "fit_freqs"),
+        (dict(fit_freqs=[10.0, -5.0]), ValueError, "fit_freqs"),
+        (dict(seed=-1), ValueError, "seed"),
+        (dict(seed=1.5), TypeError, "seed"),
+        (dict(n_starts=0), ValueError, "n_starts"),
+        (dict(constrained="yes"), TypeError, "constrained"),
+        (dict(target=np.ones((5, 2, 2))), TypeError, "target"),
+        (dict(target=lambda f: np.ones((3, 2, 2))), ValueError, "target"),
+        (dict(characteristic={"f_n1": 100.0}), ValueError, "characteristic"),
+        (dict(characteristic={"f_n": -3.0}), ValueError, "characteristic"),
+        (dict(characteristic=[183.0]), TypeError, "characteristic"),
+        (dict(max_nfev=0), ValueError, "max_nfev"),
+        (dict(error_df=0), ValueError, "error_df"),
+        (dict(initial=paper_table7()), ValueError, "initial"),
+        (dict(initial="table4"), TypeError, "initial"),
+    ],
+)
+def test_bad_arguments_are_named(kwargs, exc, match):
+    args = dict(layout="slab", n_bars=2, n_starts=1, max_nfev=1)
+    args.update(kwargs)
+    with pytest.raises(exc, match=match):
+        fit_equivalent(st.slab_track(), **args)
+
+
+def test_bad_track_and_ballasted_characteristic_order():
+    with pytest.raises(TypeError, match="track"):
+        fit_equivalent("slab", "slab", 2)
+    with pytest.raises(ValueError, match="f_n1 < f_anti < f_n2"):
+        fit_equivalent(st.ballasted_track(), "ballasted", 2, n_starts=1, max_nfev=1,
+                       characteristic={"f_n1": 100.0, "f_n2": 200.0, "f_anti": 300.0})
+
+
+def test_layout_defaults_from_the_track():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        fit = fit_equivalent(st.ballasted_track(), n_bars=1, n_starts=1, max_nfev=1)
+    assert fit.layout == "ballasted" and fit.band == PAPER_BANDS["ballasted"]
