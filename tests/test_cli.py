@@ -1,0 +1,171 @@
+"""End-to-end tests of the command-line program through a subprocess."""
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import scipy.io
+
+import semitrack as st
+from semitrack.trackfile import example_path, load_track_toml, track_to_toml
+
+ENV = {**os.environ, "OPENBLAS_NUM_THREADS": "1"}
+# Line of "kv = ..." in the shipped ballasted example, where the located error must point.
+KV_LINE = next(n for n, line in enumerate(example_path("ballasted").read_text().splitlines(), 1) if line.startswith("kv "))
+
+
+def run(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "semitrack", *map(str, args)], capture_output=True,
+                          text=True, cwd=cwd, env=ENV, timeout=300)
+
+
+def assert_bad_input(result, *words):
+    """Exit code 2, one line on stderr naming the problem, no traceback."""
+    assert result.returncode == 2, result.stderr
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr
+    assert "Traceback" not in result.stderr
+    for w in words:
+        assert w in lines[0], lines[0]
+
+
+@pytest.fixture
+def slab_file(tmp_path):
+    path = tmp_path / "slab.toml"
+    path.write_text(example_path("slab").read_text())
+    return path
+
+
+def edited(tmp_path, old, new, name="edited.toml"):
+    path = tmp_path / name
+    text = example_path("ballasted").read_text()
+    assert old in text
+    path.write_text(text.replace(old, new, 1))
+    return path
+
+
+def test_examples_are_the_paper_tracks():
+    assert load_track_toml(example_path("slab")) == st.slab_track(name="paper slab track")
+    assert load_track_toml(example_path("ballasted")) == st.ballasted_track(name="paper ballasted track")
+
+
+def test_toml_round_trip(tmp_path):
+    track = st.ballasted_track(kv=2e8, name="soft pads")
+    path = tmp_path / "t.toml"
+    path.write_text(track_to_toml(track))
+    assert load_track_toml(path) == track
+
+
+def test_receptance_csv_matches_package(slab_file, tmp_path):
+    out = tmp_path / "alpha.csv"
+    result = run("receptance", slab_file, "--fmin", 3, "--fmax", 303, "--df", 6, "-o", out, "--plot", tmp_path / "a.png")
+    assert result.returncode == 0, result.stderr
+    header = [line for line in out.read_text().splitlines() if line.startswith("#")]
+    assert any("m/N" in h for h in header) and any("downward" in h for h in header)
+    data = pd.read_csv(out, comment="#")
+    f = data["f_Hz"].to_numpy()
+    np.testing.assert_allclose(f, np.arange(3.0, 304.0, 6.0))
+    alpha = st.semi_infinite_receptance(st.slab_track(), f)
+    for name, (i, k) in {"a11": (0, 0), "a12": (0, 1), "a21": (1, 0), "a22": (1, 1)}.items():
+        # 13 significant digits are printed: agreement to 1e-11 relative is "to the printed precision".
+        np.testing.assert_allclose(data[f"{name}_re"] + 1j * data[f"{name}_im"], alpha[:, i, k], rtol=1e-11)
+        np.testing.assert_allclose(data[f"{name}_abs"], np.abs(alpha[:, i, k]), rtol=1e-11)
+    assert (tmp_path / "a.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_receptance_to_stdout_has_no_progress_text(slab_file):
+    result = run("receptance", slab_file, "--fmax", 100, "--method", "wavenumber")
+    assert result.returncode == 0, result.stderr
+    assert result.stderr == ""  # not a terminal: no progress line
+    rows = [line for line in result.stdout.splitlines() if not line.startswith("#")]
+    assert rows[0].startswith("f_Hz,") and len(rows) == 1 + 17
+
+
+def test_features(slab_file):
+    result = run("features", slab_file, "--fmax", 1200, "--csv")
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.strip().splitlines()
+    assert lines[0].startswith("quantity,kind")
+    w1_peaks = [float(line.split(",")[3]) for line in lines[1:] if line.startswith("w1,peak")]
+    assert any(abs(f - 185.93) < 0.05 for f in w1_peaks)  # the exact bouncing peak (paper: 183 Hz)
+
+
+def test_fit_then_export_in_every_format(tmp_path):
+    track_file = tmp_path / "slab.toml"
+    track_file.write_text(track_to_toml(st.slab_track()))
+    system_file = tmp_path / "system.json"
+    result = run("fit", track_file, "--bars", 2, "--band", 3, 300, "--seed", 1, "-o", system_file)
+    assert result.returncode == 0, result.stderr
+    assert "median relative error" in result.stdout
+    system = st.load_system_json(system_file)
+    f = np.linspace(3.0, 300.0, 40)
+    reference = system.receptance(f)
+    for fmt in ("json", "csv", "mat"):
+        out = tmp_path / f"export.{fmt}"
+        result = run("export", system_file, "--format", fmt, "-o", out)
+        assert result.returncode == 0, result.stderr
+        loader = {"json": st.load_system_json, "csv": st.load_system_csv, "mat": st.load_system_mat}[fmt]
+        np.testing.assert_allclose(loader(out).receptance(f), reference, rtol=1e-10)
+    # The .mat matrices themselves, as a MATLAB user sees them, reproduce the receptance.
+    mat = scipy.io.loadmat(tmp_path / "export.mat")
+    m, c, k = (np.asarray(mat[n], dtype=float) for n in ("M", "C", "K"))
+    omega = 2 * np.pi * f
+    z = k[None] + 1j * omega[:, None, None] * c[None] - omega[:, None, None] ** 2 * m[None]
+    rhs = np.zeros((f.size, k.shape[0], 2))
+    rhs[:, 0, 0] = rhs[:, 1, 1] = 1.0
+    np.testing.assert_allclose(np.linalg.solve(z, rhs)[:, :2, :], reference, rtol=1e-10)
+
+
+@pytest.mark.parametrize("sub", ["receptance", "fit", "export", "features"])
+def test_help_has_an_example(sub):
+    result = run(sub, "--help")
+    assert result.returncode == 0 and "example:" in result.stdout
+
+
+def test_bad_toml(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text("type = slab\n[rail\n")
+    out = tmp_path / "out.csv"
+    assert_bad_input(run("receptance", bad, "-o", out), "not a valid TOML")
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("old,new,words", [
+    ("kb = 100e6", "kb = 100e6\nkbb = 1.0", ["unknown key 'kbb'", "[ballast]", "line"]),
+    ("kv = 3.5e8", "kv = -3.5e8", ["kv must be positive and finite", "-350000000.0", f"line {KV_LINE}"]),
+    ("spacing = 0.6", "spacing = 0.0", ["spacing must be positive and finite", "0.0", "line"]),
+    ("kv = 3.5e8", 'kv = "stiff"', ["kv must be a number", "'stiff'"]),
+    ("eta_pad = 0.1            # loss factor, -\n", "", ["missing key 'eta_pad' in [pad]"]),
+])
+def test_bad_track_values(tmp_path, old, new, words):
+    path = edited(tmp_path, old, new)
+    out = tmp_path / "out.csv"
+    result = run("receptance", path, "--fmax", 30, "-o", out)
+    assert_bad_input(result, *words, path.name)
+    assert not out.exists() and [p.name for p in tmp_path.iterdir()] == [path.name]  # no temp file left
+
+
+@pytest.mark.parametrize("args,words", [
+    (["--fmin", 50, "--fmax", 10], ["--fmin must not exceed --fmax"]),
+    (["--fmin", "abc"], ["--fmin", "invalid float value"]),
+    (["--df", 0], ["--df must be positive"]),
+])
+def test_bad_frequency_arguments(slab_file, tmp_path, args, words):
+    out = tmp_path / "out.csv"
+    assert_bad_input(run("receptance", slab_file, *args, "-o", out), *words)
+    assert not out.exists()
+
+
+def test_bad_fit_and_export_inputs(slab_file, tmp_path):
+    assert_bad_input(run("fit", slab_file, "--band", 500, 100, "-o", tmp_path / "s.json"), "--fmin must not exceed --fmax")
+    assert_bad_input(run("fit", slab_file, "--band", 3, 100, "--bars", 0, "-o", tmp_path / "s.json"), "--bars")
+    junk = tmp_path / "junk.json"
+    junk.write_text(json.dumps({"layout": "tram"}))
+    assert_bad_input(run("export", junk, "-o", tmp_path / "x.mat"), "cannot load the system")
+    assert_bad_input(run("receptance", tmp_path / "missing.toml"), "cannot read the track file")
+    assert not (tmp_path / "s.json").exists() and not (tmp_path / "x.mat").exists()
