@@ -15,6 +15,9 @@ METHOD_STYLE = {
     "wavenumber": dict(color="tab:orange", lw=1.1, ls="--"),
     "paper system": dict(color="tab:red", lw=1.1, ls=":"),
     "our system": dict(color="tab:blue", lw=1.1, ls="--"),
+    "pinned": dict(color="0.45", lw=1.1, ls="-."),
+    "free": dict(color="tab:brown", lw=1.0, ls="-."),
+    "exact end stiffness": dict(color="tab:green", lw=1.1, ls="-"),
 }
 #: Colours of the receptance elements, as in the paper's Fig. 8 (black, green, red).
 ELEMENT_COLOR = {"alpha11": "k", "alpha12": "tab:green", "alpha22": "tab:red"}
@@ -196,24 +199,26 @@ def equivalent_schematic(system, ax=None, title: str = ""):
     ballasted = "mu" in p
     spring_top, spring_bottom = 0.0, (-1.0 if not ballasted else -0.55)
 
-    def zigzag(x0, y0, y1, label=None):
+    def zigzag(x0, y0, y1, label=None, shift=0.0):
         ys = np.linspace(y0, y1, 14)
         xs = x0 + 0.012 * np.array([0] + [(-1) ** i for i in range(12)] + [0]) * (x[-1] or 1)
         ax.plot(xs, ys, color="0.3", lw=0.8)
-        if label:
-            ax.annotate(label, (x0, 0.5 * (y0 + y1)), xytext=(4, 0), textcoords="offset points", fontsize=7,
-                        va="center", color="0.3")
+        if label:  # labels of neighbouring bars are staggered in height so that short bars stay readable
+            ax.annotate(label, (x0, 0.5 * (y0 + y1) + shift), xytext=(4, 0), textcoords="offset points",
+                        fontsize=7, va="center", color="0.3")
 
     for j in range(system.n_bars):
         lw = 1.0 + 7.0 * p["m"][j] / m_max
         ax.plot([x[j], x[j + 1]], [0, 0], color="tab:blue", lw=lw, solid_capstyle="butt")
         ax.annotate(f"bar {j + 1}\nm={p['m'][j]:.3g} kg", ((x[j] + x[j + 1]) / 2, 0.12), ha="center", fontsize=7)
+        shift = 0.12 * (j % 2)
         for end in (x[j], x[j + 1]):
+            first = end == x[j]
             if p["k"][j] > 0:
-                zigzag(end, spring_top, spring_bottom, f"{p['k'][j]:.3g}" if end == x[j] else None)
+                zigzag(end, spring_top, spring_bottom, f"k={p['k'][j]:.3g}" if first else None, shift)
             if ballasted and p["mu"][j] > 0:
                 ax.add_patch(mpl.patches.Rectangle((end - 0.01 * x[-1], -0.7), 0.02 * x[-1], 0.15, color="tab:orange"))
-                zigzag(end, -0.7, -1.0, f"{p['s'][j]:.3g}" if end == x[j] else None)
+                zigzag(end, -0.7, -1.0, f"s={p['s'][j]:.3g}" if first else None, shift / 3)
     for j in range(system.n_bars - 1):
         ax.plot(x[j + 1], 0, "o", mfc="white", mec="k", ms=5)
     ax.axhline(-1.0, color="0.2", lw=1.2)
