@@ -66,3 +66,14 @@ def as_frequencies(f, name: str = "f") -> np.ndarray:
             f"{name} must be positive and finite (Hz); {int(bad.sum())} value(s) are not, e.g. {first!r}"
         )
     return arr
+
+
+def check_band(band, name: str = "band") -> tuple[float, float]:
+    """A frequency band ``(f_lo, f_hi)`` in Hz with ``0 < f_lo < f_hi``, both finite."""
+    try:
+        lo, hi = (float(b) for b in band)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a pair of frequencies (f_lo, f_hi) in Hz, got {band!r}") from None
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
+        raise ValueError(f"{name} must satisfy 0 < {name}[0] < {name}[1] (finite, Hz), got {band!r}")
+    return lo, hi

@@ -64,7 +64,7 @@ import numpy as np
 from scipy.optimize import least_squares
 from threadpoolctl import threadpool_limits
 
-from ._validation import as_frequencies, check_int_at_least
+from ._validation import as_frequencies, check_band, check_int_at_least
 from .constraints import ballasted_from_free, slab_from_free
 from .equivalent import BallastedEquivalent, EquivalentSystem, SlabEquivalent
 from .metrics import ErrorSummary, error_band_grid, error_summary
@@ -360,16 +360,6 @@ def _check_layout(layout) -> str:
     return layout
 
 
-def _check_band(band) -> tuple[float, float]:
-    try:
-        lo, hi = (float(b) for b in band)
-    except (TypeError, ValueError):
-        raise TypeError(f"band must be a pair of frequencies (f_lo, f_hi) in Hz, got {band!r}") from None
-    if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
-        raise ValueError(f"band must satisfy 0 < band[0] < band[1] (finite, Hz), got {band!r}")
-    return lo, hi
-
-
 def _check_track(track):
     from .tracks import Track
 
@@ -457,7 +447,7 @@ def fit_characteristic_frequencies(track, layout: str, *, target=None,
     """
     layout = _check_layout(layout)
     track = _check_track(track)
-    search_band = _check_band(search_band)
+    search_band = check_band(search_band)
     if target is not None:
         target = _normalise_target(target)
     table = _det_extrema(track, target, search_band, df)
@@ -502,7 +492,7 @@ def default_fit_frequencies(band, characteristic: dict | None = None, n: int = 8
     ndarray
         Sorted, unique frequencies (Hz).
     """
-    lo, hi = _check_band(band)
+    lo, hi = check_band(band)
     n = check_int_at_least("n", n, 4)
     f = [np.geomspace(lo, hi, n // 2), np.linspace(lo, hi, n - n // 2)]
     for v in (characteristic or {}).values():
@@ -793,7 +783,7 @@ def fit_equivalent(track, layout: str | None = None, n_bars: int = 5, band=None,
     n_bars = check_int_at_least("n_bars", n_bars, 1)
     if band is None:
         band = (3.0, 900.0) if layout == "slab" else (3.0, 750.0)
-    band = _check_band(band)
+    band = check_band(band)
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
         raise TypeError(f"seed must be a non-negative integer, got {seed!r} ({type(seed).__name__})")
     if seed < 0:

@@ -13,6 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._validation import check_band
+
 __all__ = ["ELEMENTS", "ErrorSummary", "receptance_errors", "error_summary", "error_band_grid"]
 
 #: Receptance elements compared, with their (row, column) index in a 2x2 receptance.
@@ -104,12 +106,7 @@ def error_band_grid(band, df: float = 3.0) -> np.ndarray:
     df : float
         Largest allowed spacing (Hz), positive.
     """
-    try:
-        lo, hi = (float(b) for b in band)
-    except (TypeError, ValueError):
-        raise TypeError(f"band must be a pair of frequencies (Hz), got {band!r}") from None
-    if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
-        raise ValueError(f"band must satisfy 0 < band[0] < band[1] (finite, Hz), got {band!r}")
+    lo, hi = check_band(band)
     if isinstance(df, bool) or not isinstance(df, (int, float)) or not (math.isfinite(df) and df > 0):
         raise ValueError(f"df must be positive and finite (Hz), got {df!r}")
     n = int(math.ceil((hi - lo) / df - 1e-12)) + 1
