@@ -54,8 +54,9 @@ def test_examples_are_the_paper_tracks():
     assert load_track_toml(example_path("ballasted")) == st.ballasted_track(name="paper ballasted track")
 
 
-def test_toml_round_trip(tmp_path):
-    track = st.ballasted_track(kv=2e8, name="soft pads")
+@pytest.mark.parametrize("name", ["soft pads", "Nord's \"fast\" track \\ 2"])
+def test_toml_round_trip(tmp_path, name):
+    track = st.ballasted_track(kv=2e8, name=name)
     path = tmp_path / "t.toml"
     path.write_text(track_to_toml(track))
     assert load_track_toml(path) == track
@@ -162,8 +163,10 @@ def test_bad_frequency_arguments(slab_file, tmp_path, args, words):
 
 
 def test_bad_fit_and_export_inputs(slab_file, tmp_path):
-    assert_bad_input(run("fit", slab_file, "--band", 500, 100, "-o", tmp_path / "s.json"), "--fmin must not exceed --fmax")
+    assert_bad_input(run("fit", slab_file, "--band", 500, 100, "-o", tmp_path / "s.json"), "--band", "500.0")
     assert_bad_input(run("fit", slab_file, "--band", 3, 100, "--bars", 0, "-o", tmp_path / "s.json"), "--bars")
+    assert_bad_input(run("fit", slab_file, "--band", 100, 100, "-o", tmp_path / "s.json"), "--band")
+    assert_bad_input(run("fit", slab_file, "--band", 3, 100, "--seed", -1, "-o", tmp_path / "s.json"), "--seed")
     junk = tmp_path / "junk.json"
     junk.write_text(json.dumps({"layout": "tram"}))
     assert_bad_input(run("export", junk, "-o", tmp_path / "x.mat"), "cannot load the system")

@@ -70,3 +70,17 @@ def test_dense_supports_tend_to_continuous_foundation():
     # Second-order convergence in d (measured 16x per 4x refinement); 1e-4 at n = 64.
     assert errors[0] / errors[1] > 10 and errors[1] / errors[2] > 10
     assert errors[2] < 1e-4
+
+
+def test_eq14_refused_for_a_cell_without_mirror_symmetry():
+    """Eq. (14) holds only at a mirror plane; an asymmetric cell must not get a silently wrong alpha."""
+    t = st.slab_track()
+    skew = st.PeriodicCell(t, 1.95, (0.0, 0.2, 0.9))
+    assert not skew.is_symmetric_about(skew.mid_span) and t.cell(2).is_symmetric_about(t.cell(2).mid_span)
+    with pytest.raises(ValueError, match="symmetric about its mid-span"):
+        st.central_response(skew, 100.0)
+    with pytest.raises(ValueError, match="symmetric about its mid-span"):
+        st.semi_infinite_receptance(skew, 100.0, method="wavenumber")
+    # The transfer method's alpha = K_R^-1 needs no symmetry: still reciprocal and passive.
+    a = st.semi_infinite_receptance(skew, [100.0, 500.0])
+    np.testing.assert_allclose(a[:, 0, 1], a[:, 1, 0], rtol=1e-10)

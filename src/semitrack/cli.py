@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
+from ._validation import check_band
 from .io import atomic_write, export_system, load_system_json, save_system_json
 from .progress import Progress
 from .trackfile import TrackFileError, load_track_toml
@@ -130,10 +131,14 @@ def cmd_fit(args) -> int:
     from .fitting import fit_equivalent
 
     track = _track(args.track)
-    fmin, fmax = args.band
-    frequency_grid(fmin, fmax, max(fmax - fmin, 1.0))  # checks the band
+    try:
+        fmin, fmax = check_band(args.band, "--band")
+    except ValueError as err:
+        raise InputError(str(err)) from None
     if args.bars < 1:
         raise InputError(f"--bars must be at least 1, got {args.bars}")
+    if args.seed < 0:
+        raise InputError(f"--seed must be a non-negative integer, got {args.seed}")
     out = _output_path(args.output)
     layout = "ballasted" if track.is_ballasted else "slab"
     progress = Progress("fit", 1, quiet=args.quiet)

@@ -121,6 +121,13 @@ def central_response(track, f, method: str = "transfer", **settings) -> CentralR
     f = as_frequencies(f)
     cell = _cell_of(track)
     ws = _settings(method, dict(settings))
+    if not cell.is_symmetric_about(cell.mid_span):
+        # Eq. (14) uses psi1 = w2 = 0 and Q1 = M2 = 0.5 at the cut: true only at a mirror plane.
+        raise ValueError(
+            f"the central responses and Eq. (14) need a cell that is symmetric about its mid-span "
+            f"x = {cell.mid_span}; supports at {cell.positions} in a period of {cell.period} are not. "
+            "semi_infinite_receptance(..., method='transfer') handles any cell"
+        )
     omega = 2 * np.pi * f.ravel()
     if ws is None:
         k_right, k_left = end_stiffness(cell, omega, cell.mid_span)

@@ -14,6 +14,7 @@ where it can be found, the key, the value and the rule.
 
 from __future__ import annotations
 
+import json
 import math
 import re
 import tomllib
@@ -145,7 +146,8 @@ def track_from_dict(data: dict, source: str = "track description", text: str = "
 def track_to_toml(track: Track) -> str:
     """The TOML text of a track description (a round trip of :func:`load_track_toml`)."""
     kind = "ballasted" if track.is_ballasted else "slab"
-    lines = [f'type = "{kind}"', f"name = {track.name!r}".replace("'", '"'), ""]
+    # A JSON string is a valid TOML basic string: quotes and backslashes come out escaped.
+    lines = [f'type = "{kind}"', f"name = {json.dumps(track.name)}", ""]
     for section in ("rail", "pad") + (("ballast",) if track.is_ballasted else ()):
         lines.append(f"[{section}]")
         lines += [f"{key} = {getattr(track, key)!r}" for key in SECTIONS[section]]

@@ -272,6 +272,25 @@ class PeriodicCell:
         nxt = self.positions[1] if self.n_supports > 1 else self.period
         return 0.5 * (self.positions[0] + nxt)
 
+    def is_symmetric_about(self, x: float, rtol: float = 1e-9) -> bool:
+        """True when the periodic track is a mirror image of itself about the cross-section ``x``.
+
+        The support positions must map onto each other under x -> 2x - position (modulo the
+        period), and a custom foundation must be unchanged by the same permutation of supports
+        (checked at a few frequencies). Eq. (14) of the paper relies on this symmetry.
+        """
+        pos = np.asarray(self.positions)
+        mirrored = (2 * x - pos) % self.period
+        tol = rtol * self.period
+        mirrored = np.where(np.abs(mirrored - self.period) < tol, 0.0, mirrored)
+        order = np.argsort(mirrored)
+        if not np.allclose(np.sort(mirrored), pos, rtol=0, atol=tol):
+            return False
+        if self.foundation is None:
+            return True
+        g = self.foundation_matrix(np.array([10.0, 100.0, 1000.0]))
+        return bool(np.allclose(g[:, order][:, :, order], g, rtol=rtol, atol=0))
+
     def foundation_matrix(self, f) -> np.ndarray:
         """G_rs(f), shape ``(n_f, S, S)`` (m/N)."""
         f = np.atleast_1d(as_frequencies(f))
