@@ -60,7 +60,7 @@ PASSIVITY_TOL = 1e-9
 
 @pytest.fixture(scope="module")
 def fits():
-    """One constrained fit per track, as the issue asks: N = 5, the paper's band, seed 0."""
+    """One constrained fit per track as in the paper: N = 5, the paper's band, seed 0."""
     return {layout: fit_equivalent(TRACKS[layout](), layout, 5, band=PAPER_BANDS[layout], seed=0)
             for layout in ("slab", "ballasted")}
 
@@ -160,7 +160,7 @@ def test_default_fit_frequencies():
 # --- the paper's two tracks ------------------------------------------------------------------------
 @pytest.mark.parametrize("layout", ["slab", "ballasted"])
 def test_fit_beats_the_paper_tables_twice_over(fits, layout):
-    # the issue's claim: at least 2x better than Table 4 / Table 7 on both the median and the
+    # the requirement: at least 2x better than Table 4 / Table 7 on both the median and the
     # maximum complex relative error, over the same dense 3 Hz grid of the paper's band.
     # (Measured: slab 0.022/0.090 vs 0.154/0.534; ballasted 0.056/0.142 vs 0.168/0.735.)
     fit = fits[layout]
@@ -236,7 +236,7 @@ def test_fit_with_the_paper_frequency_sets():
 
 # --- synthetic round trips -------------------------------------------------------------------------
 # The target is made by a known system of the same layout, N and constraint frequencies, so the
-# optimum has zero residual. The issue asks for a median error < 1e-3; near a zero-residual
+# optimum has zero residual. The requirement is a median error < 1e-3; near a zero-residual
 # solution Gauss-Newton converges quadratically and we measured ~1e-14, so we ask for 1e-6
 # (median) and 1e-5 (max): tight enough to catch any modelling mismatch, loose to rounding.
 ROUND_TRIP_MEDIAN = 1e-6

@@ -84,3 +84,14 @@ def test_eq14_refused_for_a_cell_without_mirror_symmetry():
     # The transfer method's alpha = K_R^-1 needs no symmetry: still reciprocal and passive.
     a = st.semi_infinite_receptance(skew, [100.0, 500.0])
     np.testing.assert_allclose(a[:, 0, 1], a[:, 1, 0], rtol=1e-10)
+
+
+def test_closed_form_refuses_active_or_missing_foundation():
+    t = st.slab_track()
+    with pytest.raises(ValueError, match="k_f must be"):
+        st.continuous_foundation_receptance(t, 100.0, -8e7)
+    with pytest.raises(ValueError, match="k_f must be"):
+        st.continuous_foundation_receptance(t, 100.0, 8e7 * (1 - 0.1j))  # negative damping
+    with pytest.raises(ValueError, match="k_r must be"):
+        st.continuous_foundation_receptance(t, 100.0, 8e7, -1.0)
+    st.continuous_foundation_receptance(t, 100.0, 8e7, 0.0)  # no rotational foundation is fine

@@ -1,4 +1,4 @@
-"""Truncated tracks closed by fitted equivalent systems against the infinite track (issue 5)."""
+"""Truncated tracks closed by fitted equivalent systems against the infinite track."""
 
 import numpy as np
 import pandas as pd
@@ -20,7 +20,7 @@ def test_ten_bays_with_fitted_ends_reproduce_the_infinite_track(layout):
                                                           "pinned": ("pinned", None)})
     eq = study[study.ends == "equivalent"].iloc[0]
     pinned = study[study.ends == "pinned"].iloc[0]
-    # The issue's targets: 5 % median and 10 % maximum error of w1 over the fit band at <= 10 bays
+    # Targets: 5 % median and 10 % maximum error of w1 over the fit band at <= 10 bays
     # (measured: slab 1.1 % / 3.5 %, ballasted 0.06 % / 3.7 %).
     assert eq["median error"] < 0.05 and eq["max error"] < 0.10
     # Pinned ends of the same length are far worse (measured max 615 % slab, 73 % ballasted).

@@ -6,7 +6,7 @@ import pytest
 import semitrack as st
 from semitrack.wavenumber import PAPER_BETA_MAX, WavenumberSettings, displacement_fields
 
-CHECK_F = np.array([3.0, 183.0, 945.0])  # the frequencies named in the issue
+CHECK_F = np.array([3.0, 183.0, 945.0])  # low, bouncing, and near the first pinned-pinned frequency
 # Refined setting: ten times the paper's wavenumber range, one twentieth of its dx.
 REFINED = dict(beta_max=10 * PAPER_BETA_MAX, dx=0.002)
 
@@ -26,12 +26,12 @@ def test_wavenumber_converges_to_exact(track):
     exact = st.semi_infinite_receptance(track, CHECK_F)
     err_paper = _max_rel_error(st.semi_infinite_receptance(track, CHECK_F, method="wavenumber"), exact)
     err_refined = _max_rel_error(st.semi_infinite_receptance(track, CHECK_F, method="wavenumber", **REFINED), exact)
-    # The issue asks for a 10x reduction at each frequency; measured 15x-300x.
+    # Required: a 10x reduction at each frequency; measured 15x-300x.
     ratio = err_paper / err_refined
     assert np.all(ratio >= 10), f"paper error {err_paper}, refined {err_refined}"
-    # The paper's settings are not exact: their error is reported (book, benchmark), here only
-    # bounded so that a gross regression (a wrong sign, a lost factor) fails. Measured 5-68 %.
-    assert np.all(err_paper < 1.0) and np.all(err_refined < 0.02)
+    # The book states that the paper's settings are measurably off (measured 9-68 % here): keep
+    # that claim true from both sides, and keep the refined setting near 1 % (measured 0.2-1 %).
+    assert np.all(err_paper > 0.05) and np.all(err_paper < 0.8) and np.all(err_refined < 0.02)
 
 
 def test_central_displacement_converges_fast(track):

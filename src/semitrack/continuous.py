@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validation import as_frequencies, check_nonnegative, check_positive
+from ._validation import as_frequencies, check_nonnegative
 from .tracks import Track
 
 
@@ -44,8 +44,13 @@ def continuous_foundation_receptance(track: Track, f, k_f: float, k_r: float = 0
         Response (w, psi) at x per load (F, M) at 0.
     """
     f = as_frequencies(f)
-    check_positive("abs(k_f)", abs(k_f))
-    check_nonnegative("abs(k_r)", abs(k_r))
+    for name, value, allow_zero in (("k_f", k_f, False), ("k_r", k_r, True)):
+        k = complex(value)
+        ok = np.isfinite(k) and (k.real > 0 or (allow_zero and k == 0)) and k.imag >= 0
+        if not ok:
+            rule = "zero or " if allow_zero else ""
+            raise ValueError(f"{name} must be {rule}a finite stiffness with positive real part and "
+                             f"non-negative imaginary part (a passive foundation), got {value!r}")
     check_nonnegative("x", x)
     omega2 = (2 * np.pi * f.ravel()) ** 2
     kag, ei = track.kAG, track.EI

@@ -14,7 +14,7 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import minimize_scalar
 
-from ._validation import as_frequencies
+from ._validation import as_frequencies, check_band, check_positive
 from .receptance import central_response
 
 #: The curves of the paper's Fig. 4/10/5/11 in which peaks and dips are looked for.
@@ -128,8 +128,11 @@ def characteristic_frequencies(track, band=(3.0, 3000.0), df: float = 6.0) -> pd
     The grid is ``band[0], band[0] + df, ...`` up to ``band[1]`` (the paper's is 3, 9, ..., 2997 Hz);
     each extremum is then refined to 1e-3 Hz with the exact method.
     """
-    lo, hi = band
+    lo, hi = check_band(band)
+    df = check_positive("df", df)
     f = np.arange(lo, hi + 1e-9, df)
+    if f.size < 3:
+        raise ValueError(f"band {band!r} with df={df!r} gives fewer than 3 grid points; use a smaller df")
 
     def evaluate(x):
         return {k: v[0] for k, v in response_curves(track, np.array([x])).items()}

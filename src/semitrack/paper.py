@@ -3,7 +3,8 @@
 Each entry names the curve and the kind of extremum in which the paper reports the frequency:
 Table 3 (slab) and Table 6 (ballasted) for the complete track, and the statements of Sec. 4.2-4.3
 and 5.1-5.2 about det(alpha^-1) and the semi-infinite receptances. The paper read its values off
-a 6 Hz grid (3, 9, ..., 2997 Hz), so they carry a quantisation of up to +-3 Hz.
+a 6 Hz grid (3, 9, ..., 2997 Hz). Some values are points of that grid (183, 117 Hz), so they carry
+its quantisation of up to +-3 Hz; others are not (940, 980 Hz) and were read off the curves.
 """
 
 from __future__ import annotations

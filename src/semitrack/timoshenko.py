@@ -51,17 +51,6 @@ def operator_inverse(track: Track, omega, beta):
     return b * inv_det, -c * inv_det, c * inv_det, a * inv_det
 
 
-def operator(track: Track, omega, beta) -> np.ndarray:
-    """The operator D(beta, omega) of Eq. (6) as an array of shape ``broadcast + (2, 2)``."""
-    kag, ei = track.kAG, track.EI
-    omega2 = np.asarray(omega) ** 2
-    beta = np.asarray(beta)
-    a = kag * beta**2 - omega2 * track.mass_per_length
-    b = ei * beta**2 + (kag - omega2 * track.rotary_inertia)
-    c = 1j * kag * beta
-    return np.stack([np.stack([a, c], -1), np.stack([-c, b], -1)], -2)
-
-
 def state_matrix(track: Track, omega) -> np.ndarray:
     """Matrix A(omega) of the first-order field equation ds/dx = A s, shape ``(n, 4, 4)``.
 
