@@ -45,6 +45,39 @@ __all__ = [
 _TWO_PI = 2 * np.pi
 
 
+# --- The paper's relations, one function per equation ----------------------------------------
+# Unchecked, broadcasting and complex-safe: the validated builders below, the fit (batched,
+# complex arrays) and the consistency check of the printed tables all evaluate these.
+def _omega2(f):
+    return (_TWO_PI * f) ** 2
+
+
+def inertia_relation(m, L):
+    """J = m L^2 / 4 (Eq. 20 and 28), kg m^2."""
+    return 0.25 * m * L**2
+
+
+def slab_spring_relation(m, f_n):
+    """k = m omega_n^2 / 2 (Eq. 19), N/m."""
+    return 0.5 * m * _omega2(f_n)
+
+
+def upper_spring_relation(m, f_n1, f_n2, f_anti):
+    """k = m (omega_n1^2 + omega_n2^2 - omega_anti^2) / 2 (Eq. 29), N/m."""
+    return 0.5 * m * (_omega2(f_n1) + _omega2(f_n2) - _omega2(f_anti))
+
+
+def lower_spring_relation(k, f_n1, f_n2, f_anti):
+    """s = w1 w2 k / ((w1 + w2 - wa) wa - w1 w2) with w = omega^2 (Eq. 30), N/m."""
+    w1, w2, wa = _omega2(f_n1), _omega2(f_n2), _omega2(f_anti)
+    return w1 * w2 * k / ((w1 + w2 - wa) * wa - w1 * w2)
+
+
+def support_mass_relation(k, s, f_anti):
+    """mu = (k + s) / omega_anti^2 (Eq. 23), kg."""
+    return (k + s) / _omega2(f_anti)
+
+
 def slab_constraints(m, L, f_n: float) -> dict[str, np.ndarray]:
     """Spring stiffness and inertia of the slab layout from Eq. (19) and (20).
 
@@ -63,8 +96,8 @@ def slab_constraints(m, L, f_n: float) -> dict[str, np.ndarray]:
     m = _param_array("m", m)
     L = _param_array("L", L, positive=True)
     _same_length(m=m, L=L)
-    w2 = (_TWO_PI * check_positive("f_n", f_n)) ** 2
-    return {"k": 0.5 * m * w2, "J": 0.25 * m * L**2}
+    f_n = check_positive("f_n", f_n)
+    return {"k": slab_spring_relation(m, f_n), "J": inertia_relation(m, L)}
 
 
 def ballasted_constraints(m, L, f_n1: float, f_n2: float, f_anti: float) -> dict[str, np.ndarray]:
@@ -88,19 +121,16 @@ def ballasted_constraints(m, L, f_n1: float, f_n2: float, f_anti: float) -> dict
     m = _param_array("m", m)
     L = _param_array("L", L, positive=True)
     _same_length(m=m, L=L)
-    w1 = (_TWO_PI * check_positive("f_n1", f_n1)) ** 2
-    w2 = (_TWO_PI * check_positive("f_n2", f_n2)) ** 2
-    wa = (_TWO_PI * check_positive("f_anti", f_anti)) ** 2
+    for name, value in (("f_n1", f_n1), ("f_n2", f_n2), ("f_anti", f_anti)):
+        check_positive(name, value)
     if not (f_n1 < f_anti < f_n2):
         raise ValueError(
             f"f_anti must lie strictly between f_n1 and f_n2 (Eq. 30 gives s > 0 only then), "
             f"got f_n1={f_n1!r}, f_anti={f_anti!r}, f_n2={f_n2!r} Hz"
         )
-    a = w1 + w2 - wa  # > 0 because f_n2 > f_anti
-    k = 0.5 * m * a  # Eq. (29)
-    s = w1 * w2 * k / (a * wa - w1 * w2)  # Eq. (30)
-    mu = (k + s) / wa  # Eq. (23)
-    return {"k": k, "J": 0.25 * m * L**2, "s": s, "mu": mu}  # J: Eq. (28)
+    k = upper_spring_relation(m, f_n1, f_n2, f_anti)  # > 0 because f_n2 > f_anti
+    s = lower_spring_relation(k, f_n1, f_n2, f_anti)
+    return {"k": k, "J": inertia_relation(m, L), "s": s, "mu": support_mass_relation(k, s, f_anti)}
 
 
 def slab_from_free(m, L, c_l, c_r, k_phi, c_phi, f_n: float) -> SlabEquivalent:

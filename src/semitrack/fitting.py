@@ -65,7 +65,15 @@ from scipy.optimize import least_squares
 from threadpoolctl import threadpool_limits
 
 from ._validation import as_frequencies, check_band, check_int_at_least
-from .constraints import ballasted_from_free, slab_from_free
+from .constraints import (
+    ballasted_from_free,
+    inertia_relation,
+    lower_spring_relation,
+    slab_from_free,
+    slab_spring_relation,
+    support_mass_relation,
+    upper_spring_relation,
+)
 from .equivalent import BallastedEquivalent, EquivalentSystem, SlabEquivalent
 from .metrics import ErrorSummary, error_band_grid, error_summary
 
@@ -169,18 +177,14 @@ class _Model:
         """All physical parameters (B, size) from theta (B, n_theta); complex-safe."""
         p = {n: np.exp(theta[:, self.slices[n]] + self.log_ref[self.slices[n]]) for n in self.names}
         if self.constrained:
-            m, L = p["m"], p["L"]
-            p["J"] = 0.25 * m * L**2  # Eq. (20) / (28)
+            m, L, c = p["m"], p["L"], self.char
+            p["J"] = inertia_relation(m, L)
             if self.layout == "slab":
-                p["k"] = 0.5 * m * (_TWO_PI * self.char["f_n"]) ** 2  # Eq. (19)
+                p["k"] = slab_spring_relation(m, c["f_n"])
             else:
-                w1 = (_TWO_PI * self.char["f_n1"]) ** 2
-                w2 = (_TWO_PI * self.char["f_n2"]) ** 2
-                wa = (_TWO_PI * self.char["f_anti"]) ** 2
-                a = w1 + w2 - wa
-                p["k"] = 0.5 * m * a  # Eq. (29)
-                p["s"] = w1 * w2 * p["k"] / (a * wa - w1 * w2)  # Eq. (30)
-                p["mu"] = (p["k"] + p["s"]) / wa  # Eq. (23)
+                p["k"] = upper_spring_relation(m, c["f_n1"], c["f_n2"], c["f_anti"])
+                p["s"] = lower_spring_relation(p["k"], c["f_n1"], c["f_n2"], c["f_anti"])
+                p["mu"] = support_mass_relation(p["k"], p["s"], c["f_anti"])
         return p
 
     def theta_of(self, system: EquivalentSystem) -> np.ndarray:

@@ -15,7 +15,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from .constraints import cell_frequencies
+from .constraints import (
+    cell_frequencies,
+    inertia_relation,
+    lower_spring_relation,
+    slab_spring_relation,
+    support_mass_relation,
+    upper_spring_relation,
+)
 from .equivalent import BallastedEquivalent, SlabEquivalent
 
 __all__ = [
@@ -117,8 +124,8 @@ def table4_consistency(f_n: float = PAPER_FREQUENCIES["f_n_slab"]) -> dict[str, 
     p = {k: np.asarray(v, float) for k, v in _TABLE4.items()}
     u = _TABLE4_HALF_ULP
     m, J, L, k = p["m"], p["J"], p["L"], p["k"]
-    k19 = 0.5 * m * (_TWO_PI * f_n) ** 2
-    J20 = 0.25 * m * L**2
+    k19 = slab_spring_relation(m, f_n)
+    J20 = inertia_relation(m, L)
     with np.errstate(divide="ignore", invalid="ignore"):
         f_bounce = np.sqrt(2 * k / m) / _TWO_PI
         f_pitch = np.sqrt(k * L**2 / (2 * J)) / _TWO_PI
@@ -163,8 +170,8 @@ def table7_consistency(f_n1: float = PAPER_FREQUENCIES["f_n1"],
     m, J, L, k, s, mu = p["m"], p["J"], p["L"], p["k"], p["s"], p["mu"]
     w1 = (_TWO_PI * f_n1) ** 2
     wa = (_TWO_PI * f_anti) ** 2
-    J28 = 0.25 * m * L**2
-    mu23 = (k + s) / wa
+    J28 = inertia_relation(m, L)
+    mu23 = support_mass_relation(k, s, f_anti)
     out = {
         "bar": np.arange(1, m.size + 1),
         "J_printed": J, "J_eq28": J28, "J_rel_dev": _rel_dev(J, J28),
@@ -175,10 +182,8 @@ def table7_consistency(f_n1: float = PAPER_FREQUENCIES["f_n1"],
     k_round = _rel_ulp(u["k"], k) + _rel_ulp(u["m"], m)
     s_round = _rel_ulp(u["s"], s) + _rel_ulp(u["k"], k)
     for f2 in f_n2_candidates:
-        w2 = (_TWO_PI * f2) ** 2
-        a = w1 + w2 - wa
-        k29 = 0.5 * m * a
-        s30 = w1 * w2 * k / (a * wa - w1 * w2)
+        k29 = upper_spring_relation(m, f_n1, f2, f_anti)
+        s30 = lower_spring_relation(k, f_n1, f2, f_anti)  # with the printed k: each relation alone
         tag = f"{f2:g}"
         out[f"k_eq29_{tag}"] = k29
         out[f"k_rel_dev_{tag}"] = _rel_dev(k, k29)
