@@ -62,3 +62,10 @@ def test_characteristic_frequencies_checks_its_grid():
         st.characteristic_frequencies(st.slab_track(), band=(3.0, 900.0), df=0.0)
     with pytest.raises(ValueError, match="fewer than 3"):
         st.characteristic_frequencies(st.slab_track(), band=(3.0, 10.0), df=6.0)
+
+
+def test_paper_table_refuses_a_response_from_another_grid():
+    """A precomputed paper-method sweep is only reused if it is on the paper's grid."""
+    other = st.central_response(st.slab_track(), [3.0, 9.0, 15.0], method="wavenumber")
+    with pytest.raises(ValueError, match="PAPER_GRID"):
+        st.paper_frequency_table(st.slab_track(), wavenumber_response=other)

@@ -187,6 +187,13 @@ def cmd_features(args) -> int:
 
 
 # ------------------------------------------------------------------------------------------
+def _track_and_grid_arguments(p, step: str) -> None:
+    p.add_argument("track", help="track description file (TOML)")
+    p.add_argument("--fmin", type=float, default=3.0, help="lowest frequency, Hz (default 3)")
+    p.add_argument("--fmax", type=float, default=3000.0, help="highest frequency, Hz (default 3000)")
+    p.add_argument("--df", type=float, default=6.0, help=f"{step}, Hz (default 6)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="semitrack", description=(
         "Receptance of a semi-infinite periodic railway track and its equivalent multi-rigid-body "
@@ -198,10 +205,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("receptance", help="receptance of the semi-infinite track to CSV",
                        formatter_class=argparse.RawDescriptionHelpFormatter,
                        epilog="example:\n  semitrack receptance slab.toml --fmin 3 --fmax 3000 --df 6 -o alpha.csv --plot alpha.png")
-    p.add_argument("track", help="track description file (TOML)")
-    p.add_argument("--fmin", type=float, default=3.0, help="lowest frequency, Hz (default 3)")
-    p.add_argument("--fmax", type=float, default=3000.0, help="highest frequency, Hz (default 3000)")
-    p.add_argument("--df", type=float, default=6.0, help="frequency step, Hz (default 6)")
+    _track_and_grid_arguments(p, "frequency step")
     p.add_argument("--method", choices=("transfer", "wavenumber"), default="transfer",
                    help="transfer: exact (default); wavenumber: the paper's method and settings")
     p.add_argument("-o", "--output", default="-", help="CSV file to write (default: stdout)")
@@ -232,10 +236,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("features", help="characteristic frequencies (peaks and dips) as a table",
                        formatter_class=argparse.RawDescriptionHelpFormatter,
                        epilog="example:\n  semitrack features slab.toml --fmax 1500")
-    p.add_argument("track", help="track description file (TOML)")
-    p.add_argument("--fmin", type=float, default=3.0, help="lowest frequency, Hz (default 3)")
-    p.add_argument("--fmax", type=float, default=3000.0, help="highest frequency, Hz (default 3000)")
-    p.add_argument("--df", type=float, default=6.0, help="search grid step, Hz (default 6)")
+    _track_and_grid_arguments(p, "search grid step")
     p.add_argument("--csv", action="store_true", help="print CSV instead of a table")
     p.set_defaults(func=cmd_features)
     return parser

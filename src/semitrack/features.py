@@ -27,7 +27,11 @@ def response_curves(track, f, method: str = "transfer", **settings) -> dict[str,
     w1, psi2, Q2, M1 and det(alpha^-1) describe the complete (infinite) track; alpha11, alpha12
     and alpha22 the semi-infinite track.
     """
-    r = central_response(track, f, method, **settings)
+    return curves_of(central_response(track, f, method, **settings))
+
+
+def curves_of(r) -> dict[str, np.ndarray]:
+    """The :data:`QUANTITIES` curves of an already computed :class:`CentralResponse`."""
     alpha = r.alpha
     return {
         "w1": r.w1, "psi2": r.psi2, "Q2": r.Q2, "M1": r.M1, "det": r.det,

@@ -12,7 +12,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from .features import characteristic_frequencies, find_extrema, response_curves
+from .features import characteristic_frequencies, curves_of, find_extrema
+from .receptance import central_response
 
 # (paper frequency in Hz, quantity, kind, where the paper states it, mode / remark)
 SLAB_FREQUENCIES = (
@@ -79,7 +80,8 @@ def _nearest(extrema: pd.DataFrame, quantity: str, kind: str, f_paper: float, re
     return float(best) if abs(best - f_paper) <= rel_window * f_paper else np.nan
 
 
-def paper_frequency_table(track, with_wavenumber: bool = True, rel_window: float = 0.1) -> pd.DataFrame:
+def paper_frequency_table(track, with_wavenumber: bool = True, rel_window: float = 0.1,
+                          wavenumber_response=None) -> pd.DataFrame:
     """The paper's characteristic frequencies beside ours, with deviations.
 
     Parameters
@@ -91,6 +93,8 @@ def paper_frequency_table(track, with_wavenumber: bool = True, rel_window: float
         6 Hz grid with parabolic refinement (costs a few seconds).
     rel_window : float
         An extremum further than this fraction from the paper's value is not matched (NaN).
+    wavenumber_response : CentralResponse, optional
+        The paper's-method responses on :data:`PAPER_GRID` if already computed (saves the sweep).
 
     Returns
     -------
@@ -101,7 +105,11 @@ def paper_frequency_table(track, with_wavenumber: bool = True, rel_window: float
     exact = characteristic_frequencies(track)
     wn = None
     if with_wavenumber:
-        wn = find_extrema(PAPER_GRID, response_curves(track, PAPER_GRID, method="wavenumber"))
+        if wavenumber_response is None:
+            wavenumber_response = central_response(track, PAPER_GRID, method="wavenumber")
+        elif wavenumber_response.method != "wavenumber" or not np.array_equal(wavenumber_response.f, PAPER_GRID):
+            raise ValueError("wavenumber_response must come from method='wavenumber' on PAPER_GRID")
+        wn = find_extrema(PAPER_GRID, curves_of(wavenumber_response))
     rows = []
     for f_paper, quantity, kind, source, mode in paper_frequencies(track):
         row = {"source": source, "mode": mode, "quantity": quantity, "kind": kind, "paper (Hz)": f_paper}
