@@ -74,7 +74,7 @@ from .constraints import (
     support_mass_relation,
     upper_spring_relation,
 )
-from .equivalent import BallastedEquivalent, EquivalentSystem, SlabEquivalent
+from .equivalent import BallastedEquivalent, EquivalentSystem, SlabEquivalent, _hinge_map
 from .metrics import ErrorSummary, error_band_grid, error_summary
 
 __all__ = [
@@ -146,10 +146,7 @@ class _Model:
         self.lower, self.upper = np.concatenate(lo), np.concatenate(hi)
         self.n_dof = N + 1 if layout == "slab" else 3 * N + 1
         n = self.n_dof
-        R = np.zeros((max(N - 1, 0), n))
-        for j in range(N - 1):
-            R[j, 1 + j], R[j, 2 + j] = -1.0, 1.0
-        self._R = R
+        self._R = _hinge_map(N, n)
         self._tril = np.tril(np.ones((N, N)), -1)
         # Z = sum over terms of phi_kind(omega) P^T diag(v) P; phi = 1 (K), i omega (C), -omega^2 (M).
         if layout == "slab":  # Eq. (A.16), (A.18), (A.24)
