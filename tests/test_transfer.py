@@ -85,8 +85,8 @@ def test_undamped_limit_uses_power_flow():
 
 
 def test_static_limit_semi_infinite_winkler_beam():
-    """At low frequency and small spacing, the end receptance of a semi-infinite Euler-Bernoulli
-    beam on a Winkler foundation: alpha11 = 2 b^3/k_f ... in closed form with b = (k_f/4EI)^(1/4).
+    """At low frequency and small spacing: the end receptance of a semi-infinite Euler-Bernoulli
+    beam on a Winkler foundation, in closed form with b = (k_f / 4EI)^(1/4).
 
     End receptances (Hetenyi): w = 2 b Q / k_f - 2 b^2 M / k_f, psi = -2 b^2 Q / k_f + 4 b^3 M / k_f
     in the paper's signs (downward w and Q, clockwise psi and M). A stiff shear modulus removes the

@@ -172,10 +172,8 @@ class Track:
             Rotational dynamic stiffness (N m/rad): the pad alone (the sleeper does not rotate).
         """
         f = as_frequencies(f)
-        kv, kphi = self.pad_stiffness()
-        g = self.foundation_receptance(f)
-        kv_dyn = kv / (1.0 + kv * g)
-        return kv_dyn, np.full(f.shape, kphi, dtype=complex)
+        k = self.cell().support_stiffness_matrix(f.ravel())  # one support: (n, 2, 2)
+        return k[:, 0, 0].reshape(f.shape), k[:, 1, 1].reshape(f.shape)
 
     def cell(self, supports_per_period: int = 1) -> "PeriodicCell":
         """The periodic cell of this track with ``supports_per_period`` identical supports."""
