@@ -23,9 +23,9 @@ import time
 import numpy as np
 
 import semitrack as st
-from semitrack.fe import TruncatedTrack, fe_central_receptance, fe_semi_infinite_receptance
-from semitrack.metrics import error_band_grid, error_summary
-from semitrack.timedomain import moving_load_response, pulse_response, relative_l2_error
+from semitrack.fe.models import TruncatedTrack, fe_central_receptance, fe_semi_infinite_receptance
+from semitrack.equivalent.metrics import error_band_grid, error_summary
+from semitrack.fe.timedomain import moving_load_response, pulse_response, relative_l2_error
 
 QUICK = "--quick" in sys.argv
 GRID = np.arange(3.0, 3000.0, 6.0)

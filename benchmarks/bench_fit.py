@@ -22,9 +22,9 @@ import warnings
 import numpy as np
 
 import semitrack as st
-from semitrack.fitting import fit_equivalent
-from semitrack.metrics import error_band_grid, error_summary
-from semitrack.paper_systems import paper_table4, paper_table7
+from semitrack.equivalent.fitting import fit_equivalent
+from semitrack.equivalent.metrics import error_band_grid, error_summary
+from semitrack.paper.systems import paper_table4, paper_table7
 
 CASES = {
     "slab": (st.slab_track, paper_table4, (3.0, 900.0), "Table 4"),

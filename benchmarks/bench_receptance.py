@@ -12,8 +12,8 @@ import time
 import numpy as np
 
 import semitrack as st
-from semitrack.convergence import alpha_relative_error
-from semitrack.wavenumber import PAPER_BETA_MAX
+from semitrack.paper.convergence import alpha_relative_error
+from semitrack.methods.wavenumber import PAPER_BETA_MAX
 
 REFINED = dict(beta_max=10 * PAPER_BETA_MAX, dx=0.002)
 

@@ -12,7 +12,7 @@ import pytest
 import scipy.io
 
 import semitrack as st
-from semitrack.trackfile import example_path, load_track_toml, track_to_toml
+from semitrack.model.trackfile import example_path, load_track_toml, track_to_toml
 
 ENV = {**os.environ, "OPENBLAS_NUM_THREADS": "1"}
 # Line of "kv = ..." in the shipped ballasted example, where the located error must point.

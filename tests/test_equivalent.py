@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from semitrack.constraints import (
+from semitrack.equivalent.constraints import (
     ballasted_constraints,
     ballasted_from_free,
     cell_frequencies,
@@ -14,9 +14,9 @@ from semitrack.constraints import (
     support_mass_frequency,
     unit_cell_frequencies,
 )
-from semitrack.equivalent import BallastedEquivalent, EquivalentSystem, SlabEquivalent
-from semitrack.metrics import error_band_grid, error_summary, receptance_errors
-from semitrack.paper_systems import paper_consistency_report, paper_table4, paper_table7
+from semitrack.equivalent.systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent
+from semitrack.equivalent.metrics import error_band_grid, error_summary, receptance_errors
+from semitrack.paper.systems import paper_consistency_report, paper_table4, paper_table7
 
 TWO_PI = 2 * np.pi
 F_BAND = np.arange(3.0, 3001.0, 3.0)  # the paper's plotting range, 3 Hz steps

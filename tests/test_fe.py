@@ -13,7 +13,7 @@ import scipy.optimize as so
 import scipy.sparse as sp
 
 import semitrack as st
-from semitrack.fe import (
+from semitrack.fe.models import (
     FETrack,
     TruncatedTrack,
     fe_central_receptance,
@@ -22,8 +22,8 @@ from semitrack.fe import (
     timoshenko_shape_functions,
     viscous_reference_frequencies,
 )
-from semitrack.metrics import error_band_grid, error_summary
-from semitrack.timedomain import (
+from semitrack.equivalent.metrics import error_band_grid, error_summary
+from semitrack.fe.timedomain import (
     hann_pulse,
     moving_load_response,
     newmark,
@@ -31,7 +31,7 @@ from semitrack.timedomain import (
     relative_l2_error,
     truncation_errors,
 )
-from semitrack.timoshenko import field_transfer, point_transfer
+from semitrack.model.timoshenko import field_transfer, point_transfer
 
 PAPER_GRID = np.arange(3.0, 3000.0, 6.0)
 

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import semitrack as st
-from semitrack.features import grid_extrema, parabolic_refine, refine_extremum
+from semitrack.methods.features import grid_extrema, parabolic_refine, refine_extremum
 
 
 def test_grid_extrema_and_parabola():

@@ -15,15 +15,15 @@ import numpy as np
 import pytest
 
 import semitrack as st
-from semitrack.constraints import (
+from semitrack.equivalent.constraints import (
     ballasted_constraints,
     ballasted_from_free,
     slab_constraints,
     slab_from_free,
 )
-from semitrack.equivalent import BallastedEquivalent, SlabEquivalent
-from semitrack.features import characteristic_frequencies
-from semitrack.fitting import (
+from semitrack.equivalent.systems import BallastedEquivalent, SlabEquivalent
+from semitrack.methods.features import characteristic_frequencies
+from semitrack.equivalent.fitting import (
     POOR_MEDIAN_ERROR,
     FitResult,
     _Model,
@@ -33,8 +33,8 @@ from semitrack.fitting import (
     fit_characteristic_frequencies,
     fit_equivalent,
 )
-from semitrack.metrics import error_band_grid, error_summary
-from semitrack.paper_systems import (
+from semitrack.equivalent.metrics import error_band_grid, error_summary
+from semitrack.paper.systems import (
     TABLE4_FIT_FREQUENCIES,
     TABLE7_FIT_FREQUENCIES,
     paper_table4,

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 import scipy.io
 
-import semitrack.io as sio
-from semitrack.equivalent import BallastedEquivalent, SlabEquivalent
-from semitrack.paper_systems import paper_table4, paper_table7
+import semitrack.equivalent.io as sio
+from semitrack.equivalent.systems import BallastedEquivalent, SlabEquivalent
+from semitrack.paper.systems import paper_table4, paper_table7
 
 F = np.array([3.0, 117.0, 183.0, 489.0, 900.0, 3000.0])
 

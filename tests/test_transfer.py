@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import semitrack as st
-from semitrack.transfer import end_stiffness
+from semitrack.methods.transfer import end_stiffness
 
 MIRROR = np.diag([1.0, -1.0])  # w is even, psi odd under x -> -x
 

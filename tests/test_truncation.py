@@ -5,7 +5,7 @@ import pandas as pd
 import pytest
 
 import semitrack as st
-from semitrack.truncation import bays_needed, truncation_study
+from semitrack.fe.truncation import bays_needed, truncation_study
 
 CASES = {"slab": (st.slab_track, (3.0, 900.0)), "ballasted": (st.ballasted_track, (3.0, 750.0))}
 

@@ -17,10 +17,10 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
-from ._validation import check_band
-from .io import atomic_write, export_system, load_system_json, save_system_json
+from .base.checks import check_band
+from .equivalent.io import atomic_write, export_system, load_system_json, save_system_json
 from .progress import Progress
-from .trackfile import TrackFileError, load_track_toml
+from .model.trackfile import TrackFileError, load_track_toml
 
 #: Largest frequency grid the CLI accepts (a guard against a mistyped --df).
 MAX_FREQUENCIES = 200_000
@@ -104,7 +104,7 @@ def _plot_receptance(path: Path, track, f, alpha) -> None:
 
 
 def cmd_receptance(args) -> int:
-    from .receptance import semi_infinite_receptance
+    from .methods.receptance import semi_infinite_receptance
 
     track = _track(args.track)
     f = frequency_grid(args.fmin, args.fmax, args.df)
@@ -128,7 +128,7 @@ def cmd_receptance(args) -> int:
 
 
 def cmd_fit(args) -> int:
-    from .fitting import fit_equivalent
+    from .equivalent.fitting import fit_equivalent
 
     track = _track(args.track)
     try:
@@ -170,7 +170,7 @@ def cmd_export(args) -> int:
 
 
 def cmd_features(args) -> int:
-    from .features import characteristic_frequencies
+    from .methods.features import characteristic_frequencies
 
     track = _track(args.track)
     f = frequency_grid(args.fmin, args.fmax, args.df)

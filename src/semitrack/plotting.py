@@ -129,7 +129,7 @@ def fields_figure(x, q, title: str = ""):
 def convergence_figure(study, title: str = ""):
     """Error of the wavenumber alpha against dx, one line per wavenumber range, one panel per f.
 
-    ``study`` is the table returned by :func:`semitrack.convergence.convergence_study`.
+    ``study`` is the table returned by :func:`semitrack.paper.convergence.convergence_study`.
     """
     freqs = sorted(study["f (Hz)"].unique())
     fig, axes = new_figure(1, len(freqs), figsize=(3.4 * len(freqs), 3.4), sharey=True)

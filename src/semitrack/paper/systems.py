@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .constraints import (
+from ..equivalent.constraints import (
     cell_frequencies,
     inertia_relation,
     lower_spring_relation,
@@ -23,7 +23,7 @@ from .constraints import (
     support_mass_relation,
     upper_spring_relation,
 )
-from .equivalent import BallastedEquivalent, SlabEquivalent
+from ..equivalent.systems import BallastedEquivalent, SlabEquivalent
 
 __all__ = [
     "paper_table4",

@@ -41,9 +41,9 @@ Ends
     ``phi_1`` is ``-psi`` of the rail because the mirrored system's clockwise rotation is the
     rail's anticlockwise one; its internal DOFs become extra DOFs of the model) and
     ``"exact"`` (the frequency-dependent 2x2 dynamic stiffness of the missing semi-infinite track
-    from :func:`semitrack.transfer.end_stiffness`; frequency domain only).
+    from :func:`semitrack.methods.transfer.end_stiffness`; frequency domain only).
 
-Time domain (:meth:`FETrack.matrices`, :mod:`semitrack.timedomain`)
+Time domain (:meth:`FETrack.matrices`, :mod:`semitrack.fe.timedomain`)
     Loss factors have no exact viscous counterpart. Each spring family gets the viscous damping
     that equals its loss factor at its own reference frequency,
     ``C = eta_rail K_rail / omega_rail + eta_pad K_pad / omega_pad + eta_ballast K_ballast /
@@ -70,10 +70,10 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from ._validation import as_frequencies, check_int_at_least, check_positive, check_real
-from .equivalent import EquivalentSystem
-from .tracks import Track
-from .transfer import end_stiffness
+from ..base.checks import as_frequencies, check_int_at_least, check_positive, check_real
+from ..equivalent.systems import EquivalentSystem
+from ..model.tracks import Track
+from ..methods.transfer import end_stiffness
 
 __all__ = [
     "ENDS",

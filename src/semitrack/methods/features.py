@@ -14,7 +14,7 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import minimize_scalar
 
-from ._validation import as_frequencies, check_band, check_positive
+from ..base.checks import as_frequencies, check_band, check_positive
 from .receptance import central_response
 
 #: The curves of the paper's Fig. 4/10/5/11 in which peaks and dips are looked for.

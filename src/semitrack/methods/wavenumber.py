@@ -15,7 +15,7 @@ The central responses of Eq. (14)-(16) need dpsi_1/dx and dw_2/dx at the load. T
 odd fields by a x + b x^3 through the samples at dx and 2 dx, giving the slope (8 y1 - y2)/(6 dx).
 The fields have a kink in their slope at the load (Table 1), so this estimate is only first-order
 accurate in dx; together with the truncated beta range this is what limits the accuracy of the
-paper's numbers (see :mod:`semitrack.transfer` for the exact method).
+paper's numbers (see :mod:`semitrack.methods.transfer` for the exact method).
 """
 
 from __future__ import annotations
@@ -24,9 +24,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validation import check_int_at_least, check_positive
-from .timoshenko import operator_inverse
-from .tracks import PeriodicCell
+from ..base.checks import check_int_at_least, check_positive
+from ..model.timoshenko import operator_inverse
+from ..model.tracks import PeriodicCell
 
 #: The paper's settings (Sec. 4.1): beta_max = 5000 x 0.0025 x 2 pi rad/m, dbeta = 2 pi x 0.0025 rad/m.
 PAPER_BETA_MAX = 5000 * 0.0025 * 2 * np.pi

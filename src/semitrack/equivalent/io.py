@@ -10,7 +10,7 @@ Formats
 -------
 JSON (:func:`save_system_json`, :func:`load_system_json`)::
 
-    {"format": "semitrack.equivalent", "version": 1, "layout": "slab" | "ballasted",
+    {"format": "semitrack.equivalent.systems", "version": 1, "layout": "slab" | "ballasted",
      "n_bars": N,
      "parameters": {name: {"unit": "kg", "values": [...]}, ...},
      "dof_names": ["w1 (m)", "phi_1 (rad)", ...],
@@ -48,7 +48,7 @@ from pathlib import Path
 import numpy as np
 import scipy.io
 
-from .equivalent import PARAMETER_UNITS, EquivalentSystem
+from .systems import PARAMETER_UNITS, EquivalentSystem
 
 __all__ = [
     "system_to_dict",
@@ -62,7 +62,7 @@ __all__ = [
     "export_system",
 ]
 
-FORMAT_NAME = "semitrack.equivalent"
+FORMAT_NAME = "semitrack.equivalent.systems"
 FORMAT_VERSION = 1
 
 # Stored matrices count as consistent with the parameters when they agree to this relative

@@ -18,8 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validation import as_frequencies, check_real
-from .tracks import PeriodicCell, Track
+from ..base.checks import as_frequencies, check_real
+from ..model.tracks import PeriodicCell, Track
 from .transfer import end_stiffness, infinite_receptance
 from .wavenumber import WavenumberSettings, central_quantities
 

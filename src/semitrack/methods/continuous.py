@@ -18,8 +18,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validation import as_frequencies, check_nonnegative
-from .tracks import Track
+from ..base.checks import as_frequencies, check_nonnegative
+from ..model.tracks import Track
 
 
 def continuous_foundation_receptance(track: Track, f, k_f: float, k_r: float = 0.0, x: float = 0.0) -> np.ndarray:

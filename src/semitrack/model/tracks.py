@@ -19,7 +19,7 @@ from typing import Callable
 
 import numpy as np
 
-from ._validation import as_frequencies, check_int_at_least, check_nonnegative, check_positive
+from ..base.checks import as_frequencies, check_int_at_least, check_nonnegative, check_positive
 
 # Fields checked as "positive and finite" and as "non-negative and finite" (zero allowed).
 _POSITIVE = ("rho", "E", "G", "A", "I", "kappa", "kv", "spacing")

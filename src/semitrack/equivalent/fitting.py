@@ -22,7 +22,7 @@ solves the same problem with :func:`scipy.optimize.least_squares`:
 * **Constraints.** With ``constrained=True`` the dependent parameters (``k, J`` for the slab,
   ``k, J, s, mu`` for the ballasted layout) follow the paper's relations from the free ones and
   the characteristic frequencies; the final system is built with
-  :func:`~semitrack.constraints.slab_from_free` / :func:`~semitrack.constraints.ballasted_from_free`.
+  :func:`~semitrack.equivalent.constraints.slab_from_free` / :func:`~semitrack.equivalent.constraints.ballasted_from_free`.
   With ``constrained=False`` these parameters are fitted freely too.
 * **Characteristic frequencies** are detected, never hard-coded: they are extrema of
   ``|det(alpha^-1)|`` (Eq. 18), whose local minima are the resonances of the semi-infinite track.
@@ -64,7 +64,7 @@ import numpy as np
 from scipy.optimize import least_squares
 from threadpoolctl import threadpool_limits
 
-from ._validation import as_frequencies, check_band, check_int_at_least
+from ..base.checks import as_frequencies, check_band, check_int_at_least
 from .constraints import (
     ballasted_from_free,
     inertia_relation,
@@ -74,7 +74,7 @@ from .constraints import (
     support_mass_relation,
     upper_spring_relation,
 )
-from .equivalent import BallastedEquivalent, EquivalentSystem, SlabEquivalent, _hinge_map
+from .systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent, _hinge_map
 from .metrics import ErrorSummary, error_band_grid, error_summary
 
 __all__ = [
@@ -119,7 +119,7 @@ def _quad(P: np.ndarray, v: np.ndarray) -> np.ndarray:
 class _Model:
     """Free parameters of one layout, their reference values and the map to M, C, K.
 
-    The assembly repeats that of :mod:`semitrack.equivalent` (Eq. A.16, A.18, A.24, B.15, B.20,
+    The assembly repeats that of :mod:`semitrack.equivalent.systems` (Eq. A.16, A.18, A.24, B.15, B.20,
     B.26) batched over parameter sets and for complex parameters (complex-step derivatives);
     the tests check that both give the same matrices.
     """
@@ -359,7 +359,7 @@ def _check_layout(layout) -> str:
 
 
 def _check_track(track):
-    from .tracks import Track
+    from ..model.tracks import Track
 
     if not isinstance(track, Track):
         raise TypeError(f"track must be a semitrack Track (e.g. slab_track()), got {type(track).__name__}")
@@ -389,7 +389,7 @@ def _check_characteristic(layout: str, characteristic) -> dict[str, float]:
 
 def _det_extrema(track, target, search_band, df):
     """Peaks and dips of |det(alpha^-1)| as a DataFrame (see features.find_extrema)."""
-    from .features import characteristic_frequencies, find_extrema
+    from ..methods.features import characteristic_frequencies, find_extrema
 
     if target is None:
         table = characteristic_frequencies(track, band=search_band, df=df)
@@ -426,7 +426,7 @@ def fit_characteristic_frequencies(track, layout: str, *, target=None,
         Which set to return.
     target : None, callable or (f, alpha), optional
         As in :func:`fit_equivalent`: None for the exact receptance of ``track`` (searched with
-        :func:`~semitrack.features.characteristic_frequencies`), a callable ``alpha(f)``
+        :func:`~semitrack.methods.features.characteristic_frequencies`), a callable ``alpha(f)``
         (extrema refined by Brent's method), or sampled ``(f, alpha)`` (parabolic refinement).
     search_band : (float, float)
         Frequency range searched (Hz); default the paper's 3-3000 Hz.
@@ -552,8 +552,8 @@ class FitResult:
     Attributes
     ----------
     system : EquivalentSystem
-        The fitted :class:`~semitrack.equivalent.SlabEquivalent` or
-        :class:`~semitrack.equivalent.BallastedEquivalent` (SI units).
+        The fitted :class:`~semitrack.equivalent.systems.SlabEquivalent` or
+        :class:`~semitrack.equivalent.systems.BallastedEquivalent` (SI units).
     layout : str
         ``"slab"`` or ``"ballasted"``.
     n_bars : int
@@ -728,7 +728,7 @@ def fit_equivalent(track, layout: str | None = None, n_bars: int = 5, band=None,
         to convergence (at most ``max_nfev`` evaluations) and polished.
     target : None, callable or (f, alpha), optional
         The receptance to fit. None: the exact receptance of ``track``
-        (:func:`~semitrack.receptance.semi_infinite_receptance`). A callable ``alpha(f)``
+        (:func:`~semitrack.methods.receptance.semi_infinite_receptance`). A callable ``alpha(f)``
         returning shape (n_f, 2, 2) for frequencies in Hz. A pair ``(f, alpha)`` of sampled
         receptances: the fit frequencies must then be among the samples (default: the samples
         in ``band``), and the errors are measured on the samples in ``band``.
@@ -823,7 +823,7 @@ def fit_equivalent(track, layout: str | None = None, n_bars: int = 5, band=None,
     elif isinstance(fit_freqs, str):
         if fit_freqs != "paper":
             raise ValueError(f"fit_freqs must be None, 'paper' or an array of frequencies (Hz), got {fit_freqs!r}")
-        from .paper_systems import TABLE4_FIT_FREQUENCIES, TABLE7_FIT_FREQUENCIES
+        from ..paper.systems import TABLE4_FIT_FREQUENCIES, TABLE7_FIT_FREQUENCIES
 
         f_fit = np.array(TABLE4_FIT_FREQUENCIES if layout == "slab" else TABLE7_FIT_FREQUENCIES)
     else:
@@ -919,7 +919,7 @@ def _inside(x: np.ndarray, model: _Model) -> np.ndarray:
 
 
 def _exact(track, f: np.ndarray) -> np.ndarray:
-    from .receptance import semi_infinite_receptance
+    from ..methods.receptance import semi_infinite_receptance
 
     return _check_alpha(np.asarray(semi_infinite_receptance(track, f)), f.size, "the track receptance")
 

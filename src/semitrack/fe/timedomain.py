@@ -5,9 +5,9 @@ non-dissipative average-acceleration rule (gamma = 1/2, beta = 1/4) at a constan
 effective stiffness ``K + 2/dt C + 4/dt^2 M`` is factorised once (``scipy.sparse.linalg.splu``).
 Its period error is about ``(omega dt)^2 / 12``: 0.3 % at 1.5 kHz with the default dt = 20 us.
 
-The matrices come from :meth:`semitrack.fe.FETrack.matrices`: rail, pads and ballast with viscous
+The matrices come from :meth:`semitrack.fe.models.FETrack.matrices`: rail, pads and ballast with viscous
 damping equal to their loss factors at reference frequencies (by default
-:func:`semitrack.fe.viscous_reference_frequencies`), the equivalent systems with their own viscous dampers. The paper fitted those systems to the
+:func:`semitrack.fe.models.viscous_reference_frequencies`), the equivalent systems with their own viscous dampers. The paper fitted those systems to the
 hysteretically damped track; in the time domain only viscous damping is available, so the
 truncated model with equivalent ends and the long reference track (same viscous model) differ
 slightly in damping from the hysteretic track that the systems were fitted to.
@@ -36,10 +36,10 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from ._validation import check_int_at_least, check_positive, check_real
-from .equivalent import EquivalentSystem
-from .fe import FETrack, TruncatedTrack
-from .tracks import Track
+from ..base.checks import check_int_at_least, check_positive, check_real
+from ..equivalent.systems import EquivalentSystem
+from .models import FETrack, TruncatedTrack
+from ..model.tracks import Track
 
 __all__ = [
     "TimeHistory",

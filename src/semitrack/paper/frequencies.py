@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from .features import characteristic_frequencies, curves_of, find_extrema
-from .receptance import central_response
+from ..methods.features import characteristic_frequencies, curves_of, find_extrema
+from ..methods.receptance import central_response
 
 # (paper frequency in Hz, quantity, kind, where the paper states it, mode / remark)
 SLAB_FREQUENCIES = (

@@ -21,9 +21,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validation import check_real
-from .timoshenko import field_transfer, point_transfer, state_scaling
-from .tracks import PeriodicCell
+from ..base.checks import check_real
+from ..model.timoshenko import field_transfer, point_transfer, state_scaling
+from ..model.tracks import PeriodicCell
 
 # |log|lambda|| below this is treated as a propagating (undamped) wave.
 _UNIT_CIRCLE_TOL = 1e-9

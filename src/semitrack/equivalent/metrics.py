@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validation import check_band
+from ..base.checks import check_band
 
 __all__ = ["ELEMENTS", "ErrorSummary", "receptance_errors", "error_summary", "error_band_grid"]
 

@@ -31,7 +31,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from ._validation import as_frequencies
+from ..base.checks import as_frequencies
 
 __all__ = [
     "EquivalentSystem",

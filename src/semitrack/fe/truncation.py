@@ -1,6 +1,6 @@
 """How long must a truncated track be? Error of the central receptance against the infinite track.
 
-For each end condition of :class:`semitrack.fe.TruncatedTrack` and each number of bays, the
+For each end condition of :class:`semitrack.fe.models.TruncatedTrack` and each number of bays, the
 vertical receptance at the central cross-section is compared with the exact infinite-track w1
 (:func:`semitrack.central_response`). The error measures are the median and maximum relative
 error over a band.
@@ -11,9 +11,9 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ._validation import as_frequencies
-from .fe import TruncatedTrack
-from .receptance import central_response
+from ..base.checks import as_frequencies
+from .models import TruncatedTrack
+from ..methods.receptance import central_response
 
 
 def truncation_study(track, f, n_bays=(1, 2, 5, 10, 20, 40, 80), ends: dict | None = None,

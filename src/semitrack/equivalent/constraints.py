@@ -29,8 +29,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from ._validation import check_positive
-from .equivalent import BallastedEquivalent, EquivalentSystem, SlabEquivalent, _param_array
+from ..base.checks import check_positive
+from .systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent, _param_array
 
 __all__ = [
     "slab_constraints",

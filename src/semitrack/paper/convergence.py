@@ -11,9 +11,9 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ._validation import as_frequencies
-from .receptance import CentralResponse, _cell_of, semi_infinite_receptance
-from .wavenumber import PAPER_BETA_MAX, WavenumberSettings, central_quantities
+from ..base.checks import as_frequencies
+from ..methods.receptance import CentralResponse, _cell_of, semi_infinite_receptance
+from ..methods.wavenumber import PAPER_BETA_MAX, WavenumberSettings, central_quantities
 
 
 def alpha_relative_error(alpha, exact) -> np.ndarray:

@@ -1,0 +1,1 @@
+"""Layer 1: what a track is: parameters, the periodic cell, the Timoshenko beam, track files."""
