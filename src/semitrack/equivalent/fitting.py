@@ -64,7 +64,11 @@ import numpy as np
 from scipy.optimize import least_squares
 from threadpoolctl import threadpool_limits
 
+from ..base.paper_values import TABLE4_FIT_FREQUENCIES, TABLE7_FIT_FREQUENCIES
 from ..base.checks import as_frequencies, check_band, check_int_at_least
+from ..methods.features import characteristic_frequencies, find_extrema
+from ..methods.receptance import semi_infinite_receptance
+from ..model.tracks import require_track
 from .constraints import (
     ballasted_from_free,
     inertia_relation,
@@ -358,14 +362,6 @@ def _check_layout(layout) -> str:
     return layout
 
 
-def _check_track(track):
-    from ..model.tracks import Track
-
-    if not isinstance(track, Track):
-        raise TypeError(f"track must be a semitrack Track (e.g. slab_track()), got {type(track).__name__}")
-    return track
-
-
 def _check_characteristic(layout: str, characteristic) -> dict[str, float]:
     if not isinstance(characteristic, dict):
         raise TypeError(f"characteristic must be a dict of frequencies (Hz), got {type(characteristic).__name__}")
@@ -389,8 +385,6 @@ def _check_characteristic(layout: str, characteristic) -> dict[str, float]:
 
 def _det_extrema(track, target, search_band, df):
     """Peaks and dips of |det(alpha^-1)| as a DataFrame (see features.find_extrema)."""
-    from ..methods.features import characteristic_frequencies, find_extrema
-
     if target is None:
         table = characteristic_frequencies(track, band=search_band, df=df)
         return table[table["quantity"] == "det"]
@@ -444,7 +438,7 @@ def fit_characteristic_frequencies(track, layout: str, *, target=None,
         When the needed extrema are not found in ``search_band``.
     """
     layout = _check_layout(layout)
-    track = _check_track(track)
+    track = require_track(track)
     search_band = check_band(search_band)
     if target is not None:
         target = _normalise_target(target)
@@ -774,7 +768,7 @@ def fit_equivalent(track, layout: str | None = None, n_bars: int = 5, band=None,
     True
     """
     t_start = time.perf_counter()
-    track = _check_track(track)
+    track = require_track(track)
     if layout is None:
         layout = "ballasted" if track.is_ballasted else "slab"
     layout = _check_layout(layout)
@@ -823,7 +817,6 @@ def fit_equivalent(track, layout: str | None = None, n_bars: int = 5, band=None,
     elif isinstance(fit_freqs, str):
         if fit_freqs != "paper":
             raise ValueError(f"fit_freqs must be None, 'paper' or an array of frequencies (Hz), got {fit_freqs!r}")
-        from ..paper.systems import TABLE4_FIT_FREQUENCIES, TABLE7_FIT_FREQUENCIES
 
         f_fit = np.array(TABLE4_FIT_FREQUENCIES if layout == "slab" else TABLE7_FIT_FREQUENCIES)
     else:
@@ -919,8 +912,6 @@ def _inside(x: np.ndarray, model: _Model) -> np.ndarray:
 
 
 def _exact(track, f: np.ndarray) -> np.ndarray:
-    from ..methods.receptance import semi_infinite_receptance
-
     return _check_alpha(np.asarray(semi_infinite_receptance(track, f)), f.size, "the track receptance")
 
 

@@ -72,7 +72,7 @@ from scipy.sparse.linalg import splu
 
 from ..base.checks import as_frequencies, check_int_at_least, check_positive, check_real
 from ..equivalent.systems import EquivalentSystem
-from ..model.tracks import Track
+from ..model.tracks import Track, require_track
 from ..methods.transfer import end_stiffness
 
 __all__ = [
@@ -230,8 +230,7 @@ def viscous_reference_frequencies(track: Track) -> dict:
     frequency, the rail-on-pad resonance and the sleeper-on-ballast resonance, near which the
     damping of each family controls the response. "ballast" is NaN for a slab track.
     """
-    if not isinstance(track, Track):
-        raise TypeError(f"track must be a semitrack.Track, got {type(track).__name__}")
+    require_track(track)
     d, ra = track.spacing, track.mass_per_length
     out = {
         "rail": (np.pi / d) ** 2 * np.sqrt(track.E * track.I / ra) / (2 * np.pi),
@@ -297,8 +296,7 @@ class FETrack:
 
     def __init__(self, track: Track, n_left: int, n_right: int, left: str = "pinned", right: str = "pinned",
                  system: EquivalentSystem | None = None, elements_per_bay: int = 12):
-        if not isinstance(track, Track):
-            raise TypeError(f"track must be a semitrack.Track, got {type(track).__name__}")
+        require_track(track)
         self.track = track
         self.n_left = check_int_at_least("n_left", n_left, 0)
         self.n_right = check_int_at_least("n_right", n_right, 0)

@@ -217,6 +217,21 @@ def _build(params: dict, overrides: dict, forbidden: tuple[str, ...]) -> Track:
     return Track(**params)
 
 
+def require_track(track, name: str = "track") -> Track:
+    """Return ``track`` if it is a :class:`Track`, else raise the package's one TypeError for it.
+
+    Parameters
+    ----------
+    track : object
+        The value to check.
+    name : str
+        The parameter name to quote in the message.
+    """
+    if not isinstance(track, Track):
+        raise TypeError(f"{name} must be a semitrack Track (e.g. st.slab_track()), got {type(track).__name__}")
+    return track
+
+
 @dataclass(frozen=True)
 class PeriodicCell:
     """One period of an infinitely long periodic track (paper Sec. 2.1).

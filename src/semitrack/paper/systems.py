@@ -23,6 +23,7 @@ from ..equivalent.constraints import (
     support_mass_relation,
     upper_spring_relation,
 )
+from ..base.paper_values import TABLE4_FIT_FREQUENCIES, TABLE7_FIT_FREQUENCIES
 from ..equivalent.systems import BallastedEquivalent, SlabEquivalent
 
 __all__ = [
@@ -35,11 +36,6 @@ __all__ = [
     "TABLE7_FIT_FREQUENCIES",
     "PAPER_FREQUENCIES",
 ]
-
-#: The pre-selected frequencies (Hz) of the paper's fits (Sec. 4.4 for Table 4, Sec. 5.2 for Table 7).
-TABLE4_FIT_FREQUENCIES = (3.0, 15.0, 87.0, 117.0, 183.0, 207.0, 333.0, 597.0, 897.0)
-TABLE7_FIT_FREQUENCIES = (3.0, 15.0, 27.0, 87.0, 117.0, 167.0, 217.0, 243.0, 277.0, 327.0, 377.0,
-                          427.0, 457.0, 489.0, 517.0, 567.0, 617.0, 800.0)
 
 #: Characteristic frequencies (Hz) the paper quotes for its constraints. For the second
 #: repeated frequency of the ballasted cell the paper states 465 Hz (Sec. 5.2, with Eq. 24-27)

@@ -1,0 +1,104 @@
+"""The package's layers: every import points down the stack described in ARCHITECTURE.md.
+
+Layers, lowest first: ``base`` (checks, conventions, the paper's numbers) -> ``model`` ->
+``methods`` -> ``equivalent`` -> ``fe`` -> ``paper`` -> the top-level modules (``cli``,
+``plotting``, ``progress`` and the flat namespace). A module may import from its own subpackage
+and from lower layers only. The test reads the source with :mod:`ast`, so it also sees imports
+inside functions, and it fails on a module that no layer claims, so ARCHITECTURE.md and this
+table stay complete together.
+"""
+
+from __future__ import annotations
+
+import ast
+import pathlib
+
+import pytest
+
+import semitrack
+
+PACKAGE = pathlib.Path(semitrack.__file__).parent
+ROOT = PACKAGE.parent.parent
+
+LAYERS = {"base": 0, "model": 1, "methods": 2, "equivalent": 3, "fe": 4, "paper": 5}
+TOP = 6  # cli, plotting, progress, __init__, __main__
+TOP_MODULES = {"__init__", "__main__", "cli", "plotting", "progress"}
+# Only the command line defers imports of the package, so that `semitrack --help` and bad-input
+# errors answer without importing scipy and the fitting machinery.
+DEFERRED_IMPORTS_ALLOWED = {"semitrack.cli"}
+
+
+def _modules():
+    for path in sorted(PACKAGE.rglob("*.py")):
+        parts = path.relative_to(PACKAGE).with_suffix("").parts
+        yield path, ("semitrack",) + parts
+
+
+def _layer(parts: tuple[str, ...]) -> int:
+    """Layer of the module ``semitrack.<parts...>``."""
+    if len(parts) == 1:
+        return TOP  # the package root itself
+    first = parts[1]
+    if first in LAYERS:
+        return LAYERS[first]
+    if len(parts) == 2 and first in TOP_MODULES:
+        return TOP
+    raise AssertionError(f"module {'.'.join(parts)} belongs to no layer: add it to LAYERS/TOP_MODULES "
+                         "and to ARCHITECTURE.md")
+
+
+def _imports(path: pathlib.Path, parts: tuple[str, ...]):
+    """Yield (imported module parts, line, is_deferred) for every import of semitrack."""
+    tree = ast.parse(path.read_text(), filename=str(path))
+    package = parts[:-1] if path.name != "__init__.py" else parts[:-1]
+    top_level = {id(node) for node in tree.body}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package[: len(package) - (node.level - 1)]
+                target = base + (tuple(node.module.split(".")) if node.module else ())
+            elif node.module and node.module.split(".")[0] == "semitrack":
+                target = tuple(node.module.split("."))
+            else:
+                continue
+            yield target, node.lineno, id(node) not in top_level
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.name.split(".")[0] == "semitrack":
+                    yield tuple(alias.name.split(".")), node.lineno, id(node) not in top_level
+
+
+MODULES = list(_modules())
+
+
+@pytest.mark.parametrize("path, parts", MODULES, ids=[".".join(p) for _, p in MODULES])
+def test_imports_point_down_the_layers(path, parts):
+    own = _layer(parts)
+    for target, line, _ in _imports(path, parts):
+        if len(target) == 1:  # `from semitrack import __version__` / `from . import plotting`
+            assert own == TOP, f"{path.name}:{line} imports the package root from layer {own}"
+            continue
+        theirs = _layer(target)
+        assert theirs <= own, (f"{'.'.join(parts)} (layer {own}) imports {'.'.join(target)} "
+                               f"(layer {theirs}) at line {line}: imports must point down")
+
+
+@pytest.mark.parametrize("path, parts", MODULES, ids=[".".join(p) for _, p in MODULES])
+def test_no_deferred_imports_of_the_package(path, parts):
+    if ".".join(parts) in DEFERRED_IMPORTS_ALLOWED:
+        return
+    deferred = [line for _, line, is_deferred in _imports(path, parts) if is_deferred]
+    assert not deferred, f"{path.name} imports semitrack modules inside functions at lines {deferred}"
+
+
+def test_architecture_page_names_every_module():
+    """ARCHITECTURE.md has one line per module; a new module must be described there."""
+    text = (ROOT / "ARCHITECTURE.md").read_text()
+    missing = [".".join(p[1:]) for path, p in MODULES
+               if path.name != "__init__.py" and f"`{'/'.join(p[1:])}.py`" not in text]
+    assert not missing, f"modules missing from ARCHITECTURE.md: {missing}"
+
+
+def test_layer_table_matches_the_subpackages():
+    on_disk = {p.name for p in PACKAGE.iterdir() if p.is_dir() and (p / "__init__.py").exists()}
+    assert on_disk == set(LAYERS), f"subpackages {sorted(on_disk)} vs layers {sorted(LAYERS)}"
