@@ -23,8 +23,8 @@ import time
 import numpy as np
 
 import semitrack as st
-from semitrack.fe.models import TruncatedTrack, fe_central_receptance, fe_semi_infinite_receptance
 from semitrack.equivalent.metrics import error_band_grid, error_summary
+from semitrack.fe.models import TruncatedTrack, fe_central_receptance, fe_semi_infinite_receptance
 from semitrack.fe.timedomain import moving_load_response, pulse_response, relative_l2_error
 
 QUICK = "--quick" in sys.argv

@@ -12,8 +12,8 @@ import time
 import numpy as np
 
 import semitrack as st
-from semitrack.paper.convergence import alpha_relative_error
 from semitrack.methods.wavenumber import PAPER_BETA_MAX
+from semitrack.paper.convergence import alpha_relative_error
 
 REFINED = dict(beta_max=10 * PAPER_BETA_MAX, dx=0.002)
 
@@ -31,7 +31,7 @@ def best_time(func, repeat: int) -> tuple[float, object]:
 def main() -> None:
     f = np.arange(3.0, 3000.0, 6.0)  # 500 frequencies, the paper's grid
     check = np.array([3.0, 183.0, 945.0])
-    print(f"500-frequency sweep of alpha (3-2997 Hz, 6 Hz steps); best of repeated runs")
+    print("500-frequency sweep of alpha (3-2997 Hz, 6 Hz steps); best of repeated runs")
     print(f"{'track':<10} {'transfer (s)':>13} {'wavenumber (s)':>15} {'ratio':>8}")
     for track in (st.slab_track(), st.ballasted_track()):
         t_tr, exact = best_time(lambda: st.semi_infinite_receptance(track, f), 5)

@@ -3,8 +3,8 @@
 In the spirit of python-control's ``control/tests/docstrings_test.py``: for each name in
 ``semitrack.__all__`` that is callable (and each public method and property of a public class),
 the docstring must exist and its numpydoc "Parameters" (or "Other Parameters", or for a
-dataclass "Attributes") section must name every parameter of the signature (``self``/``cls`` excepted; ``*args``/``**kwargs`` under their
-own names, with or without the stars).
+dataclass "Attributes") section must name every parameter of the signature (``self``/``cls``
+excepted; ``*args``/``**kwargs`` under their own names, with or without the stars).
 """
 
 from __future__ import annotations

@@ -14,8 +14,8 @@ from semitrack.equivalent.constraints import (
     support_mass_frequency,
     unit_cell_frequencies,
 )
-from semitrack.equivalent.systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent
 from semitrack.equivalent.metrics import error_band_grid, error_summary, receptance_errors
+from semitrack.equivalent.systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent
 from semitrack.paper.systems import paper_consistency_report, paper_table4, paper_table7
 
 TWO_PI = 2 * np.pi

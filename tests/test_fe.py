@@ -13,6 +13,7 @@ import scipy.optimize as so
 import scipy.sparse as sp
 
 import semitrack as st
+from semitrack.equivalent.metrics import error_band_grid, error_summary
 from semitrack.fe.models import (
     FETrack,
     TruncatedTrack,
@@ -22,7 +23,6 @@ from semitrack.fe.models import (
     timoshenko_shape_functions,
     viscous_reference_frequencies,
 )
-from semitrack.equivalent.metrics import error_band_grid, error_summary
 from semitrack.fe.timedomain import (
     hann_pulse,
     moving_load_response,

@@ -21,8 +21,6 @@ from semitrack.equivalent.constraints import (
     slab_constraints,
     slab_from_free,
 )
-from semitrack.equivalent.systems import BallastedEquivalent, SlabEquivalent
-from semitrack.methods.features import characteristic_frequencies
 from semitrack.equivalent.fitting import (
     POOR_MEDIAN_ERROR,
     FitResult,
@@ -34,6 +32,8 @@ from semitrack.equivalent.fitting import (
     fit_equivalent,
 )
 from semitrack.equivalent.metrics import error_band_grid, error_summary
+from semitrack.equivalent.systems import BallastedEquivalent, SlabEquivalent
+from semitrack.methods.features import characteristic_frequencies
 from semitrack.paper.systems import (
     TABLE4_FIT_FREQUENCIES,
     TABLE7_FIT_FREQUENCIES,

@@ -1,7 +1,6 @@
 """The exact (Bloch-wave) method: reciprocity, passivity, symmetry, periodicity, limits."""
 
 import numpy as np
-import pytest
 
 import semitrack as st
 from semitrack.methods.transfer import end_stiffness

@@ -6,19 +6,19 @@ truncated track models". SI units; frequencies in Hz at the API.
 """
 
 from .equivalent.constraints import ballasted_from_free, cell_frequencies, slab_from_free, unit_cell_frequencies
-from .methods.continuous import continuous_foundation_receptance
-from .equivalent.systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent
 from .equivalent.fitting import FitResult, default_fit_frequencies, fit_characteristic_frequencies, fit_equivalent
 from .equivalent.io import export_system, load_system_csv, load_system_json, load_system_mat
 from .equivalent.metrics import ErrorSummary, error_band_grid, error_summary, receptance_errors
+from .equivalent.systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent
 from .fe.models import FETrack, TruncatedTrack, fe_central_receptance, fe_semi_infinite_receptance
+from .methods.continuous import continuous_foundation_receptance
 from .methods.features import QUANTITIES, characteristic_frequencies, find_extrema, response_curves
+from .methods.receptance import CentralResponse, central_response, point_receptance, semi_infinite_receptance
+from .methods.wavenumber import WavenumberSettings
+from .model.trackfile import TrackFileError, load_track_toml
+from .model.tracks import PeriodicCell, Track, ballasted_track, parameter_table, slab_track
 from .paper.frequencies import paper_frequency_table
 from .paper.systems import paper_consistency_report, paper_table4, paper_table7
-from .methods.receptance import CentralResponse, central_response, point_receptance, semi_infinite_receptance
-from .model.tracks import PeriodicCell, Track, ballasted_track, parameter_table, slab_track
-from .model.trackfile import TrackFileError, load_track_toml
-from .methods.wavenumber import WavenumberSettings
 
 __version__ = "0.1.0"
 

@@ -19,8 +19,8 @@ import numpy as np
 from . import __version__
 from .base.checks import check_band
 from .equivalent.io import atomic_write, export_system, load_system_json, save_system_json
-from .progress import Progress
 from .model.trackfile import TrackFileError, load_track_toml
+from .progress import Progress
 
 #: Largest frequency grid the CLI accepts (a guard against a mistyped --df).
 MAX_FREQUENCIES = 200_000

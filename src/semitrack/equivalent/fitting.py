@@ -64,8 +64,8 @@ import numpy as np
 from scipy.optimize import least_squares
 from threadpoolctl import threadpool_limits
 
-from ..base.paper_values import TABLE4_FIT_FREQUENCIES, TABLE7_FIT_FREQUENCIES
 from ..base.checks import as_frequencies, check_band, check_int_at_least
+from ..base.paper_values import TABLE4_FIT_FREQUENCIES, TABLE7_FIT_FREQUENCIES
 from ..methods.features import characteristic_frequencies, find_extrema
 from ..methods.receptance import semi_infinite_receptance
 from ..model.tracks import require_track
@@ -78,8 +78,8 @@ from .constraints import (
     support_mass_relation,
     upper_spring_relation,
 )
-from .systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent, _hinge_map
 from .metrics import ErrorSummary, error_band_grid, error_summary
+from .systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent, _hinge_map
 
 __all__ = [
     "FitResult",

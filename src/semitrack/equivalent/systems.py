@@ -256,7 +256,7 @@ class EquivalentSystem:
         return {name: np.array(getattr(self, name)) for name in self.parameter_names()}
 
     @classmethod
-    def from_parameters(cls, params: dict) -> "EquivalentSystem":
+    def from_parameters(cls, params: dict) -> EquivalentSystem:
         """Build a system from a dict of parameters (as returned by :meth:`parameters`).
 
         Called on :class:`EquivalentSystem` itself, the layout is taken from a ``"layout"`` key
@@ -284,7 +284,7 @@ class EquivalentSystem:
             raise TypeError(f"missing parameter(s) for the {target.layout} layout: {missing}")
         return target(**params)
 
-    def replace(self, **changes) -> "EquivalentSystem":
+    def replace(self, **changes) -> EquivalentSystem:
         """A copy with some parameters changed (validated again)."""
         return dataclasses.replace(self, **changes)
 

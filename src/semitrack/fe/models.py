@@ -64,7 +64,7 @@ Time domain (:meth:`FETrack.matrices`, :mod:`semitrack.fe.timedomain`)
 
 from __future__ import annotations
 
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 import scipy.sparse as sp
@@ -72,8 +72,8 @@ from scipy.sparse.linalg import splu
 
 from ..base.checks import as_frequencies, check_int_at_least, check_positive, check_real
 from ..equivalent.systems import EquivalentSystem
-from ..model.tracks import Track, require_track
 from ..methods.transfer import end_stiffness
+from ..model.tracks import Track, require_track
 
 __all__ = [
     "ENDS",

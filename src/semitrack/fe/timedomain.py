@@ -29,8 +29,8 @@ reference: ``||u - u_ref||_2 / ||u_ref||_2`` over the time window, per output.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Sequence
 
 import numpy as np
 import scipy.sparse as sp
@@ -38,8 +38,8 @@ from scipy.sparse.linalg import splu
 
 from ..base.checks import check_int_at_least, check_positive, check_real
 from ..equivalent.systems import EquivalentSystem
-from .models import FETrack, TruncatedTrack
 from ..model.tracks import Track
+from .models import FETrack, TruncatedTrack
 
 __all__ = [
     "TimeHistory",

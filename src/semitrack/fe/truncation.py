@@ -12,8 +12,8 @@ import numpy as np
 import pandas as pd
 
 from ..base.checks import as_frequencies
-from .models import TruncatedTrack
 from ..methods.receptance import central_response
+from .models import TruncatedTrack
 
 
 def truncation_study(track, f, n_bays=(1, 2, 5, 10, 20, 40, 80), ends: dict | None = None,

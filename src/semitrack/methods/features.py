@@ -8,7 +8,7 @@ with sampled data only by a parabola through the three grid points in log|y|.
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 import pandas as pd

@@ -14,8 +14,8 @@ check of the general formulation.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 
@@ -132,7 +132,7 @@ class Track:
         """
         return float(np.sqrt(self.kv / (self.mass_per_length * self.spacing)) / (2 * np.pi))
 
-    def replace(self, **changes) -> "Track":
+    def replace(self, **changes) -> Track:
         """A copy with some fields changed (validated again)."""
         return dataclasses.replace(self, **changes)
 
@@ -175,7 +175,7 @@ class Track:
         k = self.cell().support_stiffness_matrix(f.ravel())  # one support: (n, 2, 2)
         return k[:, 0, 0].reshape(f.shape), k[:, 1, 1].reshape(f.shape)
 
-    def cell(self, supports_per_period: int = 1) -> "PeriodicCell":
+    def cell(self, supports_per_period: int = 1) -> PeriodicCell:
         """The periodic cell of this track with ``supports_per_period`` identical supports."""
         return PeriodicCell.uniform(self, supports_per_period)
 
@@ -269,7 +269,7 @@ class PeriodicCell:
         object.__setattr__(self, "positions", pos)
 
     @classmethod
-    def uniform(cls, track: Track, supports_per_period: int = 1) -> "PeriodicCell":
+    def uniform(cls, track: Track, supports_per_period: int = 1) -> PeriodicCell:
         """``S`` identical, equally spaced supports per period (period = S x spacing)."""
         s = check_int_at_least("supports_per_period", supports_per_period, 1)
         return cls(track, s * track.spacing, tuple(track.spacing * np.arange(s)))

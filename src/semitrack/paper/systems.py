@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..base.paper_values import TABLE4_FIT_FREQUENCIES, TABLE7_FIT_FREQUENCIES
 from ..equivalent.constraints import (
     cell_frequencies,
     inertia_relation,
@@ -23,7 +24,6 @@ from ..equivalent.constraints import (
     support_mass_relation,
     upper_spring_relation,
 )
-from ..base.paper_values import TABLE4_FIT_FREQUENCIES, TABLE7_FIT_FREQUENCIES
 from ..equivalent.systems import BallastedEquivalent, SlabEquivalent
 
 __all__ = [
