@@ -31,7 +31,7 @@ def test_bad_arguments():
         st.semi_infinite_receptance(t, 10.0, dx=0.01)
     with pytest.raises(TypeError, match="unknown wavenumber setting"):
         st.semi_infinite_receptance(t, 10.0, method="wavenumber", dz=0.01)
-    with pytest.raises(TypeError, match="Track or a PeriodicCell"):
+    with pytest.raises(TypeError, match="Track or PeriodicCell"):
         st.semi_infinite_receptance({"kv": 1}, 10.0)
     with pytest.raises(TypeError, match="x"):
         st.point_receptance(t, 10.0, x="mid")

@@ -1,25 +1,32 @@
 """Track presets (paper Tables 2 and 5), validation, and the support dynamic stiffness."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 import semitrack as st
+from semitrack.base.paper_values import PAD_LENGTH, TABLE2_RAIL, TABLE2_SLAB, TABLE5_BALLASTED
+from semitrack.model.tracks import FIELD_RULES, require_cell
 
 
 def test_slab_preset_is_paper_table2():
     t = st.slab_track()
-    assert (t.rho, t.E, t.G, t.A, t.I, t.kappa, t.eta_rail) == (7850.0, 2.1e11, 0.81e11, 7.69e-3, 30.55e-6, 0.4, 0.01)
-    assert (t.kv, t.kphi, t.eta_pad, t.spacing) == (5.44e7, 2.83e5, 0.1, 0.65)
+    assert {key: getattr(t, key) for key in TABLE2_SLAB} == dict(TABLE2_SLAB)
     assert not t.is_ballasted
     # The paper's kphi = kv b^2 / 12 with b = 0.25 m, printed rounded to three digits.
-    assert t.kphi == pytest.approx(t.kv * 0.25**2 / 12, rel=2e-3)
+    assert t.kphi == pytest.approx(t.kv * PAD_LENGTH**2 / 12, rel=2e-3)
 
 
 def test_ballasted_preset_is_paper_table5():
     t = st.ballasted_track()
-    assert (t.kv, t.kphi, t.eta_pad, t.sleeper_mass, t.spacing, t.kb, t.eta_ballast) == (
-        3.5e8, 1.82e6, 0.1, 150.0, 0.6, 100e6, 0.3)
-    assert t.E == st.slab_track().E and t.is_ballasted
+    assert {key: getattr(t, key) for key in TABLE5_BALLASTED} == dict(TABLE5_BALLASTED)
+    assert all(getattr(t, key) == getattr(st.slab_track(), key) for key in TABLE2_RAIL) and t.is_ballasted
+
+
+def test_every_field_has_one_rule():
+    """The rule table covers the Track's fields exactly (the track file reader applies it too)."""
+    assert set(FIELD_RULES) == {f.name for f in dataclasses.fields(st.Track)}
 
 
 def test_overrides_and_replace():
@@ -58,8 +65,8 @@ def test_bad_types_and_keys():
 def test_slab_support_is_damped_pad():
     t = st.slab_track()
     kv, kphi = t.support_stiffness([10.0, 1000.0])
-    np.testing.assert_allclose(kv, 5.44e7 * (1 + 0.1j), rtol=1e-14)
-    np.testing.assert_allclose(kphi, 2.83e5 * (1 + 0.1j), rtol=1e-14)
+    np.testing.assert_allclose(kv, t.kv * (1 + 1j * t.eta_pad), rtol=1e-14)
+    np.testing.assert_allclose(kphi, t.kphi * (1 + 1j * t.eta_pad), rtol=1e-14)
 
 
 def test_ballasted_support_matches_two_dof_solve():
@@ -67,11 +74,11 @@ def test_ballasted_support_matches_two_dof_solve():
     t = st.ballasted_track()
     f = np.array([3.0, 117.0, 243.0, 900.0])
     kv_dyn, _ = t.support_stiffness(f)
-    kp, kb = 3.5e8 * (1 + 0.1j), 100e6 * (1 + 0.3j)
+    kp, kb = t.kv * (1 + 1j * t.eta_pad), t.kb * (1 + 1j * t.eta_ballast)
     for fi, k in zip(f, kv_dyn):
         w = 2 * np.pi * fi
         # DOFs (rail seat w, sleeper z); unit displacement imposed at the rail seat.
-        z = kp / (kp + kb - w**2 * 150.0)
+        z = kp / (kp + kb - w**2 * t.sleeper_mass)
         force = kp * (1 - z)
         assert k == pytest.approx(force, rel=1e-12)
     # Static limit: springs in series.
@@ -80,7 +87,7 @@ def test_ballasted_support_matches_two_dof_solve():
 
 def test_bouncing_estimate_is_papers_formula():
     t = st.slab_track()
-    assert t.bouncing_frequency_estimate == pytest.approx(np.sqrt(5.44e7 / (7850 * 7.69e-3 * 0.65)) / (2 * np.pi))
+    assert t.bouncing_frequency_estimate == pytest.approx(np.sqrt(t.kv / (t.rho * t.A * t.spacing)) / (2 * np.pi))
 
 
 def test_periodic_cell_checks():
@@ -93,3 +100,14 @@ def test_periodic_cell_checks():
         st.PeriodicCell(t, 1.0, (1.0,))
     with pytest.raises(TypeError, match="supports_per_period"):
         t.cell(1.5)
+
+
+def test_one_wording_for_a_value_that_is_not_a_track():
+    t = st.slab_track()
+    assert require_cell(t) == t.cell() and require_cell(t.cell(2)) == t.cell(2)
+    with pytest.raises(TypeError, match="track must be a semitrack Track or PeriodicCell"):
+        require_cell({"kv": 1})
+    for call in (lambda: st.parameter_table("slab"), lambda: st.continuous_foundation_receptance(None, 1.0, 1e8),
+                 lambda: st.PeriodicCell("slab", 1.0, (0.0,)), lambda: st.paper_frequency_table(3)):
+        with pytest.raises(TypeError, match="must be a semitrack Track"):
+            call()

@@ -17,7 +17,9 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
-from .base.checks import check_band
+from .base.checks import check_band, check_int_at_least, check_positive
+from .base.conventions import ALL_ELEMENTS, ELEMENT_TEX, ELEMENT_UNITS, ELEMENTS
+from .base.paper_values import FIT_BANDS, PAPER_GRID_BAND, PAPER_GRID_STEP
 from .equivalent.io import atomic_write, export_system, load_system_json, save_system_json
 from .model.trackfile import TrackFileError, load_track_toml
 from .progress import Progress
@@ -39,11 +41,18 @@ class _Parser(argparse.ArgumentParser):
 
 
 # ------------------------------------------------------------------------------------------
+def checked(check, *args):
+    """Run one of the package's checks (:mod:`semitrack.base.checks`); its error becomes an InputError."""
+    try:
+        return check(*args)
+    except (TypeError, ValueError) as err:
+        raise InputError(str(err)) from None
+
+
 def frequency_grid(fmin: float, fmax: float, df: float) -> np.ndarray:
     """The grid fmin, fmin + df, ... up to fmax inclusive (Hz); checks the three numbers."""
-    for name, value in (("--fmin", fmin), ("--fmax", fmax), ("--df", df)):
-        if not (np.isfinite(value) and value > 0):
-            raise InputError(f"{name} must be positive and finite, got {value!r}")
+    fmin, fmax, df = (checked(check_positive, name, value) for name, value in
+                      (("--fmin", fmin), ("--fmax", fmax), ("--df", df)))
     if fmin > fmax:
         raise InputError(f"--fmin must not exceed --fmax, got fmin={fmin!r} > fmax={fmax!r}")
     n = int(np.floor((fmax - fmin) / df + 1e-9)) + 1
@@ -67,21 +76,24 @@ def _output_path(path: str) -> Path:
 
 
 # ------------------------------------------------------------------------------------------
-CSV_ELEMENTS = (("a11", 0, 0), ("a12", 0, 1), ("a21", 1, 0), ("a22", 1, 1))
-
-
 def receptance_csv(track, f, alpha, method: str) -> str:
-    """CSV text of a receptance sweep: header comments with units and signs, then one row per f."""
+    """CSV text of a receptance sweep: header comments with units and signs, then one row per f.
+
+    The columns are ``f_Hz`` and, for each element of
+    :data:`semitrack.base.conventions.ALL_ELEMENTS`, its real part, imaginary part, magnitude and
+    phase (``alpha11_re``, ``alpha11_im``, ``alpha11_abs``, ``alpha11_phase``, ...).
+    """
     buf = io.StringIO()
     buf.write(f"# semitrack {__version__}: receptance at the end of the semi-infinite track "
               f"'{track.name}' (method={method})\n")
-    buf.write("# units: f in Hz; a11 in m/N, a12 in m/(N m), a21 in rad/N, a22 in rad/(N m); phase in rad\n")
+    units = ", ".join(f"{name} in {ELEMENT_UNITS[name]}" for name in ALL_ELEMENTS)
+    buf.write(f"# units: f in Hz; {units} (1/N = m/(N m) = rad/N); phase in rad\n")
     buf.write("# sign convention: w downward, psi clockwise; end force Q downward, end moment M clockwise; "
-              "time factor exp(i omega t); [[a11, a12], [a21, a22]] = (w, psi) per (Q, M)\n")
-    cols = ["f_Hz"] + [f"{n}_{part}" for n, _, _ in CSV_ELEMENTS for part in ("re", "im", "abs", "phase")]
+              "time factor exp(i omega t); [[alpha11, alpha12], [alpha21, alpha22]] = (w, psi) per (Q, M)\n")
+    cols = ["f_Hz"] + [f"{name}_{part}" for name in ALL_ELEMENTS for part in ("re", "im", "abs", "phase")]
     buf.write(",".join(cols) + "\n")
     parts = [f[:, None]]
-    for _, i, k in CSV_ELEMENTS:
+    for i, k in ALL_ELEMENTS.values():
         a = alpha[:, i, k]
         parts.append(np.column_stack([a.real, a.imag, np.abs(a), np.angle(a)]))
     np.savetxt(buf, np.hstack(parts), delimiter=",", fmt="%.12e")
@@ -92,12 +104,11 @@ def _plot_receptance(path: Path, track, f, alpha) -> None:
     from matplotlib.figure import Figure  # no pyplot: the CLI selects no backend
 
     fig = Figure(figsize=(10, 3.4), layout="constrained")
-    axes = fig.subplots(1, 3)
-    units = {"a11": "m/N", "a12": "m/(N m)", "a22": "rad/(N m)"}
-    for ax, (name, i, k) in zip(axes, (CSV_ELEMENTS[0], CSV_ELEMENTS[1], CSV_ELEMENTS[3])):
+    axes = fig.subplots(1, len(ELEMENTS))
+    for ax, (name, (i, k)) in zip(axes, ELEMENTS.items()):
         ax.semilogy(f, np.abs(alpha[:, i, k]), "k-", lw=1.2)
         ax.set_xlabel("Frequency (Hz)")
-        ax.set_ylabel(f"|{name}| ({units[name]})")
+        ax.set_ylabel(f"|{ELEMENT_TEX[name]}| ({ELEMENT_UNITS[name]})")
         ax.grid(alpha=0.3)
     fig.suptitle(f"Semi-infinite track '{track.name}': end receptance")
     atomic_write(path, lambda fh: fig.savefig(fh, format="png", dpi=110), binary=True)
@@ -131,14 +142,9 @@ def cmd_fit(args) -> int:
     from .equivalent.fitting import fit_equivalent
 
     track = _track(args.track)
-    try:
-        fmin, fmax = check_band(args.band, "--band")
-    except ValueError as err:
-        raise InputError(str(err)) from None
-    if args.bars < 1:
-        raise InputError(f"--bars must be at least 1, got {args.bars}")
-    if args.seed < 0:
-        raise InputError(f"--seed must be a non-negative integer, got {args.seed}")
+    fmin, fmax = checked(check_band, args.band, "--band")
+    checked(check_int_at_least, "--bars", args.bars, 1)
+    checked(check_int_at_least, "--seed", args.seed, 0)
     out = _output_path(args.output)
     layout = "ballasted" if track.is_ballasted else "slab"
     progress = Progress("fit", 1, quiet=args.quiet)
@@ -189,9 +195,10 @@ def cmd_features(args) -> int:
 # ------------------------------------------------------------------------------------------
 def _track_and_grid_arguments(p, step: str) -> None:
     p.add_argument("track", help="track description file (TOML)")
-    p.add_argument("--fmin", type=float, default=3.0, help="lowest frequency, Hz (default 3)")
-    p.add_argument("--fmax", type=float, default=3000.0, help="highest frequency, Hz (default 3000)")
-    p.add_argument("--df", type=float, default=6.0, help=f"{step}, Hz (default 6)")
+    (fmin, fmax), df = PAPER_GRID_BAND, PAPER_GRID_STEP  # the paper's grid by default
+    p.add_argument("--fmin", type=float, default=fmin, help=f"lowest frequency, Hz (default {fmin:g})")
+    p.add_argument("--fmax", type=float, default=fmax, help=f"highest frequency, Hz (default {fmax:g})")
+    p.add_argument("--df", type=float, default=df, help=f"{step}, Hz (default {df:g})")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -204,7 +211,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("receptance", help="receptance of the semi-infinite track to CSV",
                        formatter_class=argparse.RawDescriptionHelpFormatter,
-                       epilog="example:\n  semitrack receptance slab.toml --fmin 3 --fmax 3000 --df 6 -o alpha.csv --plot alpha.png")
+                       epilog="example:\n  semitrack receptance slab.toml --fmin 3 --fmax 3000 --df 6 -o alpha.csv "
+                              "--plot alpha.png")
     _track_and_grid_arguments(p, "frequency step")
     p.add_argument("--method", choices=("transfer", "wavenumber"), default="transfer",
                    help="transfer: exact (default); wavenumber: the paper's method and settings")
@@ -215,7 +223,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("fit", help="fit an equivalent multi-rigid-body system",
                        formatter_class=argparse.RawDescriptionHelpFormatter,
-                       epilog="example:\n  semitrack fit ballasted.toml --bars 5 --band 3 750 --seed 0 -o system.json")
+                       epilog="example:\n  semitrack fit ballasted.toml --bars 5 --band {:g} {:g} --seed 0 "
+                              "-o system.json".format(*FIT_BANDS["ballasted"]))
     p.add_argument("track", help="track description file (TOML)")
     p.add_argument("--bars", type=int, default=5, help="number of rigid bars N (default 5)")
     p.add_argument("--band", type=float, nargs=2, metavar=("FMIN", "FMAX"), required=True, help="band to fit, Hz")

@@ -34,6 +34,13 @@ def check_nonnegative(name: str, value) -> float:
     return v
 
 
+def check_string(name: str, value) -> str:
+    """A ``str`` (labels such as a track's name)."""
+    if not isinstance(value, str):
+        raise TypeError(f"{name} must be a string, got {value!r}")
+    return value
+
+
 def check_int_at_least(name: str, value, minimum: int) -> int:
     """An integer (not a bool) that is >= ``minimum``."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):

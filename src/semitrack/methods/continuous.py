@@ -17,12 +17,14 @@ and for x >= 0 the inverse Fourier transform closes in the upper half-plane:
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies, check_nonnegative
-from ..model.tracks import Track
+from ..model.tracks import Track, require_track
 
 
-def continuous_foundation_receptance(track: Track, f, k_f: float, k_r: float = 0.0, x: float = 0.0) -> np.ndarray:
+def continuous_foundation_receptance(track: Track, f: ArrayLike, k_f: complex, k_r: complex = 0.0,
+                                     x: float = 0.0) -> np.ndarray:
     """2x2 receptance of an infinite Timoshenko beam on a continuous elastic foundation.
 
     Parameters
@@ -43,6 +45,7 @@ def continuous_foundation_receptance(track: Track, f, k_f: float, k_r: float = 0
     ndarray of complex, shape ``f.shape + (2, 2)``
         Response (w, psi) at x per load (F, M) at 0.
     """
+    track = require_track(track)
     f = as_frequencies(f)
     for name, value, allow_zero in (("k_f", k_f, False), ("k_r", k_r, True)):
         k = complex(value)

@@ -12,31 +12,52 @@ from collections.abc import Callable
 
 import numpy as np
 import pandas as pd
+from numpy.typing import ArrayLike
 from scipy.optimize import minimize_scalar
 
 from ..base.checks import as_frequencies, check_band, check_positive
-from .receptance import central_response
+from ..base.conventions import ELEMENTS
+from ..base.paper_values import PAPER_GRID_BAND, PAPER_GRID_STEP
+from ..model.tracks import PeriodicCell, Track
+from .receptance import CentralResponse, Method, central_response
 
-#: The curves of the paper's Fig. 4/10/5/11 in which peaks and dips are looked for.
-QUANTITIES = ("w1", "psi2", "Q2", "M1", "det", "alpha11", "alpha12", "alpha22")
+#: The curves of the paper's Fig. 4/10/5/11 in which peaks and dips are looked for: those of the
+#: complete track, then the distinct receptance elements of :data:`semitrack.base.conventions.ELEMENTS`.
+QUANTITIES = ("w1", "psi2", "Q2", "M1", "det", *ELEMENTS)
 
 
-def response_curves(track, f, method: str = "transfer", **settings) -> dict[str, np.ndarray]:
-    """The complex curves of :data:`QUANTITIES` at frequencies ``f`` (Hz).
+def response_curves(track: Track | PeriodicCell, f: ArrayLike, method: Method = "transfer",
+                    **settings) -> dict[str, np.ndarray]:
+    """The complex curves of :data:`QUANTITIES` at frequencies ``f``.
 
     w1, psi2, Q2, M1 and det(alpha^-1) describe the complete (infinite) track; alpha11, alpha12
     and alpha22 the semi-infinite track.
+
+    Parameters
+    ----------
+    track : Track or PeriodicCell
+        The track.
+    f : array_like
+        Frequencies (Hz), positive and finite.
+    method : {"transfer", "wavenumber"}
+        As for :func:`semitrack.central_response`.
+    **settings
+        Wavenumber settings, as for :func:`semitrack.central_response`.
+
+    Returns
+    -------
+    dict of str to ndarray
+        One complex array of the shape of ``f`` per quantity, in the units of
+        :class:`semitrack.CentralResponse` and :data:`semitrack.base.conventions.ELEMENT_UNITS`.
     """
     return curves_of(central_response(track, f, method, **settings))
 
 
-def curves_of(r) -> dict[str, np.ndarray]:
+def curves_of(r: CentralResponse) -> dict[str, np.ndarray]:
     """The :data:`QUANTITIES` curves of an already computed :class:`CentralResponse`."""
     alpha = r.alpha
-    return {
-        "w1": r.w1, "psi2": r.psi2, "Q2": r.Q2, "M1": r.M1, "det": r.det,
-        "alpha11": alpha[..., 0, 0], "alpha12": alpha[..., 0, 1], "alpha22": alpha[..., 1, 1],
-    }
+    curves = {"w1": r.w1, "psi2": r.psi2, "Q2": r.Q2, "M1": r.M1, "det": r.det}
+    return curves | {name: alpha[..., i, k] for name, (i, k) in ELEMENTS.items()}
 
 
 def grid_extrema(y) -> tuple[np.ndarray, np.ndarray]:
@@ -89,7 +110,7 @@ def refine_extremum(func: Callable[[float], complex], f_lo: float, f_hi: float, 
     return float(res.x)
 
 
-def find_extrema(f, curves: dict[str, np.ndarray],
+def find_extrema(f: ArrayLike, curves: dict[str, np.ndarray],
                  evaluate: Callable[[float], dict[str, complex]] | None = None) -> pd.DataFrame:
     """All peaks and dips of the magnitude of each curve, refined between grid points.
 
@@ -126,11 +147,26 @@ def find_extrema(f, curves: dict[str, np.ndarray],
     return df.sort_values(["quantity", "f"], ignore_index=True)
 
 
-def characteristic_frequencies(track, band=(3.0, 3000.0), df: float = 6.0) -> pd.DataFrame:
+def characteristic_frequencies(track: Track | PeriodicCell, band: tuple[float, float] = PAPER_GRID_BAND,
+                               df: float = PAPER_GRID_STEP) -> pd.DataFrame:
     """Peaks and dips of all :data:`QUANTITIES` of a track by the exact method.
 
-    The grid is ``band[0], band[0] + df, ...`` up to ``band[1]`` (the paper's is 3, 9, ..., 2997 Hz);
-    each extremum is then refined to 1e-3 Hz with the exact method.
+    The grid is ``band[0], band[0] + df, ...`` up to ``band[1]``; each extremum is then refined
+    to 1e-3 Hz with the exact method.
+
+    Parameters
+    ----------
+    track : Track or PeriodicCell
+        The track.
+    band : tuple of float
+        ``(f_lo, f_hi)`` of the search grid (Hz); the paper's grid by default (3-3000 Hz).
+    df : float
+        Step of the search grid (Hz); the paper's 6 Hz by default.
+
+    Returns
+    -------
+    pandas.DataFrame
+        As :func:`find_extrema`: ``quantity, kind, f_grid, f (refined, Hz), magnitude``.
     """
     lo, hi = check_band(band)
     df = check_positive("df", df)

@@ -15,15 +15,19 @@ and det(alpha^-1) = (0.25 - M1 Q2) / (w1 psi2) (Eq. 18).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Literal, get_args
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies, check_real
-from ..model.tracks import PeriodicCell, Track
+from ..model.tracks import PeriodicCell, Track, require_cell
 from .transfer import end_stiffness, infinite_receptance
 from .wavenumber import WavenumberSettings, central_quantities
 
-METHODS = ("transfer", "wavenumber")
+#: The two ways to compute the receptance: the exact periodic-structure method and the paper's.
+Method = Literal["transfer", "wavenumber"]
+METHODS: tuple[str, ...] = get_args(Method)
 
 
 @dataclass(frozen=True)
@@ -42,8 +46,15 @@ class CentralResponse:
         Shear force on the section just right of the load per unit moment (N/(N m)).
     M1 : ndarray
         Bending moment on that section per unit force (N m/N).
-    method : str
-        "transfer" or "wavenumber".
+    method : {"transfer", "wavenumber"}
+        The method that computed them.
+
+    Examples
+    --------
+    >>> import semitrack as st
+    >>> r = st.central_response(st.slab_track(), [100.0, 200.0])
+    >>> r.w1.shape, r.alpha.shape
+    ((2,), (2, 2, 2))
     """
 
     f: np.ndarray
@@ -70,14 +81,6 @@ class CentralResponse:
         return a
 
 
-def _cell_of(track) -> PeriodicCell:
-    if isinstance(track, PeriodicCell):
-        return track
-    if isinstance(track, Track):
-        return track.cell()
-    raise TypeError(f"track must be a Track or a PeriodicCell, got {type(track).__name__}")
-
-
 def _settings(method: str, options: dict) -> WavenumberSettings | None:
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
@@ -97,7 +100,8 @@ def _settings(method: str, options: dict) -> WavenumberSettings | None:
     return WavenumberSettings(**options)
 
 
-def central_response(track, f, method: str = "transfer", **settings) -> CentralResponse:
+def central_response(track: Track | PeriodicCell, f: ArrayLike, method: Method = "transfer",
+                     **settings) -> CentralResponse:
     """Central responses w1, psi2, Q2, M1 of the infinite track (paper Eq. 14-16).
 
     Parameters
@@ -117,9 +121,18 @@ def central_response(track, f, method: str = "transfer", **settings) -> CentralR
     -------
     CentralResponse
         Arrays of the same shape as ``f``.
+
+    Examples
+    --------
+    The bouncing resonance of the slab track shows in w1 (m/N):
+
+    >>> import semitrack as st
+    >>> r = st.central_response(st.slab_track(), [100.0, 186.0, 300.0])
+    >>> bool(abs(r.w1[1]) > abs(r.w1[0]) and abs(r.w1[1]) > abs(r.w1[2]))
+    True
     """
     f = as_frequencies(f)
-    cell = _cell_of(track)
+    cell = require_cell(track)
     ws = _settings(method, dict(settings))
     if not cell.is_symmetric_about(cell.mid_span):
         # Eq. (14) uses psi1 = w2 = 0 and Q1 = M2 = 0.5 at the cut: true only at a mirror plane.
@@ -142,7 +155,8 @@ def central_response(track, f, method: str = "transfer", **settings) -> CentralR
                            M1=m1.reshape(shape), method=method)
 
 
-def semi_infinite_receptance(track, f, method: str = "transfer", **settings) -> np.ndarray:
+def semi_infinite_receptance(track: Track | PeriodicCell, f: ArrayLike, method: Method = "transfer",
+                             **settings) -> np.ndarray:
     """2x2 receptance alpha at the end of the semi-infinite track (paper Eq. 13).
 
     The track is cut at a mid-span (the central cross-section). ``alpha[..., i, k]`` is response
@@ -164,10 +178,19 @@ def semi_infinite_receptance(track, f, method: str = "transfer", **settings) -> 
     Returns
     -------
     ndarray of complex, shape ``f.shape + (2, 2)``
-        Units [[m/N, m/(N m)], [rad/N, rad/(N m)]].
+        Units :data:`semitrack.base.conventions.ELEMENT_UNITS`: [[m/N, 1/N], [1/N, rad/(N m)]].
+
+    Examples
+    --------
+    >>> import semitrack as st
+    >>> alpha = st.semi_infinite_receptance(st.slab_track(), [3.0, 183.0])
+    >>> alpha.shape
+    (2, 2, 2)
+    >>> bool(np.allclose(alpha[:, 0, 1], alpha[:, 1, 0]))  # reciprocity: alpha12 = alpha21
+    True
     """
     f = as_frequencies(f)
-    cell = _cell_of(track)
+    cell = require_cell(track)
     if method == "transfer":
         _settings(method, dict(settings))
         k_right, _ = end_stiffness(cell, 2 * np.pi * f.ravel(), cell.mid_span)
@@ -175,7 +198,7 @@ def semi_infinite_receptance(track, f, method: str = "transfer", **settings) -> 
     return central_response(cell, f, method, **settings).alpha
 
 
-def point_receptance(track, f, x: float = 0.0) -> np.ndarray:
+def point_receptance(track: Track | PeriodicCell, f: ArrayLike, x: float = 0.0) -> np.ndarray:
     """2x2 receptance of the infinite periodic track at position ``x`` (exact method).
 
     Parameters
@@ -191,9 +214,20 @@ def point_receptance(track, f, x: float = 0.0) -> np.ndarray:
     Returns
     -------
     ndarray of complex, shape ``f.shape + (2, 2)``
-        Response (w, psi) per load (F, M) at the same point.
+        Response (w, psi) per load (F, M) at the same point, units as for
+        :func:`semi_infinite_receptance`.
+
+    Examples
+    --------
+    Over a support the rail is stiffer than at mid-span (0.325 m on the slab track):
+
+    >>> import semitrack as st
+    >>> track = st.slab_track()
+    >>> over, mid = (abs(st.point_receptance(track, 50.0, x)[0, 0]) for x in (0.0, 0.325))
+    >>> bool(over < mid)
+    True
     """
     f = as_frequencies(f)
-    cell = _cell_of(track)
+    cell = require_cell(track)
     x = check_real("x", x) % cell.period
     return infinite_receptance(cell, 2 * np.pi * f.ravel(), x).reshape(f.shape + (2, 2))

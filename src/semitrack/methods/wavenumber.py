@@ -25,19 +25,22 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..base.checks import check_int_at_least, check_positive
+
+# The paper's settings (Sec. 4.1), kept importable from here as well.
+from ..base.paper_values import PAPER_BETA_MAX, PAPER_DBETA, PAPER_DX, PAPER_J_MAX
 from ..model.timoshenko import operator_inverse
 from ..model.tracks import PeriodicCell
 
-#: The paper's settings (Sec. 4.1): beta_max = 5000 x 0.0025 x 2 pi rad/m, dbeta = 2 pi x 0.0025 rad/m.
-PAPER_BETA_MAX = 5000 * 0.0025 * 2 * np.pi
-PAPER_DBETA = 2 * np.pi * 0.0025
-PAPER_J_MAX = 20
-PAPER_DX = 0.04
+__all__ = ["PAPER_BETA_MAX", "PAPER_DBETA", "PAPER_DX", "PAPER_J_MAX", "WavenumberSettings", "central_quantities",
+           "displacement_fields", "odd_slope"]
 
 
 @dataclass(frozen=True)
 class WavenumberSettings:
     """Discretisation of Eq. (12); the defaults are the paper's (Sec. 4.1).
+
+    The defaults are :data:`semitrack.base.paper_values.PAPER_BETA_MAX` (78.5 rad/m),
+    ``PAPER_DBETA`` (2 pi x 0.0025 rad/m), ``PAPER_J_MAX`` (20) and ``PAPER_DX`` (0.04 m).
 
     Parameters
     ----------
@@ -163,7 +166,8 @@ class _Grid:
         for start in range(0, n_p, points_per_block):  # blocks of points bound the memory
             pts = slice(start, min(start + points_per_block, n_p))
             rows = slice(self.n_r + pts.start * n_s, self.n_r + pts.stop * n_s)
-            p_sum = self._sum_over_j(comps, rows) * self.phase_p[None, rows.start - self.n_r : rows.stop - self.n_r, :, None, None]
+            phase = self.phase_p[rows.start - self.n_r : rows.stop - self.n_r]
+            p_sum = self._sum_over_j(comps, rows) * phase[None, :, :, None, None]
             p_sum = p_sum.reshape(n_w, pts.stop - pts.start, n_s, n_beta, 2, 2)
             periodic[:, pts] = np.einsum("wpsnab,wnsbk->wpak", p_sum, g, optimize=True)
         direct = np.einsum("pn,wnab->wpab", self.phase_direct, d0, optimize=True)

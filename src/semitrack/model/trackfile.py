@@ -15,13 +15,13 @@ where it can be found, the key, the value and the rule.
 from __future__ import annotations
 
 import json
-import math
 import re
 import tomllib
 from importlib import resources
 from pathlib import Path
+from typing import NoReturn
 
-from .tracks import Track
+from .tracks import Track, check_track_field, require_track
 
 SECTIONS = {
     "rail": ("rho", "E", "G", "A", "I", "kappa", "eta_rail"),
@@ -59,7 +59,7 @@ def _line_of(text: str, section: str | None, key: str) -> int | None:
     return None
 
 
-def load_track_toml(path) -> Track:
+def load_track_toml(path: str | Path) -> Track:
     """Read a track description file.
 
     Parameters
@@ -90,61 +90,110 @@ def load_track_toml(path) -> Track:
 
 
 def track_from_dict(data: dict, source: str = "track description", text: str = "") -> Track:
-    """Build a Track from the parsed contents of a track file (see :func:`load_track_toml`)."""
+    """Build a Track from the parsed contents of a track file (see :func:`load_track_toml`).
 
-    def where(section, key):
-        line = _line_of(text, section, key) if text else None
-        return f"{source}, line {line}" if line else source
+    Two steps: ``_parse_track_dict`` checks the structure (sections and keys) and
+    ``_check_track_values`` applies the Track's own rules (:data:`semitrack.model.tracks.FIELD_RULES`)
+    to each value, so a file and a ``Track(...)`` call refuse exactly the same values.
 
-    def fail(section, key, message):
-        raise TrackFileError(f"{where(section, key)}: {message}")
+    Parameters
+    ----------
+    data : dict
+        The TOML document as a dict.
+    source : str
+        The file name (or another label) quoted in messages.
+    text : str
+        The file's text; when given, messages name the line of the offending key.
 
+    Returns
+    -------
+    Track
+
+    Raises
+    ------
+    TrackFileError
+        Naming the source, line, key, value and rule.
+    """
+    where = _Locator(source, text)
+    return _check_track_values(_parse_track_dict(data, where), where)
+
+
+class _Locator:
+    """Where a key sits in the file, for the messages of :class:`TrackFileError`."""
+
+    def __init__(self, source: str, text: str):
+        self.source, self.text = source, text
+
+    def fail(self, section: str | None, key: str, message: str) -> NoReturn:
+        """Raise a TrackFileError for ``key`` in ``[section]`` (top level if None)."""
+        line = _line_of(self.text, section, key) if self.text else None
+        place = f"{self.source}, line {line}" if line else self.source
+        raise TrackFileError(f"{place}: {message}")
+
+
+def _parse_track_dict(data: dict, where: _Locator) -> dict[str, tuple[str | None, object]]:
+    """The structure of a track file: known sections and keys, none missing.
+
+    Returns ``{key: (section, raw value)}`` for every Track field the file gives (``name``
+    at the top level), values not yet checked.
+    """
     unknown_top = sorted(set(data) - {"type", "name", *SECTIONS})
     if unknown_top:
         key = unknown_top[0]
-        fail(None, key, f"unknown key {key!r}; allowed at the top level: type, name, [rail], [pad], [ballast]")
+        where.fail(None, key, f"unknown key {key!r}; allowed at the top level: type, name, [rail], [pad], [ballast]")
     kind = data.get("type")
     if kind is None:
-        fail(None, "type", f'missing key "type"; it must be one of {TYPES}')
+        where.fail(None, "type", f'missing key "type"; it must be one of {TYPES}')
     if kind not in TYPES:
-        fail(None, "type", f"type must be one of {TYPES}, got {kind!r}")
-    name = data.get("name", kind)
-    if not isinstance(name, str):
-        fail(None, "name", f"name must be a string, got {name!r}")
-    needed = ("rail", "pad", "ballast") if kind == "ballasted" else ("rail", "pad")
+        where.fail(None, "type", f"type must be one of {TYPES}, got {kind!r}")
     if kind == "slab" and "ballast" in data:
-        fail("ballast", "", 'a [ballast] section needs type = "ballasted"; remove it for a slab track')
+        where.fail("ballast", "", 'a [ballast] section needs type = "ballasted"; remove it for a slab track')
+    values: dict[str, tuple[str | None, object]] = {"name": (None, data.get("name", kind))}
+    for section in ("rail", "pad", "ballast") if kind == "ballasted" else ("rail", "pad"):
+        values.update({key: (section, value) for key, value in _section(data, section, where).items()})
+    return values
+
+
+def _section(data: dict, section: str, where: _Locator) -> dict:
+    """The table ``[section]`` of the file, with exactly the keys of :data:`SECTIONS`."""
+    allowed = SECTIONS[section]
+    table = data.get(section)
+    if table is None:
+        where.fail(None, section, f"missing section [{section}] with keys {', '.join(allowed)}")
+    if not isinstance(table, dict):
+        where.fail(None, section, f"{section} must be a table [{section}], got {table!r}")
+    unknown = sorted(set(table) - set(allowed))
+    if unknown:
+        where.fail(section, unknown[0], f"unknown key {unknown[0]!r} in [{section}]; allowed: {', '.join(allowed)}")
+    missing = [key for key in allowed if key not in table]
+    if missing:
+        where.fail(section, "", f"missing key {missing[0]!r} in [{section}]")
+    return table
+
+
+def _check_track_values(values: dict[str, tuple[str | None, object]], where: _Locator) -> Track:
+    """Apply the Track's rules to each parsed value (located), then build the Track."""
     params = {}
-    for section in needed:
-        table = data.get(section)
-        if table is None:
-            fail(None, section, f"missing section [{section}] with keys {', '.join(SECTIONS[section])}")
-        if not isinstance(table, dict):
-            fail(None, section, f"{section} must be a table [{section}], got {table!r}")
-        unknown = sorted(set(table) - set(SECTIONS[section]))
-        if unknown:
-            fail(section, unknown[0], f"unknown key {unknown[0]!r} in [{section}]; allowed: {', '.join(SECTIONS[section])}")
-        for key in SECTIONS[section]:
-            if key not in table:
-                fail(section, "", f"missing key {key!r} in [{section}]")
-            value = table[key]
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                fail(section, key, f"{key} must be a number, got {value!r}")
-            value = float(value)
-            nonneg = key in ("kphi",) or key.startswith("eta")
-            ok = math.isfinite(value) and (value >= 0 if nonneg else value > 0)
-            if not ok:
-                rule = "non-negative and finite" if nonneg else "positive and finite"
-                fail(section, key, f"{key} must be {rule}, got {table[key]!r}")
-            params[key] = value
+    for key, (section, value) in values.items():
+        try:
+            params[key] = check_track_field(key, value)
+        except (TypeError, ValueError) as err:
+            where.fail(section, key, str(err))
     try:
-        return Track(name=name, **params)
-    except (TypeError, ValueError) as err:  # cross-field rules of Track
-        raise TrackFileError(f"{source}: {err}") from None
+        return Track(**params)
+    except (TypeError, ValueError) as err:  # rules between fields
+        raise TrackFileError(f"{where.source}: {err}") from None
 
 
 def track_to_toml(track: Track) -> str:
-    """The TOML text of a track description (a round trip of :func:`load_track_toml`)."""
+    """The TOML text of a track description (a round trip of :func:`load_track_toml`).
+
+    Parameters
+    ----------
+    track : Track
+        The track to describe.
+    """
+    track = require_track(track)
     kind = "ballasted" if track.is_ballasted else "slab"
     # A JSON string is a valid TOML basic string: quotes and backslashes come out escaped.
     lines = [f'type = "{kind}"', f"name = {json.dumps(track.name)}", ""]

@@ -18,12 +18,43 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
+import pandas as pd
+from numpy.typing import ArrayLike
 
-from ..base.checks import as_frequencies, check_int_at_least, check_nonnegative, check_positive
+from ..base.checks import as_frequencies, check_int_at_least, check_nonnegative, check_positive, check_string
+from ..base.paper_values import TABLE2_SLAB, TABLE5_BALLASTED
 
-# Fields checked as "positive and finite" and as "non-negative and finite" (zero allowed).
-_POSITIVE = ("rho", "E", "G", "A", "I", "kappa", "kv", "spacing")
-_NONNEGATIVE = ("eta_rail", "kphi", "eta_pad", "eta_ballast")
+#: The rule every Track field obeys, one check of :mod:`semitrack.base.checks` per field. The
+#: Track itself and the track file reader (:mod:`semitrack.model.trackfile`) both apply this
+#: table, through :func:`check_track_field`. ``sleeper_mass`` and ``kb`` may also be None together.
+FIELD_RULES: dict[str, Callable] = {
+    **dict.fromkeys(("rho", "E", "G", "A", "I", "kappa", "kv", "spacing", "sleeper_mass", "kb"), check_positive),
+    **dict.fromkeys(("eta_rail", "kphi", "eta_pad", "eta_ballast"), check_nonnegative),
+    "name": check_string,
+}
+
+
+def check_track_field(key: str, value):
+    """Check one Track field against its rule in :data:`FIELD_RULES` and return it converted.
+
+    Parameters
+    ----------
+    key : str
+        The field name, e.g. ``"kv"``.
+    value : object
+        Its value (SI units).
+
+    Returns
+    -------
+    float or str
+        The value as a float (a str for ``name``).
+
+    Raises
+    ------
+    TypeError, ValueError
+        As the rule does, naming the field, the value and the rule.
+    """
+    return FIELD_RULES[key](key, value)
 
 
 @dataclass(frozen=True)
@@ -83,20 +114,15 @@ class Track:
     name: str = "track"
 
     def __post_init__(self):
-        for key in _POSITIVE:
-            object.__setattr__(self, key, check_positive(key, getattr(self, key)))
-        for key in _NONNEGATIVE:
-            object.__setattr__(self, key, check_nonnegative(key, getattr(self, key)))
         if (self.sleeper_mass is None) != (self.kb is None):
             raise ValueError(
                 "sleeper_mass and kb go together: give both for a ballasted track or neither for a "
                 f"rigid foundation, got sleeper_mass={self.sleeper_mass!r}, kb={self.kb!r}"
             )
-        if self.sleeper_mass is not None:
-            object.__setattr__(self, "sleeper_mass", check_positive("sleeper_mass", self.sleeper_mass))
-            object.__setattr__(self, "kb", check_positive("kb", self.kb))
-        if not isinstance(self.name, str):
-            raise TypeError(f"name must be a string, got {self.name!r}")
+        for key in FIELD_RULES:
+            value = getattr(self, key)
+            if value is not None:  # only sleeper_mass and kb may be None, checked above
+                object.__setattr__(self, key, check_track_field(key, value))
 
     # ----------------------------------------------------------------------------------------
     @property
@@ -133,7 +159,17 @@ class Track:
         return float(np.sqrt(self.kv / (self.mass_per_length * self.spacing)) / (2 * np.pi))
 
     def replace(self, **changes) -> Track:
-        """A copy with some fields changed (validated again)."""
+        """A copy with some fields changed (validated again).
+
+        Parameters
+        ----------
+        **changes
+            New values of Track fields by name, in SI units (e.g. ``kv=8e7`` in N/m).
+
+        Returns
+        -------
+        Track
+        """
         return dataclasses.replace(self, **changes)
 
     # ----------------------------------------------------------------------------------------
@@ -142,11 +178,21 @@ class Track:
         c = 1 + 1j * self.eta_pad
         return self.kv * c, self.kphi * c
 
-    def foundation_receptance(self, f) -> np.ndarray:
+    def foundation_receptance(self, f: ArrayLike) -> np.ndarray:
         """Vertical receptance under the pad, G(omega) of the paper's Eq. (3) (m/N).
 
         Zero for a rigid foundation; ``1 / (kb(1 + i eta_ballast) - omega^2 m_s)`` for a sleeper
-        mass on ballast. Same shape as ``f`` (Hz).
+        mass on ballast.
+
+        Parameters
+        ----------
+        f : array_like
+            Frequencies (Hz), positive and finite.
+
+        Returns
+        -------
+        ndarray of complex
+            Same shape as ``f`` (m/N).
         """
         f = as_frequencies(f)
         if not self.is_ballasted:
@@ -155,7 +201,7 @@ class Track:
         kb = self.kb * (1 + 1j * self.eta_ballast)
         return 1.0 / (kb - omega**2 * self.sleeper_mass)
 
-    def support_stiffness(self, f) -> tuple[np.ndarray, np.ndarray]:
+    def support_stiffness(self, f: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Dynamic stiffness of one support seen from the rail.
 
         Parameters
@@ -176,36 +222,66 @@ class Track:
         return k[:, 0, 0].reshape(f.shape), k[:, 1, 1].reshape(f.shape)
 
     def cell(self, supports_per_period: int = 1) -> PeriodicCell:
-        """The periodic cell of this track with ``supports_per_period`` identical supports."""
+        """The periodic cell of this track with ``supports_per_period`` identical supports.
+
+        Parameters
+        ----------
+        supports_per_period : int
+            Number S >= 1 of supports in one period; the period is S x spacing (m).
+
+        Returns
+        -------
+        PeriodicCell
+        """
         return PeriodicCell.uniform(self, supports_per_period)
 
 
 def slab_track(**overrides) -> Track:
     """The paper's high-speed slab track (Table 2): rail on pads on a rigid slab.
 
-    Keyword overrides: ``rho, E, G, A, I, kappa, eta_rail, kv, kphi, eta_pad, spacing, name``.
-    The paper states ``kphi = kv b^2 / 12`` with pad length b = 0.25 m; Table 2 prints the
-    rounded value 2.83e5 N m/rad, which is used here.
+    The values are :data:`semitrack.base.paper_values.TABLE2_SLAB`. The paper states
+    ``kphi = kv b^2 / 12`` with pad length b = 0.25 m; Table 2 prints the rounded value
+    2.83e5 N m/rad, which is used here.
+
+    Parameters
+    ----------
+    **overrides
+        Track fields to change, by name, in SI units: ``rho`` (kg/m^3), ``E``, ``G`` (N/m^2),
+        ``A`` (m^2), ``I`` (m^4), ``kappa``, ``eta_rail`` (-), ``kv`` (N/m), ``kphi``
+        (N m/rad), ``eta_pad`` (-), ``spacing`` (m) and ``name``. The sleeper and ballast
+        fields are refused: a slab track has a rigid foundation.
+
+    Returns
+    -------
+    Track
+
+    Examples
+    --------
+    >>> import semitrack as st
+    >>> track = st.slab_track(kv=8e7)
+    >>> track.kv, track.spacing, track.is_ballasted
+    (80000000.0, 0.65, False)
     """
-    params = dict(
-        rho=7850.0, E=2.1e11, G=0.81e11, A=7.69e-3, I=30.55e-6, kappa=0.4, eta_rail=0.01,
-        kv=5.44e7, kphi=2.83e5, eta_pad=0.1, spacing=0.65, name="slab",
-    )
-    return _build(params, overrides, ("sleeper_mass", "kb", "eta_ballast"))
+    return _build(dict(TABLE2_SLAB, name="slab"), overrides, ("sleeper_mass", "kb", "eta_ballast"))
 
 
 def ballasted_track(**overrides) -> Track:
     """The paper's ballasted track (Table 5): rail as in Table 2, pad, half sleeper, ballast.
 
-    Keyword overrides: the rail fields, ``kv, kphi, eta_pad, spacing, sleeper_mass, kb,
-    eta_ballast, name``.
+    The values are :data:`semitrack.base.paper_values.TABLE5_BALLASTED`.
+
+    Parameters
+    ----------
+    **overrides
+        Track fields to change, by name, in SI units: the rail fields of :func:`slab_track`,
+        ``kv`` (N/m), ``kphi`` (N m/rad), ``eta_pad`` (-), ``spacing`` (m), ``sleeper_mass``
+        (kg), ``kb`` (N/m), ``eta_ballast`` (-) and ``name``.
+
+    Returns
+    -------
+    Track
     """
-    params = dict(
-        rho=7850.0, E=2.1e11, G=0.81e11, A=7.69e-3, I=30.55e-6, kappa=0.4, eta_rail=0.01,
-        kv=3.5e8, kphi=1.82e6, eta_pad=0.1, spacing=0.6, sleeper_mass=150.0, kb=100e6,
-        eta_ballast=0.3, name="ballasted",
-    )
-    return _build(params, overrides, ())
+    return _build(dict(TABLE5_BALLASTED, name="ballasted"), overrides, ())
 
 
 def _build(params: dict, overrides: dict, forbidden: tuple[str, ...]) -> Track:
@@ -228,8 +304,35 @@ def require_track(track, name: str = "track") -> Track:
         The parameter name to quote in the message.
     """
     if not isinstance(track, Track):
-        raise TypeError(f"{name} must be a semitrack Track (e.g. st.slab_track()), got {type(track).__name__}")
+        raise _not_a(name, track, "Track")
     return track
+
+
+def require_cell(track, name: str = "track") -> PeriodicCell:
+    """The periodic cell of ``track``: a :class:`PeriodicCell` as it is, a :class:`Track` as ``track.cell()``.
+
+    Parameters
+    ----------
+    track : Track or PeriodicCell
+        The value to check.
+    name : str
+        The parameter name to quote in the message.
+
+    Raises
+    ------
+    TypeError
+        For anything else, in the words of :func:`require_track`.
+    """
+    if isinstance(track, PeriodicCell):
+        return track
+    if isinstance(track, Track):
+        return track.cell()
+    raise _not_a(name, track, "Track or PeriodicCell")
+
+
+def _not_a(name: str, value, what: str) -> TypeError:
+    """The package's one wording for a value that is not a track."""
+    return TypeError(f"{name} must be a semitrack {what} (e.g. st.slab_track()), got {type(value).__name__}")
 
 
 @dataclass(frozen=True)
@@ -257,6 +360,7 @@ class PeriodicCell:
     foundation: Callable[[np.ndarray], np.ndarray] | None = field(default=None, compare=False)
 
     def __post_init__(self):
+        require_track(self.track)
         check_positive("period", self.period)
         pos = tuple(float(x) for x in self.positions)
         if len(pos) == 0:
@@ -270,7 +374,20 @@ class PeriodicCell:
 
     @classmethod
     def uniform(cls, track: Track, supports_per_period: int = 1) -> PeriodicCell:
-        """``S`` identical, equally spaced supports per period (period = S x spacing)."""
+        """``S`` identical, equally spaced supports per period (period = S x spacing).
+
+        Parameters
+        ----------
+        track : Track
+            Rail and support; its ``spacing`` (m) separates the supports.
+        supports_per_period : int
+            S >= 1.
+
+        Returns
+        -------
+        PeriodicCell
+            Supports at 0, d, ..., (S - 1) d in a period of S d (m).
+        """
         s = check_int_at_least("supports_per_period", supports_per_period, 1)
         return cls(track, s * track.spacing, tuple(track.spacing * np.arange(s)))
 
@@ -291,6 +408,13 @@ class PeriodicCell:
         The support positions must map onto each other under x -> 2x - position (modulo the
         period), and a custom foundation must be unchanged by the same permutation of supports
         (checked at a few frequencies). Eq. (14) of the paper relies on this symmetry.
+
+        Parameters
+        ----------
+        x : float
+            Position of the candidate mirror plane in the period (m).
+        rtol : float
+            Tolerance on positions, relative to the period, and on the foundation matrix (-).
         """
         pos = np.asarray(self.positions)
         mirrored = (2 * x - pos) % self.period
@@ -304,8 +428,19 @@ class PeriodicCell:
         g = self.foundation_matrix(np.array([10.0, 100.0, 1000.0]))
         return bool(np.allclose(g[:, order][:, :, order], g, rtol=rtol, atol=0))
 
-    def foundation_matrix(self, f) -> np.ndarray:
-        """G_rs(f), shape ``(n_f, S, S)`` (m/N)."""
+    def foundation_matrix(self, f: ArrayLike) -> np.ndarray:
+        """The foundation receptance matrix G_rs of the paper's Eq. (3).
+
+        Parameters
+        ----------
+        f : array_like
+            Frequencies (Hz), positive and finite; flattened.
+
+        Returns
+        -------
+        ndarray of complex, shape ``(n_f, S, S)``
+            Vertical receptance under the pads (m/N).
+        """
         f = np.atleast_1d(as_frequencies(f))
         if self.foundation is not None:
             g = np.asarray(self.foundation(f), dtype=complex)
@@ -316,17 +451,33 @@ class PeriodicCell:
         g = self.track.foundation_receptance(f)
         return g[:, None, None] * np.eye(self.n_supports)
 
-    def has_uncoupled_supports(self, f) -> bool:
-        """True when no foundation receptance couples two different supports."""
+    def has_uncoupled_supports(self, f: ArrayLike) -> bool:
+        """True when no foundation receptance couples two different supports.
+
+        Parameters
+        ----------
+        f : array_like
+            Frequencies (Hz) at which the foundation matrix is inspected.
+        """
         g = self.foundation_matrix(f)
         off = g * (1 - np.eye(self.n_supports))
         return bool(np.all(off == 0))
 
-    def support_stiffness_matrix(self, f) -> np.ndarray:
-        """Dynamic stiffness of all supports of the period, shape ``(n_f, 2S, 2S)``.
+    def support_stiffness_matrix(self, f: ArrayLike) -> np.ndarray:
+        """Dynamic stiffness of all supports of the period.
 
         The DOFs are ordered (w_1, psi_1, w_2, psi_2, ...). This is the inverse of the paper's
         H_rs(omega) (Eq. 3), written as a stiffness so that ``kphi = 0`` stays finite.
+
+        Parameters
+        ----------
+        f : array_like
+            Frequencies (Hz), positive and finite; flattened.
+
+        Returns
+        -------
+        ndarray of complex, shape ``(n_f, 2S, 2S)``
+            Entries in N/m (w rows and columns), N m/rad (psi) and zero between w and psi.
         """
         f = np.atleast_1d(as_frequencies(f))
         s = self.n_supports
@@ -358,13 +509,22 @@ PARAMETER_INFO = (
 )
 
 
-def parameter_table(track: Track):
-    """The track's parameters as a pandas DataFrame (symbol, description, value, unit).
+def parameter_table(track: Track) -> pd.DataFrame:
+    """The track's parameters as a table, in the order of the paper's Tables 2 and 5.
 
     Fields that do not apply (the sleeper and ballast of a slab track) are left out.
-    """
-    import pandas as pd
 
+    Parameters
+    ----------
+    track : Track
+        The track.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``symbol, description, value, unit`` (values in SI units), indexed 0, 1, ...
+    """
+    track = require_track(track)
     rows = [(sym, desc, getattr(track, key), unit) for key, sym, desc, unit in PARAMETER_INFO
             if not (key in ("sleeper_mass", "kb", "eta_ballast") and not track.is_ballasted)]
     return pd.DataFrame(rows, columns=["symbol", "description", "value", "unit"])

@@ -10,13 +10,17 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
+from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies
-from ..methods.receptance import CentralResponse, _cell_of, semi_infinite_receptance
-from ..methods.wavenumber import PAPER_BETA_MAX, WavenumberSettings, central_quantities
+from ..base.conventions import ELEMENTS
+from ..base.paper_values import PAPER_BETA_MAX, PAPER_DX
+from ..methods.receptance import CentralResponse, semi_infinite_receptance
+from ..methods.wavenumber import WavenumberSettings, central_quantities
+from ..model.tracks import PeriodicCell, Track, require_cell
 
 
-def alpha_relative_error(alpha, exact) -> np.ndarray:
+def alpha_relative_error(alpha: ArrayLike, exact: ArrayLike) -> np.ndarray:
     """Largest element-wise relative error ``max_ij |alpha_ij - exact_ij| / |exact_ij|``.
 
     Both arrays have shape ``(..., 2, 2)``; the result has shape ``(...)``.
@@ -25,8 +29,8 @@ def alpha_relative_error(alpha, exact) -> np.ndarray:
     return (np.abs(alpha - exact) / np.abs(exact)).max(axis=(-2, -1))
 
 
-def convergence_study(track, f, beta_factors=(1, 2, 5, 10, 20), dxs=(0.04, 0.02, 0.01, 0.005, 0.002, 0.001),
-                      **settings) -> pd.DataFrame:
+def convergence_study(track: Track | PeriodicCell, f: ArrayLike, beta_factors=(1, 2, 5, 10, 20),
+                      dxs=(PAPER_DX, 0.02, 0.01, 0.005, 0.002, 0.001), **settings) -> pd.DataFrame:
     """Error of the wavenumber alpha against the exact alpha over a grid of settings.
 
     Parameters
@@ -38,7 +42,8 @@ def convergence_study(track, f, beta_factors=(1, 2, 5, 10, 20), dxs=(0.04, 0.02,
     beta_factors : sequence of float
         Wavenumber ranges as multiples of the paper's beta_max = 78.5 rad/m.
     dxs : sequence of float
-        Finite-difference steps (m); all are taken from one field evaluation per range.
+        Finite-difference steps (m), the paper's 0.04 m first; all are taken from one field
+        evaluation per range.
     **settings
         Other :class:`WavenumberSettings` fields (``dbeta``, ``j_max``), the paper's by default.
 
@@ -49,7 +54,7 @@ def convergence_study(track, f, beta_factors=(1, 2, 5, 10, 20), dxs=(0.04, 0.02,
         :func:`alpha_relative_error`.
     """
     f = np.atleast_1d(as_frequencies(f))
-    cell = _cell_of(track)
+    cell = require_cell(track)
     exact = semi_infinite_receptance(cell, f)
     dxs = np.asarray(dxs, dtype=float)
     rows = []
@@ -64,13 +69,26 @@ def convergence_study(track, f, beta_factors=(1, 2, 5, 10, 20), dxs=(0.04, 0.02,
     return pd.DataFrame(rows, columns=["f (Hz)", "beta_max (rad/m)", "beta factor", "dx (m)", "error"])
 
 
-def element_errors(track, f, method_settings: dict | None = None) -> pd.DataFrame:
+def element_errors(track: Track | PeriodicCell, f: ArrayLike, method_settings: dict | None = None) -> pd.DataFrame:
     """Relative error of each element of the wavenumber alpha (paper settings by default).
 
-    Returns a table with one row per frequency and columns alpha11, alpha12, alpha22 (-).
+    Parameters
+    ----------
+    track : Track or PeriodicCell
+        The track.
+    f : array_like
+        Frequencies (Hz).
+    method_settings : dict, optional
+        Wavenumber settings (``beta_max``, ``dbeta``, ``j_max``, ``dx``); the paper's by default.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per frequency: ``f (Hz)`` and the relative error (-) of each element of
+        :data:`semitrack.base.conventions.ELEMENTS`.
     """
     f = np.atleast_1d(as_frequencies(f))
     exact = semi_infinite_receptance(track, f)
     approx = semi_infinite_receptance(track, f, method="wavenumber", **(method_settings or {}))
     rel = np.abs(approx - exact) / np.abs(exact)
-    return pd.DataFrame({"f (Hz)": f, "alpha11": rel[:, 0, 0], "alpha12": rel[:, 0, 1], "alpha22": rel[:, 1, 1]})
+    return pd.DataFrame({"f (Hz)": f} | {name: rel[:, i, k] for name, (i, k) in ELEMENTS.items()})

@@ -12,61 +12,20 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from ..base.paper_values import PAPER_GRID, TABLE3_SLAB_FREQUENCIES, TABLE6_BALLASTED_FREQUENCIES
 from ..methods.features import characteristic_frequencies, curves_of, find_extrema
-from ..methods.receptance import central_response
+from ..methods.receptance import CentralResponse, central_response
+from ..model.tracks import Track, require_track
 
-# (paper frequency in Hz, quantity, kind, where the paper states it, mode / remark)
-SLAB_FREQUENCIES = (
-    (183, "w1", "peak", "Table 3", "rail bouncing on the fastener stiffness"),
-    (940, "w1", "peak", "Table 3", "first pinned-pinned mode"),
-    (980, "psi2", "peak", "Table 3", "sliding-pinned-sliding* mode"),
-    (2577, "det", "peak", "Table 3", "second pinned-pinned mode"),
-    (2607, "w1", "peak", "Table 3", "sliding-sliding*-sliding mode"),
-    (183, "psi2", "peak", "Sec. 4.2", "pitching frequency"),
-    (183, "Q2", "dip", "Sec. 4.2", "pitching frequency"),
-    (980, "Q2", "dip", "Sec. 4.2", "sliding-pinned-sliding*"),
-    (183, "M1", "peak", "Sec. 4.2", "bouncing frequency"),
-    (940, "M1", "peak", "Sec. 4.2", "first pinned-pinned"),
-    (183, "det", "dip", "Sec. 4.2", "resonance of the semi-infinite track"),
-    (2607, "det", "dip", "Sec. 4.2", "sliding-sliding*-sliding"),
-    (183, "alpha11", "peak", "Sec. 4.3", "omega_n"),
-    (183, "alpha12", "peak", "Sec. 4.3", "omega_n"),
-    (183, "alpha22", "peak", "Sec. 4.3", "omega_n"),
-    (940, "alpha11", "peak", "Sec. 4.3", "first pinned-pinned"),
-    (940, "alpha22", "dip", "Sec. 4.3", "first pinned-pinned"),
-    (2577, "alpha11", "dip", "Sec. 4.3", "second pinned-pinned"),
-    (2577, "alpha22", "peak", "Sec. 4.3", "second pinned-pinned"),
-)
+__all__ = ["BALLASTED_FREQUENCIES", "PAPER_GRID", "SLAB_FREQUENCIES", "paper_frequencies", "paper_frequency_table"]
 
-BALLASTED_FREQUENCIES = (
-    (117, "w1", "peak", "Table 6", "rail and sleeper bouncing together on the ballast"),
-    (243, "w1", "dip", "Table 6", "sleeper acting as a vibration absorber"),
-    (531, "w1", "peak", "Table 6", "rail and sleeper bouncing out of phase"),
-    (1077, "w1", "peak", "Table 6", "first pinned-pinned mode"),
-    (1269, "psi2", "peak", "Table 6", "sliding-pinned-sliding* mode"),
-    (2871, "w1", "dip", "Table 6", "second pinned-pinned mode"),
-    (2955, "w1", "peak", "Table 6", "sliding*-sliding mode"),
-    (117, "det", "dip", "Sec. 5.1", "resonance omega_n1 of the semi-infinite track"),
-    (489, "det", "dip", "Sec. 5.1", "resonance omega_n2 of the semi-infinite track"),
-    (2925, "det", "dip", "Sec. 5.1", "third resonance of the semi-infinite track"),
-    (243, "det", "peak", "Sec. 5.1", "anti-resonance"),
-    (2871, "det", "peak", "Sec. 5.1", "second pinned-pinned"),
-    (117, "alpha11", "peak", "Sec. 5.2", "omega_n1"),
-    (117, "alpha12", "peak", "Sec. 5.2", "omega_n1"),
-    (117, "alpha22", "peak", "Sec. 5.2", "omega_n1"),
-    (489, "alpha11", "peak", "Sec. 5.2", "omega_n2"),
-    (489, "alpha12", "peak", "Sec. 5.2", "omega_n2"),
-    (489, "alpha22", "peak", "Sec. 5.2", "omega_n2"),
-    (243, "alpha11", "dip", "Sec. 5.2", "omega_anti"),
-    (243, "alpha12", "dip", "Sec. 5.2", "omega_anti"),
-    (243, "alpha22", "dip", "Sec. 5.2", "omega_anti"),
-)
-
-#: The paper's frequency grid (Sec. 4.1): 3 Hz to 3000 Hz in steps of 6 Hz.
-PAPER_GRID = np.arange(3.0, 3000.0, 6.0)
+#: (paper frequency in Hz, quantity, kind, where the paper states it, mode / remark), from
+#: :mod:`semitrack.base.paper_values`.
+SLAB_FREQUENCIES = TABLE3_SLAB_FREQUENCIES
+BALLASTED_FREQUENCIES = TABLE6_BALLASTED_FREQUENCIES
 
 
-def paper_frequencies(track) -> tuple:
+def paper_frequencies(track: Track) -> tuple:
     """The paper's entries for a track: slab for a rigid foundation, ballasted otherwise."""
     return BALLASTED_FREQUENCIES if track.is_ballasted else SLAB_FREQUENCIES
 
@@ -80,8 +39,8 @@ def _nearest(extrema: pd.DataFrame, quantity: str, kind: str, f_paper: float, re
     return float(best) if abs(best - f_paper) <= rel_window * f_paper else np.nan
 
 
-def paper_frequency_table(track, with_wavenumber: bool = True, rel_window: float = 0.1,
-                          wavenumber_response=None) -> pd.DataFrame:
+def paper_frequency_table(track: Track, with_wavenumber: bool = True, rel_window: float = 0.1,
+                          wavenumber_response: CentralResponse | None = None) -> pd.DataFrame:
     """The paper's characteristic frequencies beside ours, with deviations.
 
     Parameters
@@ -102,6 +61,7 @@ def paper_frequency_table(track, with_wavenumber: bool = True, rel_window: float
         Columns: source, mode, quantity, kind, paper (Hz), exact (Hz), deviation (%) and, with
         ``with_wavenumber``, wavenumber (Hz) and its deviation (%).
     """
+    track = require_track(track)
     exact = characteristic_frequencies(track)
     wn = None
     if with_wavenumber:

@@ -6,16 +6,24 @@ the printed numbers satisfy the constraint relations the paper says it imposed (
 Table 4, Eq. 23 and 28-30 for Table 7) and which characteristic frequencies they imply, with the
 deviation that rounding to the printed digits alone could explain.
 
-Table 7 in the text extraction of the paper has its ``k_phi`` and ``c_phi`` rows garbled; the
-values used here are k_phi = (1.337, 0.650, 1.103, 0.347) x 1e7 N m/rad and
-c_phi = (1373.233, 122.498, 3126.892, 16752.988) N m s/rad.
+The printed numbers themselves live in :mod:`semitrack.base.paper_values` (``TABLE4``,
+``TABLE7`` and their rounding half-widths), with a note on Table 7's garbled rows.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..base.paper_values import TABLE4_FIT_FREQUENCIES, TABLE7_FIT_FREQUENCIES
+from ..base.paper_values import (
+    CONSTRAINT_FREQUENCIES,
+    TABLE4,
+    TABLE4_FIT_FREQUENCIES,
+    TABLE4_HALF_ULP,
+    TABLE7,
+    TABLE7_FIT_FREQUENCIES,
+    TABLE7_HALF_ULP,
+    TABLE7_S1_TRANSPOSED,
+)
 from ..equivalent.constraints import (
     cell_frequencies,
     inertia_relation,
@@ -29,6 +37,7 @@ from ..equivalent.systems import BallastedEquivalent, SlabEquivalent
 __all__ = [
     "paper_table4",
     "paper_table7",
+    "paper_table7_s1_transposed",
     "paper_consistency_report",
     "table4_consistency",
     "table7_consistency",
@@ -37,43 +46,9 @@ __all__ = [
     "PAPER_FREQUENCIES",
 ]
 
-#: Characteristic frequencies (Hz) the paper quotes for its constraints. For the second
-#: repeated frequency of the ballasted cell the paper states 465 Hz (Sec. 5.2, with Eq. 24-27)
-#: and reads 489 Hz off the receptance peak (Fig. 11); both are kept.
-PAPER_FREQUENCIES = {"f_n_slab": 183.0, "f_n1": 117.0, "f_n2_stated": 465.0, "f_n2_peak": 489.0,
-                     "f_anti": 243.0}
-
-# Printed values. Each entry of _HALF_ULP is half a unit in the last printed digit of the row,
-# i.e. the largest error that rounding to the printed value can introduce.
-_TABLE4 = dict(
-    m=[10.080, 0.000, 67.013, 0.000, 257.134],
-    J=[0.021, 0.000, 3.104, 0.000, 0.917],
-    L=[0.091, 0.329, 0.430, 0.181, 0.119],
-    k=[0.666e7, 0.0, 4.430e7, 0.0, 16.998e7],
-    c_l=[0.0, 0.206e3, 2.876e3, 0.0, 0.0],
-    c_r=[0.206e3, 2.876e3, 0.0, 0.0, 102.930e3],
-    k_phi=[2.099e7, 1.275e7, 0.288e7, 0.061e7],
-    c_phi=[0.321e3, 2.882e3, 0.529e3, 0.792e3],
-)
-_TABLE4_HALF_ULP = dict(m=5e-4, J=5e-4, L=5e-4, k=5e-4 * 1e7, c_l=5e-4 * 1e3, c_r=5e-4 * 1e3,
-                        k_phi=5e-4 * 1e7, c_phi=5e-4 * 1e3)
-
-_TABLE7 = dict(
-    m=[7.546, 28.416, 29.702, 110.540, 246.240],
-    J=[0.069, 1.146, 1.174, 13.360, 7.651],
-    L=[0.191, 0.402, 0.398, 0.695, 0.353],
-    k=[2.629e7, 9.899e7, 10.347e7, 38.508e7, 85.780e7],
-    c_l=[0.000, 6.112, 102.754, 855.838, 9348.099],
-    c_r=[4.760, 33275.108, 868.211, 3024.097, 37546.257],
-    k_phi=[1.337e7, 0.650e7, 1.103e7, 0.347e7],
-    c_phi=[1373.233, 122.498, 3126.892, 16752.988],
-    mu=[15.913, 59.927, 62.640, 233.120, 519.301],
-    s=[1.801e7, 4.071e7, 4.255e7, 15.836e7, 35.277e7],
-    d_l=[18894.294, 10238.527, 12485.843, 14138.425, 2556.605],
-    d_r=[4124.971, 10.122, 41742.950, 2555.712, 14094.973],
-)
-_TABLE7_HALF_ULP = dict(m=5e-4, J=5e-4, L=5e-4, k=5e-4 * 1e7, c_l=5e-4, c_r=5e-4, k_phi=5e-4 * 1e7,
-                        c_phi=5e-4, mu=5e-4, s=5e-4 * 1e7, d_l=5e-4, d_r=5e-4)
+#: Characteristic frequencies (Hz) the paper quotes for its constraints
+#: (:data:`semitrack.base.paper_values.CONSTRAINT_FREQUENCIES`).
+PAPER_FREQUENCIES = CONSTRAINT_FREQUENCIES
 
 _TWO_PI = 2 * np.pi
 
@@ -83,12 +58,21 @@ def paper_table4() -> SlabEquivalent:
 
     Bars 2 and 4 are massless with zero end springs; ``k_phi``/``c_phi`` have N - 1 = 4 entries.
     """
-    return SlabEquivalent(**_TABLE4)
+    return SlabEquivalent(**{key: list(values) for key, values in TABLE4.items()})
 
 
 def paper_table7() -> BallastedEquivalent:
     """The ballasted-track equivalent system of the paper's Table 7 (N = 5), as printed."""
-    return BallastedEquivalent(**_TABLE7)
+    return BallastedEquivalent(**{key: list(values) for key, values in TABLE7.items()})
+
+
+def paper_table7_s1_transposed() -> BallastedEquivalent:
+    """Table 7 with its probable misprint corrected: s_1 = 1.081e7 N/m instead of the printed 1.801e7.
+
+    Eq. (23) and (30) both give 1.081e7 N/m for bar 1 (see :func:`table7_consistency`).
+    """
+    table7 = paper_table7()
+    return table7.replace(s=np.r_[TABLE7_S1_TRANSPOSED, table7.parameters()["s"][1:]])
 
 
 def _rel_dev(printed: np.ndarray, predicted: np.ndarray) -> np.ndarray:
@@ -117,8 +101,8 @@ def table4_consistency(f_n: float = PAPER_FREQUENCIES["f_n_slab"]) -> dict[str, 
     ``sqrt(2k/m)`` and ``sqrt(k L^2 / (2J))`` (bounce and pitch of the bar on its springs, Hz),
     and the cell frequencies by eigenvalue solution (Hz). Massless bars give NaN frequencies.
     """
-    p = {k: np.asarray(v, float) for k, v in _TABLE4.items()}
-    u = _TABLE4_HALF_ULP
+    p = {k: np.asarray(v, float) for k, v in TABLE4.items()}
+    u = TABLE4_HALF_ULP
     m, J, L, k = p["m"], p["J"], p["L"], p["k"]
     k19 = slab_spring_relation(m, f_n)
     J20 = inertia_relation(m, L)
@@ -161,8 +145,8 @@ def table7_consistency(f_n1: float = PAPER_FREQUENCIES["f_n1"],
     * ``s_from_mu``: ``mu omega_anti^2 - k``, the ``s`` that makes Eq. (23) exact,
     * ``cell_f1..cell_f4``: natural frequencies of each printed unit cell (Hz).
     """
-    p = {k: np.asarray(v, float) for k, v in _TABLE7.items()}
-    u = _TABLE7_HALF_ULP
+    p = {k: np.asarray(v, float) for k, v in TABLE7.items()}
+    u = TABLE7_HALF_ULP
     m, J, L, k, s, mu = p["m"], p["J"], p["L"], p["k"], p["s"], p["mu"]
     w1 = (_TWO_PI * f_n1) ** 2
     wa = (_TWO_PI * f_anti) ** 2
@@ -198,15 +182,25 @@ def table7_consistency(f_n1: float = PAPER_FREQUENCIES["f_n1"],
     return out
 
 
-def paper_consistency_report(**kwargs) -> dict[str, dict[str, np.ndarray]]:
-    """Both checks: ``{"table4": table4_consistency(...), "table7": table7_consistency(...)}``.
+def paper_consistency_report(f_n: float = PAPER_FREQUENCIES["f_n_slab"],
+                             f_n1: float = PAPER_FREQUENCIES["f_n1"],
+                             f_n2_candidates=(PAPER_FREQUENCIES["f_n2_stated"], PAPER_FREQUENCIES["f_n2_peak"]),
+                             f_anti: float = PAPER_FREQUENCIES["f_anti"]) -> dict[str, dict[str, np.ndarray]]:
+    """Both checks: ``{"table4": table4_consistency(f_n), "table7": table7_consistency(...)}``.
 
-    Keyword arguments ``f_n`` (Table 4) and ``f_n1``, ``f_n2_candidates``, ``f_anti``
-    (Table 7), all in Hz, are passed on; defaults are the paper's values. Each value is a
-    dict of per-bar arrays (``pandas.DataFrame(report["table4"])`` gives a table).
+    Each value is a dict of per-bar arrays (``pandas.DataFrame(report["table4"])`` gives a
+    table). The defaults are the paper's values (:data:`PAPER_FREQUENCIES`).
+
+    Parameters
+    ----------
+    f_n : float
+        Table 4: the slab track's first resonance used in Eq. (19) (Hz).
+    f_n1 : float
+        Table 7: the first repeated frequency omega_n1 / 2 pi of the unit cell (Hz).
+    f_n2_candidates : sequence of float
+        Table 7: the values of the second repeated frequency to test (Hz).
+    f_anti : float
+        Table 7: the anti-resonance omega_anti / 2 pi of Eq. (23) (Hz).
     """
-    t4 = {key: kwargs.pop(key) for key in ("f_n",) if key in kwargs}
-    t7 = {key: kwargs.pop(key) for key in ("f_n1", "f_n2_candidates", "f_anti") if key in kwargs}
-    if kwargs:
-        raise TypeError(f"unknown keyword argument(s): {sorted(kwargs)}")
-    return {"table4": table4_consistency(**t4), "table7": table7_consistency(**t7)}
+    return {"table4": table4_consistency(f_n),
+            "table7": table7_consistency(f_n1=f_n1, f_n2_candidates=f_n2_candidates, f_anti=f_anti)}

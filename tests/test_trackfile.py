@@ -1,0 +1,50 @@
+"""Track files apply the Track's own rules: one rule table, located messages."""
+
+import re
+
+import pytest
+
+import semitrack as st
+from semitrack.model.trackfile import SECTIONS, TrackFileError, example_path, load_track_toml
+from semitrack.model.tracks import FIELD_RULES
+
+BAD_VALUES = {"positive": [0.0, -1.0, float("inf")], "non-negative": [-0.1, float("nan")], "number": ["x", True]}
+
+
+def test_sections_hold_every_numeric_field_once():
+    keys = [key for section in SECTIONS.values() for key in section]
+    assert sorted(keys) == sorted(set(FIELD_RULES) - {"name"})
+
+
+@pytest.mark.parametrize("key", sorted(set(FIELD_RULES) - {"name"}))
+def test_a_file_refuses_what_a_track_refuses(tmp_path, key):
+    """For every field and bad value: the file's message is the Track's, with file and line."""
+    text = example_path("ballasted").read_text()
+    line = next(n for n, ln in enumerate(text.splitlines(), 1) if re.match(rf"{key}\s*=", ln))
+    base = st.ballasted_track()
+    for value in [v for values in BAD_VALUES.values() for v in values]:
+        try:
+            base.replace(**{key: value})
+        except (TypeError, ValueError) as err:
+            expected = str(err)
+        else:
+            continue  # allowed for this field (e.g. kphi = 0)
+        toml_value = {True: "true", "x": '"x"'}.get(value, repr(value))  # inf and nan are TOML too
+        path = tmp_path / "t.toml"
+        path.write_text(re.sub(rf"(?m)^{key}\s*=\s*\S+", f"{key} = {toml_value}", text, count=1))
+        with pytest.raises(TrackFileError) as caught:
+            load_track_toml(path)
+        assert str(caught.value) == f"{path}, line {line}: {expected}"
+
+
+def test_unknown_key_is_located(tmp_path):
+    path = tmp_path / "t.toml"
+    path.write_text(example_path("slab").read_text().replace('type = "slab"', 'type = "slab"\nbogus = 1'))
+    with pytest.raises(TrackFileError, match="line 6: unknown key 'bogus'"):
+        load_track_toml(path)
+
+
+def test_examples_equal_the_presets():
+    """The shipped example files are user-facing copies of the presets' (paper's) numbers."""
+    assert load_track_toml(example_path("slab")) == st.slab_track(name="paper slab track")
+    assert load_track_toml(example_path("ballasted")) == st.ballasted_track(name="paper ballasted track")
