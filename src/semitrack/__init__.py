@@ -5,6 +5,8 @@ semi-infinite periodic railway track and an equivalent multi-rigid body system f
 truncated track models". SI units; frequencies in Hz at the API.
 """
 
+from .base.paper_values import FIT_BANDS as PAPER_FIT_BANDS
+from .base.paper_values import PAPER_GRID
 from .equivalent.constraints import ballasted_from_free, cell_frequencies, slab_from_free, unit_cell_frequencies
 from .equivalent.fitting import FitResult, default_fit_frequencies, fit_characteristic_frequencies, fit_equivalent
 from .equivalent.io import export_system, load_system_csv, load_system_json, load_system_mat
@@ -23,6 +25,7 @@ from .paper.systems import paper_consistency_report, paper_table4, paper_table7
 __version__ = "0.1.0"
 
 __all__ = [
+    "PAPER_FIT_BANDS", "PAPER_GRID",
     "BallastedEquivalent", "CentralResponse", "EquivalentSystem", "ErrorSummary", "FETrack", "FitResult",
     "PeriodicCell", "QUANTITIES", "SlabEquivalent", "Track", "TrackFileError", "TruncatedTrack",
     "WavenumberSettings", "default_fit_frequencies", "fe_central_receptance", "fe_semi_infinite_receptance",
