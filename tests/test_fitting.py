@@ -24,14 +24,13 @@ from semitrack.equivalent.constraints import (
 from semitrack.equivalent.fitting import (
     POOR_MEDIAN_ERROR,
     FitResult,
-    _Model,
-    _Problem,
-    _references,
     default_fit_frequencies,
     fit_characteristic_frequencies,
     fit_equivalent,
 )
 from semitrack.equivalent.metrics import error_band_grid, error_summary
+from semitrack.equivalent.parametrisation import FitParametrisation, references
+from semitrack.equivalent.residuals import Residuals
 from semitrack.equivalent.systems import BallastedEquivalent, SlabEquivalent
 from semitrack.methods.features import characteristic_frequencies
 from semitrack.paper.systems import (
@@ -85,7 +84,7 @@ def paper_errors(layout):
 def test_batched_assembly_matches_equivalent_system(layout, constrained, n_bars):
     track = TRACKS[layout]()
     char = fit_characteristic_frequencies(track, layout)
-    model = _Model(layout, n_bars, constrained, _references(track, layout, char), char)
+    model = FitParametrisation(layout, n_bars, constrained, references(track, layout, char), char)
     rng = np.random.default_rng(3)
     theta = rng.normal(scale=0.7, size=(2, model.n_theta))
     M, C, K = model.matrices(theta)
@@ -100,10 +99,10 @@ def test_batched_assembly_matches_equivalent_system(layout, constrained, n_bars)
 def test_residuals_and_analytic_jacobian(layout, constrained):
     track = TRACKS[layout]()
     char = fit_characteristic_frequencies(track, layout)
-    model = _Model(layout, 4, constrained, _references(track, layout, char), char)
+    model = FitParametrisation(layout, 4, constrained, references(track, layout, char), char)
     f = np.geomspace(3.0, 900.0, 25)
     alpha = st.semi_infinite_receptance(track, f)
-    problem = _Problem(model, f, alpha)
+    problem = Residuals(model, f, alpha)
     theta = np.random.default_rng(5).normal(scale=0.5, size=model.n_theta)
     # residuals are the paper's Re and Im of (alpha_E - alpha)/|alpha| of alpha11, alpha12, alpha22
     a_e = model.system(theta).receptance(f)

@@ -30,7 +30,7 @@ import numpy as np
 import scipy.linalg
 
 from ..base.checks import check_positive
-from .systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent, _param_array
+from .systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent, parameter_array
 
 __all__ = [
     "slab_constraints",
@@ -93,8 +93,8 @@ def slab_constraints(m, L, f_n: float) -> dict[str, np.ndarray]:
     dict
         ``{"k": k (N/m), "J": J (kg m^2)}``.
     """
-    m = _param_array("m", m)
-    L = _param_array("L", L, positive=True)
+    m = parameter_array("m", m)
+    L = parameter_array("L", L, positive=True)
     _same_length(m=m, L=L)
     f_n = check_positive("f_n", f_n)
     return {"k": slab_spring_relation(m, f_n), "J": inertia_relation(m, L)}
@@ -118,8 +118,8 @@ def ballasted_constraints(m, L, f_n1: float, f_n2: float, f_anti: float) -> dict
     dict
         ``{"k": (N/m), "J": (kg m^2), "s": (N/m), "mu": (kg)}``.
     """
-    m = _param_array("m", m)
-    L = _param_array("L", L, positive=True)
+    m = parameter_array("m", m)
+    L = parameter_array("L", L, positive=True)
     _same_length(m=m, L=L)
     for name, value in (("f_n1", f_n1), ("f_n2", f_n2), ("f_anti", f_anti)):
         check_positive(name, value)
@@ -161,9 +161,9 @@ def support_mass_frequency(k, s, mu) -> np.ndarray:
     """Natural frequency ``sqrt((k + s) / mu) / (2 pi)`` (Hz) of a support mass ``mu`` (kg)
     between an upper spring ``k`` and a lower spring ``s`` (N/m) with the upper end held;
     Eq. (23) sets it to ``f_anti``."""
-    k = _param_array("k", k)
-    s = _param_array("s", s)
-    mu = _param_array("mu", mu, positive=True)
+    k = parameter_array("k", k)
+    s = parameter_array("s", s)
+    mu = parameter_array("mu", mu, positive=True)
     return np.sqrt((k + s) / mu) / _TWO_PI
 
 

@@ -18,8 +18,9 @@ of bar ``j``; the harmonic time factor is ``exp(i omega t)``. The receptance at 
 bar 1 is ordered ``[[w/Q, w/M], [phi_1/Q, phi_1/M]]`` like the track receptance of the paper.
 
 The matrices follow Appendix A (Eq. A.16, A.18, A.24) and Appendix B (Eq. B.15, B.20, B.26),
-written here as sums of ``P^T diag(v) P`` terms, one per family of springs or dampers, where
-``P`` maps ``q`` to the elongation of each spring of the family.
+written as sums of ``P^T diag(v) P`` terms, one per family of springs or dampers, where ``P``
+maps ``q`` to the elongation of each spring of the family; :mod:`.assembly` holds those maps,
+the term tables and the scaled solve, shared with the fit.
 """
 
 from __future__ import annotations
@@ -27,11 +28,13 @@ from __future__ import annotations
 import dataclasses
 import functools
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies
+from .assembly import IllConditionedError, Layout, assembly, dynamic_stiffness, end_loads, scaled_solve
 
 __all__ = [
     "EquivalentSystem",
@@ -66,11 +69,32 @@ _COND_LIMIT = 1e12
 _SYMMETRY_RTOL = 1e-12
 
 
-def _param_array(name: str, value, *, positive: bool = False) -> np.ndarray:
-    """Convert one per-bar parameter to a 1-D float array and check its entries.
+def parameter_array(name: str, value: ArrayLike, *, positive: bool = False) -> np.ndarray:
+    """One per-bar (or per-hinge) parameter as a checked, read-only 1-D float array.
 
-    Every entry must be finite and >= 0 (> 0 with ``positive``). Raises TypeError for
-    non-numeric input and ValueError naming the offending entry otherwise.
+    Shared by the systems and the constraint builders of this subpackage.
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, quoted in error messages.
+    value : array_like
+        Real numbers; a scalar counts as one bar.
+    positive : bool
+        Require entries > 0 (lengths) instead of >= 0.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        A private, read-only copy.
+
+    Raises
+    ------
+    TypeError
+        For non-numeric (or bool, complex) input.
+    ValueError
+        Naming the first offending entry: not finite, negative (or zero with ``positive``), or
+        not one-dimensional.
     """
     try:
         arr = np.atleast_1d(np.asarray(value))
@@ -88,41 +112,6 @@ def _param_array(name: str, value, *, positive: bool = False) -> np.ndarray:
             raise ValueError(f"{name}[{i}] must be {rule}, got {float(v)!r}")
     arr.setflags(write=False)
     return arr
-
-
-def _quad(P: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """``P^T diag(v) P``: the matrix of a family of springs (or dampers) ``v`` stretched by ``P q``."""
-    return P.T @ (v[:, None] * P)
-
-
-def _bar_maps(L: np.ndarray, n_dof: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Maps from ``q`` to the displacements of the bar ends and centres (Eq. A.1-A.12, B.1-B.9).
-
-    Returns ``(A1, A0, A2)``, each ``(N, n_dof)``: row ``j`` gives the downward displacement of
-    the left end, the centre and the right end of bar ``j``. Only the first N + 1 columns
-    (``w1, phi_1..phi_N``) are non-zero.
-    """
-    N = L.size
-    A1 = np.zeros((N, n_dof))
-    A1[:, 0] = 1.0
-    A1[:, 1 : N + 1] = np.tril(np.ones((N, N)), -1) * L  # [j, i] = L_i for bars i left of j
-    A0 = A1.copy()
-    A0[:, 1 : N + 1] += np.diag(0.5 * L)
-    A2 = A1.copy()
-    A2[:, 1 : N + 1] += np.diag(L)
-    return A1, A0, A2
-
-
-def _hinge_map(N: int, n_dof: int) -> np.ndarray:
-    """``(N-1, n_dof)`` map from ``q`` to the relative rotations ``phi_{j+1} - phi_j``.
-
-    ``R^T diag(k_phi) R`` equals the term ``diag(0, K'_phi + K''_phi - K'''_phi)`` of Eq. (A.18).
-    """
-    R = np.zeros((max(N - 1, 0), n_dof))
-    for j in range(N - 1):
-        R[j, 1 + j] = -1.0
-        R[j, 2 + j] = 1.0
-    return R
 
 
 def _symmetrised(name: str, X: np.ndarray) -> np.ndarray:
@@ -217,7 +206,7 @@ class EquivalentSystem:
         if type(self) is EquivalentSystem:
             raise TypeError("EquivalentSystem is abstract: use SlabEquivalent or BallastedEquivalent")
         for name in self.parameter_names():
-            object.__setattr__(self, name, _param_array(name, getattr(self, name), positive=(name == "L")))
+            object.__setattr__(self, name, parameter_array(name, getattr(self, name), positive=(name == "L")))
         N = self.m.size
         if N < 1:
             raise ValueError("m must hold at least one bar, got an empty array")
@@ -248,7 +237,7 @@ class EquivalentSystem:
     @property
     def n_dof(self) -> int:
         """Number of degrees of freedom (N + 1 or 3N + 1)."""
-        raise NotImplementedError
+        return assembly(self.layout, self.n_bars).n_dof
 
     def parameters(self) -> dict[str, np.ndarray]:
         """The parameters as a dict of name -> writable float array (copies); units in
@@ -256,11 +245,35 @@ class EquivalentSystem:
         return {name: np.array(getattr(self, name)) for name in self.parameter_names()}
 
     @classmethod
-    def from_parameters(cls, params: dict) -> EquivalentSystem:
+    def from_parameters(cls, params: dict[str, Any]) -> EquivalentSystem:
         """Build a system from a dict of parameters (as returned by :meth:`parameters`).
 
-        Called on :class:`EquivalentSystem` itself, the layout is taken from a ``"layout"`` key
-        if present, otherwise it is ballasted when ``mu`` is given and slab otherwise.
+        Parameters
+        ----------
+        params : dict
+            Every parameter of the layout by name (units in :data:`PARAMETER_UNITS`), and
+            optionally ``"layout"``. Called on :class:`EquivalentSystem` itself, the layout is
+            taken from the ``"layout"`` key if present, otherwise it is ballasted when ``mu`` is
+            given and slab otherwise.
+
+        Returns
+        -------
+        SlabEquivalent or BallastedEquivalent
+
+        Raises
+        ------
+        TypeError
+            For a non-dict, unknown or missing parameters.
+        ValueError
+            For an unknown layout, or one that contradicts the class.
+
+        Examples
+        --------
+        >>> import semitrack as st
+        >>> p = {"m": [10.0], "J": [0.2], "L": [0.3], "k": [1e7], "c_l": [50.0], "c_r": [50.0],
+        ...      "k_phi": [], "c_phi": []}
+        >>> st.EquivalentSystem.from_parameters(p).layout
+        'slab'
         """
         if not isinstance(params, dict):
             raise TypeError(f"params must be a dict of parameter arrays, got {type(params).__name__}")
@@ -284,8 +297,19 @@ class EquivalentSystem:
             raise TypeError(f"missing parameter(s) for the {target.layout} layout: {missing}")
         return target(**params)
 
-    def replace(self, **changes) -> EquivalentSystem:
-        """A copy with some parameters changed (validated again)."""
+    def replace(self, **changes: ArrayLike) -> EquivalentSystem:
+        """A copy with some parameters changed (validated again).
+
+        Parameters
+        ----------
+        **changes
+            New values of parameters by name (units in :data:`PARAMETER_UNITS`).
+
+        Returns
+        -------
+        EquivalentSystem
+            Of the same layout.
+        """
         return dataclasses.replace(self, **changes)
 
     def __eq__(self, other):
@@ -318,12 +342,10 @@ class EquivalentSystem:
         return ["w1 (m)"] + [f"phi_{j} (rad)" for j in range(1, N + 1)]
 
     # --- matrices ----------------------------------------------------------------------------
-    def _assemble(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        raise NotImplementedError
-
     @functools.cached_property
     def _mck(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        M, C, K = self._assemble()
+        params = {name: getattr(self, name)[None] for name in self.parameter_names()}
+        M, C, K = (X[0] for X in assembly(self.layout, self.n_bars).matrices(params))
         return _symmetrised("M", M), _symmetrised("C", C), _symmetrised("K", K)
 
     def matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -334,15 +356,21 @@ class EquivalentSystem:
         """
         return tuple(np.array(X) for X in self._mck)
 
-    def dynamic_stiffness(self, f) -> np.ndarray:
-        """``K + i omega C - omega^2 M`` at frequencies ``f`` (Hz), shape ``(n_f, n_dof, n_dof)``."""
-        f_arr = self._frequencies(f)
-        return self._dynamic_stiffness(2 * np.pi * f_arr)
+    def dynamic_stiffness(self, f: ArrayLike) -> np.ndarray:
+        """The dynamic stiffness ``Z = K + i omega C - omega^2 M``.
 
-    def _dynamic_stiffness(self, omega: np.ndarray) -> np.ndarray:
+        Parameters
+        ----------
+        f : float or array_like
+            Frequencies (Hz), positive and finite; scalar or 1-D.
+
+        Returns
+        -------
+        ndarray of complex, shape (n_f, n_dof, n_dof)
+            Rows are generalised forces (N or N m) per displacement (m) or rotation (rad).
+        """
         M, C, K = self._mck
-        w = omega[:, None, None]
-        return K[None] + 1j * w * C[None] - w**2 * M[None]
+        return dynamic_stiffness(M, C, K, 2 * np.pi * self._frequencies(f))
 
     @staticmethod
     def _frequencies(f) -> np.ndarray:
@@ -352,30 +380,22 @@ class EquivalentSystem:
         return np.atleast_1d(f_arr)
 
     def _solve(self, f_arr: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-        """Solve ``Z(f) x = rhs`` for every frequency, with symmetric diagonal scaling.
+        """Solve ``Z(f) x = rhs`` for every frequency (:func:`.assembly.scaled_solve`).
 
         Raises ValueError when Z is singular or too ill-conditioned at some frequency.
         """
-        Z = self._dynamic_stiffness(2 * np.pi * f_arr)
-        d = np.abs(np.diagonal(Z, axis1=1, axis2=2))
-        scale = np.where(d > 0, 1.0 / np.sqrt(np.where(d > 0, d, 1.0)), 1.0)
-        Zs = scale[:, :, None] * Z * scale[:, None, :]
-        with np.errstate(all="ignore"):
-            cond = np.linalg.cond(Zs)
-        bad = ~np.isfinite(cond) | (cond > _COND_LIMIT)
-        if np.any(bad):
-            i = int(np.argmax(bad))
+        try:
+            return scaled_solve(self.dynamic_stiffness(f_arr), rhs, cond_limit=_COND_LIMIT)
+        except IllConditionedError as exc:
             raise ValueError(
                 f"the dynamic stiffness of this {self.layout} system is singular (condition number "
-                f"{cond[i]:.3g} > {_COND_LIMIT:.0e} after scaling) at f = {f_arr[i]!r} Hz "
-                f"({int(bad.sum())} of {f_arr.size} frequencies); the receptance is undefined there "
+                f"{exc.cond:.3g} > {_COND_LIMIT:.0e} after scaling) at f = {f_arr[exc.index]!r} Hz "
+                f"({exc.n_bad} of {f_arr.size} frequencies); the receptance is undefined there "
                 "(e.g. all-zero parameters, a free rigid-body motion, or an undamped resonance)"
-            )
-        Y = np.linalg.solve(Zs, scale[:, :, None] * rhs[None])
-        return scale[:, :, None] * Y
+            ) from None
 
     # --- end receptance ------------------------------------------------------------------------
-    def receptance(self, f) -> np.ndarray:
+    def receptance(self, f: ArrayLike) -> np.ndarray:
         """Receptance at the left end of bar 1 (Eq. 22).
 
         Parameters
@@ -386,23 +406,34 @@ class EquivalentSystem:
         Returns
         -------
         alpha : ndarray of complex, shape (n_f, 2, 2), or (2, 2) for a scalar ``f``
-            ``[[w1/Q (m/N), w1/M (1/N)], [phi_1/Q (rad/N), phi_1/M (rad/(N m))]]``, with Q a
+            ``[[w1/Q (m/N), w1/M (1/N)], [phi_1/Q (1/N), phi_1/M (rad/(N m))]]``, with Q a
             downward force and M a clockwise moment at the left end of bar 1.
+
+        Raises
+        ------
+        ValueError
+            For bad frequencies, or where the dynamic stiffness is singular.
         """
         f_arr = self._frequencies(f)
-        rhs = np.zeros((self.n_dof, 2))
-        rhs[0, 0] = rhs[1, 1] = 1.0
-        alpha = self._solve(f_arr, rhs)[:, :2, :]
+        alpha = self._solve(f_arr, end_loads(self.n_dof))[:, :2, :]
         return alpha[0] if np.ndim(f) == 0 else alpha
 
-    def end_stiffness(self, f) -> np.ndarray:
+    def end_stiffness(self, f: ArrayLike) -> np.ndarray:
         """Dynamic stiffness condensed to ``(w1, phi_1)``: the inverse of :meth:`receptance`.
 
-        Units ``[[N/m, N/rad], [N m/m, N m/rad]]``; shape as :meth:`receptance`.
+        Parameters
+        ----------
+        f : float or array_like
+            Frequencies (Hz), positive and finite; scalar or 1-D.
+
+        Returns
+        -------
+        ndarray of complex, shape (n_f, 2, 2) or (2, 2)
+            Units ``[[N/m, N], [N, N m/rad]]``.
         """
         return np.linalg.inv(self.receptance(f))
 
-    def mirrored_receptance(self, f) -> np.ndarray:
+    def mirrored_receptance(self, f: ArrayLike) -> np.ndarray:
         """Receptance at the junction of this system and its mirror image (paper Sec. 5.3).
 
         The second copy is this system turned 180 deg about a vertical axis through the left
@@ -413,6 +444,11 @@ class EquivalentSystem:
         ``T K_R T`` with ``T = diag(1, -1)`` and ``K_R`` = :meth:`end_stiffness`. The junction
         receptance is ``inv(K_R + T K_R T) = diag(1 / (2 K_R[0,0]), 1 / (2 K_R[1,1]))``; its
         off-diagonal terms vanish by symmetry.
+
+        Parameters
+        ----------
+        f : float or array_like
+            Frequencies (Hz), positive and finite; scalar or 1-D.
 
         Returns
         -------
@@ -425,13 +461,24 @@ class EquivalentSystem:
         return np.linalg.inv(K_R + T @ K_R @ T)
 
     # --- passivity -------------------------------------------------------------------------------
-    def is_passive(self, f, tol: float = 1e-9) -> PassivityReport:
+    def is_passive(self, f: ArrayLike, tol: float = 1e-9) -> PassivityReport:
         """Check passivity: M, C, K positive semi-definite and the Hermitian part of the end
-        mobility ``i omega alpha`` positive semi-definite at every frequency ``f`` (Hz).
+        mobility ``i omega alpha`` positive semi-definite at every frequency.
 
         Eigenvalues are compared relative to the largest one of each matrix (for the mobility,
-        to its spectral norm); ``tol`` (-) absorbs rounding. Returns a :class:`PassivityReport`,
-        which is truthy when passive.
+        to its spectral norm).
+
+        Parameters
+        ----------
+        f : float or array_like
+            Frequencies (Hz) at which the mobility is checked, positive and finite.
+        tol : float
+            Relative eigenvalues >= ``-tol`` (-) count as non-negative; absorbs rounding.
+
+        Returns
+        -------
+        PassivityReport
+            Truthy when passive.
         """
         if not (isinstance(tol, (int, float)) and np.isfinite(tol) and tol >= 0):
             raise ValueError(f"tol must be non-negative and finite, got {tol!r}")
@@ -455,36 +502,63 @@ class EquivalentSystem:
 class SlabEquivalent(EquivalentSystem):
     """Equivalent system of a semi-infinite slab track (paper Fig. 7, Appendix A).
 
-    Parameters as in :class:`EquivalentSystem`: ``m, J, L, k, c_l, c_r`` (length N) and
-    ``k_phi, c_phi`` (length N - 1). DOFs ``(w1, phi_1, ..., phi_N)`` (Eq. 21).
+    DOFs ``(w1, phi_1, ..., phi_N)`` (Eq. 21); matrices Eq. (A.16), (A.18), (A.24).
+
+    Parameters
+    ----------
+    m : array_like, shape (N,)
+        Bar masses (kg).
+    J : array_like, shape (N,)
+        Moments of inertia of the bars about their centres (kg m^2).
+    L : array_like, shape (N,)
+        Bar lengths (m); must be positive.
+    k : array_like, shape (N,)
+        Stiffness of the spring to the ground under each end of a bar (N/m).
+    c_l, c_r : array_like, shape (N,)
+        Dampers to the ground under the left and right end of each bar (N s/m).
+    k_phi : array_like, shape (N-1,)
+        Rotational stiffness between bars j and j+1 (N m/rad).
+    c_phi : array_like, shape (N-1,)
+        Rotational damping between bars j and j+1 (N m s/rad).
+
+    All entries must be finite and >= 0. The arrays are stored read-only.
+
+    Examples
+    --------
+    One bar on two springs: its end receptance at 100 Hz.
+
+    >>> import semitrack as st
+    >>> bar = st.SlabEquivalent(m=10.0, J=0.2, L=0.6, k=1e7, c_l=500.0, c_r=500.0, k_phi=[], c_phi=[])
+    >>> bar.n_dof, bar.receptance(100.0).shape
+    (2, (2, 2))
     """
 
-    layout: ClassVar[str] = "slab"
-
-    @property
-    def n_dof(self) -> int:
-        return self.n_bars + 1
-
-    def _assemble(self):
-        n = self.n_dof
-        A1, A0, A2 = _bar_maps(self.L, n)
-        R = _hinge_map(self.n_bars, n)
-        M = _quad(A0, self.m)  # Eq. (A.16)
-        M[1:, 1:] += np.diag(self.J)
-        K = _quad(A1, self.k) + _quad(A2, self.k) + _quad(R, self.k_phi)  # Eq. (A.18)
-        C = _quad(A1, self.c_l) + _quad(A2, self.c_r) + _quad(R, self.c_phi)  # Eq. (A.24)
-        return M, C, K
+    layout: ClassVar[Layout] = "slab"
 
 
 @dataclass(frozen=True, eq=False)
 class BallastedEquivalent(EquivalentSystem):
     """Equivalent system of a semi-infinite ballasted track (paper Fig. 12, Appendix B).
 
+    DOFs ``(w1, phi_1..phi_N, w_l1..w_lN, w_r1..w_rN)`` (Eq. 31); matrices Eq. (B.15),
+    (B.20), (B.26).
+
     Parameters
     ----------
-    m, J, L, k, c_l, c_r, k_phi, c_phi
-        As in :class:`EquivalentSystem`; ``k``, ``c_l``, ``c_r`` are the upper springs and
-        dampers between the bar ends and the support masses.
+    m : array_like, shape (N,)
+        Bar masses (kg).
+    J : array_like, shape (N,)
+        Moments of inertia of the bars about their centres (kg m^2).
+    L : array_like, shape (N,)
+        Bar lengths (m); must be positive.
+    k : array_like, shape (N,)
+        Upper spring between each bar end and its support mass (N/m).
+    c_l, c_r : array_like, shape (N,)
+        Upper dampers at the left and right end of each bar (N s/m).
+    k_phi : array_like, shape (N-1,)
+        Rotational stiffness between bars j and j+1 (N m/rad).
+    c_phi : array_like, shape (N-1,)
+        Rotational damping between bars j and j+1 (N m s/rad).
     mu : array_like, shape (N,)
         Support mass under each end of bar j (kg).
     s : array_like, shape (N,)
@@ -492,10 +566,10 @@ class BallastedEquivalent(EquivalentSystem):
     d_l, d_r : array_like, shape (N,)
         Lower dampers under the left and right support masses (N s/m).
 
-    DOFs ``(w1, phi_1..phi_N, w_l1..w_lN, w_r1..w_rN)`` (Eq. 31).
+    All entries must be finite and >= 0. The arrays are stored read-only.
     """
 
-    layout: ClassVar[str] = "ballasted"
+    layout: ClassVar[Layout] = "ballasted"
     _per_bar: ClassVar[tuple[str, ...]] = ("m", "J", "L", "k", "c_l", "c_r", "mu", "s", "d_l", "d_r")
 
     mu: np.ndarray
@@ -503,41 +577,14 @@ class BallastedEquivalent(EquivalentSystem):
     d_l: np.ndarray
     d_r: np.ndarray
 
-    @property
-    def n_dof(self) -> int:
-        return 3 * self.n_bars + 1
-
     def dof_names(self) -> list[str]:
+        """Names of the degrees of freedom with units, in the order of :meth:`matrices`."""
         N = self.n_bars
         return (
             super().dof_names()
             + [f"w_l{j} (m)" for j in range(1, N + 1)]
             + [f"w_r{j} (m)" for j in range(1, N + 1)]
         )
-
-    def _assemble(self):
-        N, n = self.n_bars, self.n_dof
-        B1, B0, B2 = _bar_maps(self.L, n)
-        Bl = np.zeros((N, n))
-        Bl[:, N + 1 : 2 * N + 1] = np.eye(N)  # Eq. (B.12)
-        Br = np.zeros((N, n))
-        Br[:, 2 * N + 1 :] = np.eye(N)
-        R = _hinge_map(N, n)
-        M = _quad(B0, self.m)  # Eq. (B.15)
-        M += np.diag(np.concatenate(([0.0], self.J, self.mu, self.mu)))
-        # Eq. (B.20): upper springs stretched by (bar end - support mass), lower ones by the mass.
-        K = (
-            _quad(B1 - Bl, self.k) + _quad(Bl, self.s)
-            + _quad(B2 - Br, self.k) + _quad(Br, self.s)
-            + _quad(R, self.k_phi)
-        )
-        # Eq. (B.26), the damping analogue (B.21-B.24).
-        C = (
-            _quad(B1 - Bl, self.c_l) + _quad(Bl, self.d_l)
-            + _quad(B2 - Br, self.c_r) + _quad(Br, self.d_r)
-            + _quad(R, self.c_phi)
-        )
-        return M, C, K
 
 
 _LAYOUTS: dict[str, type[EquivalentSystem]] = {

@@ -1,0 +1,103 @@
+"""The paper's least-squares residuals and their analytic Jacobian.
+
+At the fit frequencies the residuals are ``Re(alpha_E - alpha)/|alpha|`` and
+``Im(alpha_E - alpha)/|alpha|`` of alpha11, alpha12 and alpha22 (paper Sec. 4.4, 5.2), with
+``alpha_E`` the end receptance of the equivalent system of ``theta``
+(:class:`~.parametrisation.FitParametrisation`) and ``alpha`` the target.
+
+**Speed.** Residuals and the Jacobian are vectorised over frequency: one batched
+``numpy.linalg.solve`` of the dynamic stiffness ``Z = K + i omega C - omega^2 M`` with symmetric
+diagonal scaling (:func:`~.assembly.scaled_solve`), shared by both for a given ``theta``. The
+Jacobian is analytic, ``d alpha = -X^T dZ X`` with ``X = Z^-1 E``, evaluated through the
+spring-elongation maps ``P`` (``Z`` is a sum of ``P^T diag(v) P`` terms,
+:meth:`~.assembly.Assembly.receptance_sensitivities`) in O(n_f N n_theta) operations; the
+derivatives of the values ``v`` through the constraints come from a complex-step
+differentiation (exact to rounding).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..base.conventions import ELEMENTS
+from .assembly import dynamic_stiffness, end_loads, scaled_solve
+from .parametrisation import FitParametrisation
+
+__all__ = ["Residuals"]
+
+# (row, column) of the compared receptance elements alpha11, alpha12, alpha22.
+_PAIRS = tuple(ELEMENTS.values())
+
+# Stand-in for a residual that is not finite (an exactly singular Z): large, so the solver
+# steps back, yet finite, so it can.
+_NONFINITE_RESIDUAL = 1e6
+
+
+class Residuals:
+    """Residuals ``[Re, Im] (alpha_E - alpha) / |alpha|`` and their Jacobian at frequencies ``f``.
+
+    Parameters
+    ----------
+    model : FitParametrisation
+        The unknowns and their map to the system.
+    f : ndarray, shape (n_f,)
+        Fit frequencies (Hz).
+    alpha : ndarray of complex, shape (n_f, 2, 2)
+        The target receptance at ``f``; alpha11, alpha12, alpha22 must be non-zero.
+    """
+
+    def __init__(self, model: FitParametrisation, f: np.ndarray, alpha: np.ndarray):
+        self.model = model
+        self.f = np.asarray(f, float)
+        self.omega = 2 * np.pi * self.f
+        self.target = np.stack([alpha[:, i, j] for i, j in _PAIRS], axis=1)  # (n_f, 3)
+        self.scale = 1.0 / np.abs(self.target)  # (n_f, 3)
+        self._key = None
+        self._loads = end_loads(model.n_dof)
+
+    def _solve(self, theta: np.ndarray) -> np.ndarray:
+        """``X = Z^-1 E`` (n_f, n_dof, 2) for ``theta``; the last one is kept for the Jacobian."""
+        key = theta.tobytes()
+        if key != self._key:
+            M, C, K = (X[0] for X in self.model.matrices(theta[None, :]))
+            try:
+                X = scaled_solve(dynamic_stiffness(M, C, K, self.omega), self._loads)
+            except np.linalg.LinAlgError:  # exactly singular: residuals become large (see fun)
+                X = np.full((self.f.size, self.model.n_dof, 2), np.nan + 0j)
+            self._key, self._X = key, X
+        return self._X
+
+    def alpha(self, theta: np.ndarray) -> np.ndarray:
+        """alpha11, alpha12, alpha22 of the system of ``theta``, shape (n_f, 3)."""
+        X = self._solve(theta)
+        return np.stack([X[:, i, j] for i, j in _PAIRS], axis=1)
+
+    def fun(self, theta: np.ndarray) -> np.ndarray:
+        """The residuals: real parts, then imaginary parts, each (n_f, 3) flattened."""
+        d = (self.alpha(theta) - self.target) * self.scale
+        r = np.concatenate([d.real.ravel(), d.imag.ravel()])
+        if not np.all(np.isfinite(r)):
+            r = np.where(np.isfinite(r), r, _NONFINITE_RESIDUAL)
+        return r
+
+    def jac(self, theta: np.ndarray) -> np.ndarray:
+        """Analytic Jacobian of :meth:`fun`, shape (2 n_f 3, n_theta).
+
+        The receptance sensitivities to every value and length
+        (:meth:`~.assembly.Assembly.receptance_sensitivities`) chained with ``d p / d theta``
+        (complex step through the constraints; ``d L / d theta_L = L``).
+        """
+        model = self.model
+        X = self._solve(theta)
+        p = {k: np.real(v[0]) for k, v in model.params(theta[None, :]).items()}
+        dp = model.param_derivatives(theta)
+        d_values, d_lengths = model.assembly.receptance_sensitivities(X, p, self.omega, _PAIRS)
+        G = np.zeros((self.f.size, len(_PAIRS), model.n_theta), dtype=complex)
+        for value, Q in d_values.items():
+            d = dp[value]  # (n_theta, rows), non-zero in a few columns only
+            cols = np.flatnonzero(np.any(d != 0, axis=1))
+            G[:, :, cols] += np.swapaxes(Q, 1, 2) @ d[cols].T
+        G[:, :, model.slices["L"]] += d_lengths * p["L"][None, None, :]
+        dalpha = G * self.scale[:, :, None]
+        J = np.concatenate([dalpha.real.reshape(-1, model.n_theta), dalpha.imag.reshape(-1, model.n_theta)])
+        return np.where(np.isfinite(J), J, 0.0)
