@@ -14,11 +14,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..base.checks import check_band
+from ..base.conventions import ELEMENTS
 
+# ELEMENTS (the compared elements and their (row, column) index) is re-exported from
+# base.conventions, where every layer reads it.
 __all__ = ["ELEMENTS", "ErrorSummary", "receptance_errors", "error_summary", "error_band_grid"]
-
-#: Receptance elements compared, with their (row, column) index in a 2x2 receptance.
-ELEMENTS: dict[str, tuple[int, int]] = {"alpha11": (0, 0), "alpha12": (0, 1), "alpha22": (1, 1)}
 
 
 @dataclass(frozen=True)
