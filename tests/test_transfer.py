@@ -3,6 +3,7 @@
 import numpy as np
 
 import semitrack as st
+from semitrack.base.paper_values import PAPER_GRID
 from semitrack.methods.transfer import end_stiffness
 
 MIRROR = np.diag([1.0, -1.0])  # w is even, psi odd under x -> -x
@@ -72,7 +73,7 @@ def test_point_receptance_periodic_and_symmetric(track):
 def test_undamped_limit_uses_power_flow():
     """Without damping the Bloch waves sit on the unit circle; the result must equal the limit
     of vanishing damping (1e-7 here), and stay passive and reciprocal."""
-    f = np.arange(3.0, 3000.0, 6.0)
+    f = PAPER_GRID
     for track in (st.slab_track(), st.ballasted_track()):
         a0 = st.semi_infinite_receptance(track.replace(eta_rail=0.0, eta_pad=0.0, eta_ballast=0.0), f)
         a1 = st.semi_infinite_receptance(track.replace(eta_rail=1e-7, eta_pad=1e-7, eta_ballast=1e-7), f)

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 import semitrack as st
-from semitrack.methods.wavenumber import PAPER_BETA_MAX, WavenumberSettings, displacement_fields
+from semitrack.base.paper_values import PAPER_BETA_MAX
+from semitrack.methods.wavenumber import WavenumberSettings, displacement_fields
 
 CHECK_F = np.array([3.0, 183.0, 945.0])  # low, bouncing, and near the first pinned-pinned frequency
 # Refined setting: ten times the paper's wavenumber range, one twentieth of its dx.
