@@ -14,23 +14,11 @@ import scipy.sparse as sp
 
 import semitrack as st
 from semitrack.equivalent.metrics import error_band_grid, error_summary
-from semitrack.fe.models import (
-    FETrack,
-    TruncatedTrack,
-    fe_central_receptance,
-    fe_semi_infinite_receptance,
-    timoshenko_element,
-    timoshenko_shape_functions,
-    viscous_reference_frequencies,
-)
-from semitrack.fe.timedomain import (
-    hann_pulse,
-    moving_load_response,
-    newmark,
-    pulse_response,
-    relative_l2_error,
-    truncation_errors,
-)
+from semitrack.fe.damping import viscous_reference_frequencies
+from semitrack.fe.element import timoshenko_element, timoshenko_shape_functions
+from semitrack.fe.models import FETrack, TruncatedTrack, fe_central_receptance, fe_semi_infinite_receptance
+from semitrack.fe.timedomain import hann_pulse, moving_load_response, newmark, pulse_response, relative_l2_error
+from semitrack.fe.truncation import truncation_errors
 from semitrack.model.timoshenko import field_transfer, point_transfer
 
 PAPER_GRID = np.arange(3.0, 3000.0, 6.0)

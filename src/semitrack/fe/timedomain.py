@@ -5,12 +5,13 @@ non-dissipative average-acceleration rule (gamma = 1/2, beta = 1/4) at a constan
 effective stiffness ``K + 2/dt C + 4/dt^2 M`` is factorised once (``scipy.sparse.linalg.splu``).
 Its period error is about ``(omega dt)^2 / 12``: 0.3 % at 1.5 kHz with the default dt = 20 us.
 
-The matrices come from :meth:`semitrack.fe.models.FETrack.matrices`: rail, pads and ballast with viscous
-damping equal to their loss factors at reference frequencies (by default
-:func:`semitrack.fe.models.viscous_reference_frequencies`), the equivalent systems with their own viscous dampers. The paper fitted those systems to the
-hysteretically damped track; in the time domain only viscous damping is available, so the
-truncated model with equivalent ends and the long reference track (same viscous model) differ
-slightly in damping from the hysteretic track that the systems were fitted to.
+The matrices come from :meth:`semitrack.fe.models.FETrack.matrices`: rail, pads and ballast
+with viscous damping equal to their loss factors at reference frequencies (by default
+:func:`semitrack.fe.damping.viscous_reference_frequencies`), the equivalent systems with their
+own viscous dampers. The paper fitted those systems to the hysteretically damped track; in the
+time domain only viscous damping is available, so the truncated model with equivalent ends and
+the long reference track (same viscous model) differ slightly in damping from the hysteretic
+track that the systems were fitted to.
 
 Loads (:func:`pulse_response`, :func:`moving_load_response`):
 
@@ -24,22 +25,21 @@ Loads (:func:`pulse_response`, :func:`moving_load_response`):
   with a raised-cosine ramp over ``ramp`` seconds to avoid an impulsive start.
 
 :func:`relative_l2_error` is the error norm used to compare a truncated model with the long
-reference: ``||u - u_ref||_2 / ||u_ref||_2`` over the time window, per output.
+reference: ``||u - u_ref||_2 / ||u_ref||_2`` over the time window, per output
+(:func:`semitrack.fe.truncation.truncation_errors` runs that comparison).
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
+from numpy.typing import ArrayLike
 from scipy.sparse.linalg import splu
 
 from ..base.checks import check_int_at_least, check_positive, check_real
-from ..equivalent.systems import EquivalentSystem
-from ..model.tracks import Track
-from .models import FETrack, TruncatedTrack
+from .models import FETrack
 
 __all__ = [
     "TimeHistory",
@@ -48,7 +48,6 @@ __all__ = [
     "pulse_response",
     "moving_load_response",
     "relative_l2_error",
-    "truncation_errors",
     "SPEED_300_KMH",
 ]
 
@@ -239,16 +238,16 @@ def _check_model(model):
         raise TypeError(f"model must be an FETrack (e.g. TruncatedTrack), got {type(model).__name__}")
 
 
-def pulse_response(model: FETrack, positions: Sequence[float] = (0.0, 1.95), *, amplitude: float = 1.0,
+def pulse_response(model: FETrack, positions: ArrayLike = (0.0, 1.95), *, amplitude: float = 1.0,
                    f_max: float = 1500.0, dt: float = 2e-5, t_end: float = 0.03,
-                   f_ref=None) -> TimeHistory:
+                   f_ref: float | dict | None = None) -> TimeHistory:
     """Rail displacement after a Hann force pulse at the central cross-section (x = 0).
 
     Parameters
     ----------
     model : FETrack
         The track model (not with ``"exact"`` ends).
-    positions : sequence of float
+    positions : array_like
         Where to record the rail's vertical displacement (m from the centre).
     amplitude : float
         Peak force (N), downward.
@@ -265,6 +264,7 @@ def pulse_response(model: FETrack, positions: Sequence[float] = (0.0, 1.95), *, 
         ``u`` has one column per position (m); labels "w(x=...)".
     """
     _check_model(model)
+    positions = np.atleast_1d(np.asarray(positions, dtype=float))
     check_real("amplitude", amplitude)
     duration = 2.0 / check_positive("f_max", f_max)
     n_steps = int(round(check_positive("t_end", t_end) / check_positive("dt", dt)))
@@ -276,14 +276,34 @@ def pulse_response(model: FETrack, positions: Sequence[float] = (0.0, 1.95), *, 
     return TimeHistory(hist.t, hist.u, tuple(f"w(x={x:g} m)" for x in positions))
 
 
-def moving_load_response(model: FETrack, positions: Sequence[float] = (0.0,), *, load: float = 1.0,
+def moving_load_response(model: FETrack, positions: ArrayLike = (0.0,), *, load: float = 1.0,
                          speed: float = SPEED_300_KMH, x_start: float = -2.0, x_end: float = 2.0,
-                         ramp: float = 0.01, dt: float = 2e-5, f_ref=None) -> TimeHistory:
+                         ramp: float = 0.01, dt: float = 2e-5, f_ref: float | dict | None = None) -> TimeHistory:
     """Rail displacement under and near a constant vertical force moving along the rail.
 
     The force ``load`` (N, downward) moves from ``x_start`` to ``x_end`` (m, from the centre) at
     ``speed`` (m/s), applied as consistent nodal loads (shape functions of the element it is
     on); its magnitude rises as ``sin^2`` over the first ``ramp`` seconds.
+
+    Parameters
+    ----------
+    model : FETrack
+        The track model (not with ``"exact"`` ends).
+    positions : array_like
+        Fixed points where the rail's vertical displacement is also recorded (m from the
+        centre); may be empty.
+    load : float
+        The force (N), downward.
+    speed : float
+        Its speed (m/s); default 300 km/h.
+    x_start, x_end : float
+        Where the force starts and stops (m from the centre), on the rail, ``x_start < x_end``.
+    ramp : float
+        Duration of the ``sin^2`` rise of the force (s).
+    dt : float
+        Time step (s); the window ends when the force reaches ``x_end``.
+    f_ref : None, float or dict
+        Reference frequencies of the viscous damping model (Hz), see :meth:`FETrack.matrices`.
 
     Returns
     -------
@@ -304,11 +324,12 @@ def moving_load_response(model: FETrack, positions: Sequence[float] = (0.0,), *,
     n_steps = int(np.ceil((x_end - x_start) / speed / dt))
     M, C, K = model.matrices(f_ref)
     n = model.n_dof
-    fixed = model.output_matrix(positions) if len(positions) else None
+    positions = np.atleast_1d(np.asarray(positions, dtype=float))
+    fixed = model.output_matrix(positions) if positions.size else None
 
     def weights(tk):
         xp = min(x_start + speed * tk, x_end)
-        return model._element_weights(xp, "load position")
+        return model.shape_weights(xp, name="load position")
 
     def force(tk):
         idx, nw = weights(tk)
@@ -340,44 +361,3 @@ def relative_l2_error(u, u_ref) -> np.ndarray:
     if np.any(ref == 0):
         raise ValueError("u_ref must not be identically zero in any column for a relative error")
     return np.linalg.norm(u - u_ref, axis=0) / ref
-
-
-def truncation_errors(track: Track, system: EquivalentSystem, n_bays: int = 10, reference_bays: int = 200,
-                      excitation: str = "pulse", ends: Sequence[str] = ("pinned", "equivalent"),
-                      elements_per_bay: int = 8, **kwargs) -> dict:
-    """Time-domain error of truncated models against a long reference track.
-
-    Builds ``TruncatedTrack(track, n_bays, ends=e, system=...)`` for each end condition in
-    ``ends`` and a reference ``TruncatedTrack(track, reference_bays, "pinned")`` (long enough that
-    no end reflection returns within the window: check by doubling it), all with the same mesh,
-    runs the same excitation on each and compares the outputs.
-
-    Parameters
-    ----------
-    track, system
-        The track and the equivalent system for ``"equivalent"`` ends.
-    n_bays, reference_bays : int
-        Bays on each side of the centre of the truncated models and of the reference.
-    excitation : {"pulse", "moving"}
-        :func:`pulse_response` or :func:`moving_load_response`; ``kwargs`` go to it.
-    ends : sequence of str
-        End conditions of the truncated models ("pinned", "free", "equivalent").
-    elements_per_bay : int
-        Mesh of all models.
-
-    Returns
-    -------
-    dict
-        ``{"reference": TimeHistory, e: TimeHistory, ..., "errors": {e: ndarray per output}}``.
-    """
-    if excitation not in ("pulse", "moving"):
-        raise ValueError(f"excitation must be 'pulse' or 'moving', got {excitation!r}")
-    run = pulse_response if excitation == "pulse" else moving_load_response
-    ref_model = TruncatedTrack(track, reference_bays, "pinned", elements_per_bay=elements_per_bay)
-    out = {"reference": run(ref_model, **kwargs), "errors": {}}
-    for e in ends:
-        m = TruncatedTrack(track, n_bays, e, system=system if e == "equivalent" else None,
-                           elements_per_bay=elements_per_bay)
-        out[e] = run(m, **kwargs)
-        out["errors"][e] = relative_l2_error(out[e].u, out["reference"].u)
-    return out

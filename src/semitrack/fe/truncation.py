@@ -1,23 +1,79 @@
-"""How long must a truncated track be? Error of the central receptance against the infinite track.
+"""How long must a truncated track be? Its error against the infinite track, by kind of end.
 
-For each end condition of :class:`semitrack.fe.models.TruncatedTrack` and each number of bays, the
-vertical receptance at the central cross-section is compared with the exact infinite-track w1
-(:func:`semitrack.central_response`). The error measures are the median and maximum relative
-error over a band.
+Frequency domain
+    For each end condition of :class:`semitrack.fe.models.TruncatedTrack` and each number of
+    bays, the vertical receptance at the central cross-section is compared with the exact
+    infinite-track w1 (:func:`semitrack.central_response`); the measures are the median and the
+    maximum relative error over a band (:func:`truncation_study`, :func:`bays_needed`,
+    :func:`errors_at`, :func:`truncated_w1`).
+
+Time domain
+    The same truncated models and a long reference track run the same excitation (a Hann pulse
+    or a moving load, :mod:`semitrack.fe.timedomain`); the measure is the relative L2 error of
+    the recorded displacements over the window (:func:`truncation_errors`,
+    :func:`time_domain_study`).
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Literal
+
 import numpy as np
 import pandas as pd
+from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies
+from ..equivalent.systems import EquivalentSystem
 from ..methods.receptance import central_response
-from .models import TruncatedTrack
+from ..model.tracks import Track
+from .models import End, TruncatedTrack
+from .timedomain import moving_load_response, pulse_response, relative_l2_error
+
+__all__ = [
+    "compared_ends",
+    "truncation_study",
+    "bays_needed",
+    "errors_at",
+    "truncated_w1",
+    "truncation_errors",
+    "TimeDomainStudy",
+    "time_domain_study",
+]
+
+#: ``{label: (ends, system)}``: the end conditions of a study, by the label of its rows.
+EndsSpec = Mapping[str, tuple[End, EquivalentSystem | None]]
 
 
-def truncation_study(track, f, n_bays=(1, 2, 5, 10, 20, 40, 80), ends: dict | None = None,
-                     elements_per_bay: int = 12) -> pd.DataFrame:
+def compared_ends(paper_system: EquivalentSystem, our_system: EquivalentSystem) -> dict:
+    """The five kinds of end the book compares, labelled as :data:`semitrack.plotting.METHOD_STYLE`.
+
+    Parameters
+    ----------
+    paper_system : EquivalentSystem
+        The paper's system for the track (Table 4 or Table 7).
+    our_system : EquivalentSystem
+        A system fitted to the exact receptance.
+
+    Returns
+    -------
+    dict
+        ``{"pinned", "free", "paper system", "our system", "exact end stiffness"}`` to
+        ``(ends, system)`` pairs for :func:`truncation_study`.
+
+    Examples
+    --------
+    >>> import semitrack as st
+    >>> list(compared_ends(st.paper_table4(), st.paper_table4()))
+    ['pinned', 'free', 'paper system', 'our system', 'exact end stiffness']
+    """
+    return {"pinned": ("pinned", None), "free": ("free", None), "paper system": ("equivalent", paper_system),
+            "our system": ("equivalent", our_system), "exact end stiffness": ("exact", None)}
+
+
+def truncation_study(track: Track, f: ArrayLike, n_bays: Sequence[int] = (1, 2, 5, 10, 20, 40, 80),
+                     ends: EndsSpec | None = None, elements_per_bay: int = 12) -> pd.DataFrame:
     """Median and maximum relative error of w1 of truncated tracks over the frequencies ``f``.
 
     Parameters
@@ -30,8 +86,8 @@ def truncation_study(track, f, n_bays=(1, 2, 5, 10, 20, 40, 80), ends: dict | No
         Bays on each side of the centre.
     ends : dict, optional
         Label -> ``(ends, system)`` for :class:`TruncatedTrack`, e.g.
-        ``{"pinned": ("pinned", None), "paper system": ("equivalent", paper_table4())}``.
-        Default: pinned, free and exact ends.
+        ``{"pinned": ("pinned", None), "paper system": ("equivalent", paper_table4())}`` or
+        :func:`compared_ends`. Default: pinned, free and exact ends.
     elements_per_bay : int
         FE mesh (12 gives about 0.5 % discretisation error up to 3 kHz).
 
@@ -39,6 +95,13 @@ def truncation_study(track, f, n_bays=(1, 2, 5, 10, 20, 40, 80), ends: dict | No
     -------
     pandas.DataFrame
         Columns ``ends, n_bays, median error, max error`` (fractions).
+
+    Examples
+    --------
+    >>> import semitrack as st
+    >>> study = truncation_study(st.slab_track(), [50.0, 100.0], n_bays=(1, 2), elements_per_bay=4)
+    >>> study.shape, list(study["ends"].unique())
+    ((6, 4), ['pinned', 'free', 'exact'])
     """
     f = np.atleast_1d(as_frequencies(f))
     ends = ends or {"pinned": ("pinned", None), "free": ("free", None), "exact": ("exact", None)}
@@ -55,8 +118,176 @@ def truncation_study(track, f, n_bays=(1, 2, 5, 10, 20, 40, 80), ends: dict | No
 def bays_needed(study: pd.DataFrame, median: float = 0.05, maximum: float = 0.10) -> pd.Series:
     """Fewest bays (each side) in ``study`` meeting both error targets, per end condition.
 
-    NaN where no length in the study meets them.
+    Parameters
+    ----------
+    study : pandas.DataFrame
+        A table of :func:`truncation_study`.
+    median, maximum : float
+        Targets for the median and the maximum relative error of w1 (fractions).
+
+    Returns
+    -------
+    pandas.Series
+        Bays per label of ``study["ends"]``, in the study's order; NaN where no length in the
+        study meets the targets.
     """
     ok = study[(study["median error"] <= median) & (study["max error"] <= maximum)]
     needed = ok.groupby("ends", sort=False)["n_bays"].min()
     return needed.reindex(study["ends"].unique())
+
+
+def errors_at(studies: Mapping[str, pd.DataFrame], n_bays: int) -> pd.DataFrame:
+    """The errors of several studies at one length, side by side, in percent.
+
+    Parameters
+    ----------
+    studies : dict
+        ``{track name: table of truncation_study}``.
+    n_bays : int
+        The number of bays on each side to read off (must be in every study).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Indexed by the ends' labels; columns ``"<track>: median error (%)"`` and
+        ``"<track>: max error (%)"`` per study.
+    """
+    table = pd.concat({name: study[study.n_bays == n_bays].set_index("ends")[["median error", "max error"]] * 100
+                       for name, study in studies.items()}, axis=1)
+    table.columns = [f"{t}: {c} (%)" for t, c in table.columns]
+    return table
+
+
+def truncated_w1(track: Track, f: ArrayLike, n_bays: int, ends: EndsSpec,
+                 elements_per_bay: int = 12) -> pd.DataFrame:
+    """w1 of the infinite track and of truncated tracks of one length, over ``f``.
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+    f : array_like
+        Frequencies (Hz), 1-D.
+    n_bays : int
+        Bays on each side of the centre of every truncated model.
+    ends : dict
+        Label -> ``(ends, system)`` as in :func:`truncation_study`.
+    elements_per_bay : int
+        FE mesh.
+
+    Returns
+    -------
+    pandas.DataFrame of complex
+        Indexed by frequency (Hz); a column ``"infinite track (exact)"`` and one per label of
+        ``ends`` (m/N).
+    """
+    f = np.atleast_1d(as_frequencies(f))
+    out = {"infinite track (exact)": central_response(track, f).w1}
+    for label, (kind, system) in ends.items():
+        model = TruncatedTrack(track, n_bays, kind, system=system, elements_per_bay=elements_per_bay)
+        out[label] = model.central_receptance(f)[:, 0, 0]
+    return pd.DataFrame(out, index=pd.Index(f, name="f (Hz)"))
+
+
+# ------------------------------------------------------------------------------------------------
+# Time domain
+# ------------------------------------------------------------------------------------------------
+def truncation_errors(track: Track, system: EquivalentSystem, n_bays: int = 10, reference_bays: int = 200,
+                      excitation: Literal["pulse", "moving"] = "pulse", ends: Sequence[End] = ("pinned", "equivalent"),
+                      elements_per_bay: int = 8, **kwargs) -> dict:
+    """Time-domain error of truncated models against a long reference track.
+
+    Builds ``TruncatedTrack(track, n_bays, ends=e, system=...)`` for each end condition in
+    ``ends`` and a reference ``TruncatedTrack(track, reference_bays, "pinned")`` (long enough that
+    no end reflection returns within the window: check by doubling it), all with the same mesh,
+    runs the same excitation on each and compares the outputs.
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+    system : EquivalentSystem
+        The equivalent system of ``"equivalent"`` ends.
+    n_bays, reference_bays : int
+        Bays on each side of the centre of the truncated models and of the reference.
+    excitation : {"pulse", "moving"}
+        :func:`~semitrack.fe.timedomain.pulse_response` or
+        :func:`~semitrack.fe.timedomain.moving_load_response`.
+    ends : sequence of str
+        End conditions of the truncated models ("pinned", "free", "equivalent").
+    elements_per_bay : int
+        Mesh of all models.
+    **kwargs
+        Passed on to the excitation's function (positions, times, load...).
+
+    Returns
+    -------
+    dict
+        ``{"reference": TimeHistory, e: TimeHistory, ..., "errors": {e: ndarray per output}}``
+        (errors as fractions).
+    """
+    if excitation not in ("pulse", "moving"):
+        raise ValueError(f"excitation must be 'pulse' or 'moving', got {excitation!r}")
+    run = pulse_response if excitation == "pulse" else moving_load_response
+    ref_model = TruncatedTrack(track, reference_bays, "pinned", elements_per_bay=elements_per_bay)
+    out = {"reference": run(ref_model, **kwargs), "errors": {}}
+    for e in ends:
+        m = TruncatedTrack(track, n_bays, e, system=system if e == "equivalent" else None,
+                           elements_per_bay=elements_per_bay)
+        out[e] = run(m, **kwargs)
+        out["errors"][e] = relative_l2_error(out[e].u, out["reference"].u)
+    return out
+
+
+@dataclass(frozen=True)
+class TimeDomainStudy:
+    """Pinned and equivalent ends of one length against a long reference, for a pulse and a moving load.
+
+    Attributes
+    ----------
+    pulse : dict
+        :func:`truncation_errors` of a Hann pulse at the centre, recorded at the centre and
+        three bays away.
+    moving : dict
+        :func:`truncation_errors` of a load moving at 300 km/h across the middle of the model.
+    errors : pandas.DataFrame
+        Columns ``track, case, pinned ends: L2 error (%), equivalent ends: L2 error (%)``, one
+        row per recorded displacement.
+    """
+
+    pulse: dict
+    moving: dict
+    errors: pd.DataFrame
+
+
+def time_domain_study(track: Track, system: EquivalentSystem, n_bays: int = 10, reference_bays: int = 100,
+                      t_end: float = 0.03, moving_bays: int = 4) -> TimeDomainStudy:
+    """Truncated models with pinned and equivalent ends in the time domain (the book's two cases).
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+    system : EquivalentSystem
+        The system of the equivalent ends.
+    n_bays, reference_bays : int
+        Bays on each side of the truncated models and of the pinned reference (8 elements per bay).
+    t_end : float
+        Window of the pulse (s).
+    moving_bays : int
+        The load moves from ``-moving_bays d`` to ``moving_bays d``.
+
+    Returns
+    -------
+    TimeDomainStudy
+    """
+    d = track.spacing
+    common = dict(n_bays=n_bays, reference_bays=reference_bays)
+    pulse = truncation_errors(track, system, excitation="pulse", positions=(0.0, 3 * d), t_end=t_end, **common)
+    moving = truncation_errors(track, system, excitation="moving", x_start=-moving_bays * d, x_end=moving_bays * d,
+                               **common)
+    cases = (("pulse, x = 0", pulse, 0), ("pulse, 3 bays away", pulse, 1), ("moving load, under the load", moving, 0))
+    rows = [(track.name, case, 100 * res["errors"]["pinned"][column], 100 * res["errors"]["equivalent"][column])
+            for case, res, column in cases]
+    errors = pd.DataFrame(rows, columns=["track", "case", "pinned ends: L2 error (%)", "equivalent ends: L2 error (%)"])
+    return TimeDomainStudy(pulse=pulse, moving=moving, errors=errors)

@@ -1,0 +1,233 @@
+"""Assembly of an FE track's matrices: one sparse pattern, one data vector per family of springs.
+
+The model's matrices are kept apart by *family*, because each family carries its own damping:
+
+``K_rail``
+    the rail elements (:func:`semitrack.fe.element.rail_element`; loss factor ``eta_rail``);
+``K_pad``
+    the pads (``track.support_stiffness`` in assembled form): slab track, a vertical spring
+    ``kv`` and a rotational spring ``kphi`` from the rail node to the ground; ballasted track,
+    ``kv`` between the rail node and the sleeper DOF and ``kphi`` from the rail rotation to the
+    ground (the sleeper does not rotate); loss factor ``eta_pad``;
+``K_ballast``
+    the ballast springs ``kb`` from each sleeper to the ground (loss factor ``eta_ballast``);
+``M``
+    the rail's consistent mass, the sleeper masses and the attached systems' mass;
+``K_end``, ``C_end``
+    the springs and (viscous) dampers of the equivalent systems attached at the ends.
+
+An equivalent system enters with the ``M, C, K`` of its own assembly
+(:meth:`semitrack.EquivalentSystem.matrices`): as it is at the right end; mirrored at the left
+end, where its rotation ``phi_1`` is ``-psi`` of the rail because the mirrored system's
+clockwise rotation is the rail's anticlockwise one. Its first two DOFs are the rail's
+``(w, psi)`` at the end node, the others are DOFs of the model (:mod:`semitrack.fe.mesh`).
+
+Every family is summed onto the same compressed-sparse-column pattern, the union of all their
+entries (and of the 2x2 blocks of ``"exact"`` ends, which are added per frequency), so a
+dynamic stiffness at one frequency is a linear combination of data vectors on a fixed pattern.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..model.tracks import Track
+from .element import rail_element
+from .mesh import SIDES, DofMap, Mesh, Side, rail_dof
+
+__all__ = ["FAMILIES", "Pattern", "TrackMatrices", "assemble"]
+
+#: The matrix families of a track model, see the module docstring.
+FAMILIES = ("K_rail", "K_pad", "K_ballast", "K_end", "C_end", "M")
+
+
+class _Triplets:
+    """COO triplets of one matrix in the full DOF numbering."""
+
+    def __init__(self):
+        self.rows, self.cols, self.vals = [], [], []
+
+    def add(self, idx, block, sign=None):
+        """Add the square ``block`` on the DOFs ``idx``, after ``diag(sign) block diag(sign)``."""
+        idx = np.asarray(idx)
+        block = np.asarray(block, dtype=float)
+        if sign is not None:
+            s = np.asarray(sign, dtype=float)
+            block = s[:, None] * block * s[None, :]
+        r, c = np.meshgrid(idx, idx, indexing="ij")
+        self.rows.append(r.ravel())
+        self.cols.append(c.ravel())
+        self.vals.append(block.ravel())
+
+    def add_many(self, idx, blocks):
+        """Add n blocks: ``idx`` (n, k) DOFs of each, ``blocks`` (k, k) or (n, k, k)."""
+        idx = np.asarray(idx)
+        n, k = idx.shape
+        blocks = np.broadcast_to(np.asarray(blocks, dtype=float), (n, k, k))
+        self.rows.append(np.repeat(idx, k, axis=1).ravel())
+        self.cols.append(np.tile(idx, (1, k)).ravel())
+        self.vals.append(blocks.ravel())
+
+    def coo(self):
+        """``(rows, cols, vals)`` of every entry added (duplicates not summed)."""
+        if not self.rows:
+            return np.zeros(0, int), np.zeros(0, int), np.zeros(0)
+        return np.concatenate(self.rows), np.concatenate(self.cols), np.concatenate(self.vals)
+
+
+@dataclass(frozen=True)
+class Pattern:
+    """A fixed CSC sparsity pattern of an ``n x n`` matrix.
+
+    Attributes
+    ----------
+    n : int
+        Matrix size.
+    keys : ndarray of int64
+        ``col * n + row`` of each stored entry, sorted (CSC order).
+    """
+
+    n: int
+    keys: np.ndarray
+
+    @classmethod
+    def union(cls, n: int, rows: Iterable[np.ndarray], cols: Iterable[np.ndarray]) -> Pattern:
+        """The pattern holding every ``(row, col)`` given; negative (removed) indices are skipped."""
+        rr, cc = np.concatenate(list(rows)), np.concatenate(list(cols))
+        ok = (rr >= 0) & (cc >= 0)
+        return cls(n, np.unique(cc[ok].astype(np.int64) * n + rr[ok]))
+
+    @cached_property
+    def indices(self) -> np.ndarray:
+        """Row index of each stored entry (CSC ``indices``)."""
+        return (self.keys % self.n).astype(np.int32)
+
+    @cached_property
+    def indptr(self) -> np.ndarray:
+        """Start of each column in the stored entries (CSC ``indptr``)."""
+        return np.searchsorted(self.keys // self.n, np.arange(self.n + 1)).astype(np.int32)
+
+    def positions(self, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+        """Position in the data vector of each ``(row, col)``, which must be in the pattern."""
+        return np.searchsorted(self.keys, np.asarray(cols).astype(np.int64) * self.n + rows)
+
+    def sum(self, rows: np.ndarray, cols: np.ndarray, vals: np.ndarray) -> np.ndarray:
+        """Data vector of the COO entries summed on the pattern; entries with an index -1 are dropped."""
+        out = np.zeros(self.keys.size, dtype=float)
+        ok = (rows >= 0) & (cols >= 0)
+        np.add.at(out, self.positions(rows[ok], cols[ok]), vals[ok])
+        return out
+
+    def csc(self, data: np.ndarray) -> sp.csc_matrix:
+        """The matrix with ``data`` on this pattern."""
+        return sp.csc_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
+
+
+@dataclass(frozen=True)
+class TrackMatrices:
+    """The assembled families of a track model on one pattern.
+
+    Attributes
+    ----------
+    pattern : Pattern
+        The common CSC pattern (model DOFs).
+    data : dict
+        ``{family: data vector on the pattern}`` for each of :data:`FAMILIES` (SI units).
+    exact : dict
+        ``{side: positions}`` of the row-major 2x2 block of the rail's ``(w, psi)`` at each
+        ``"exact"`` end, where the frequency-dependent end stiffness is added.
+    """
+
+    pattern: Pattern
+    data: Mapping[str, np.ndarray]
+    exact: Mapping[Side, np.ndarray]
+
+
+def _add_rail(parts: dict, mesh: Mesh, track: Track) -> None:
+    k_el, m_el = rail_element(track, mesh.element_length)
+    el_dofs = mesh.element_dofs()
+    parts["K_rail"].add_many(el_dofs, k_el)
+    parts["M"].add_many(el_dofs, m_el)
+
+
+def _add_supports(parts: dict, mesh: Mesh, dofs: DofMap, track: Track) -> None:
+    w_sup, psi_sup = 2 * mesh.support_nodes, 2 * mesh.support_nodes + 1
+    if track.kphi > 0:
+        parts["K_pad"].add_many(psi_sup[:, None], np.array([[track.kphi]]))
+    if track.is_ballasted:
+        s_dofs = dofs.sleepers
+        pad = track.kv * np.array([[1.0, -1.0], [-1.0, 1.0]])
+        parts["K_pad"].add_many(np.stack([w_sup, s_dofs], 1), pad)
+        parts["K_ballast"].add_many(s_dofs[:, None], np.array([[track.kb]]))
+        parts["M"].add_many(s_dofs[:, None], np.array([[track.sleeper_mass]]))
+    else:
+        parts["K_pad"].add_many(w_sup[:, None], np.array([[track.kv]]))
+
+
+def _add_end_systems(parts: dict, mesh: Mesh, dofs: DofMap, system_matrices) -> None:
+    if not dofs.systems:
+        return
+    Ms, Cs, Ks = system_matrices
+    for side, internal in dofs.systems.items():
+        node = mesh.end_node(side)
+        idx = np.concatenate(([rail_dof(node, "w"), rail_dof(node, "psi")], internal))
+        sign = np.ones(idx.size)
+        if side == "left":
+            sign[1] = -1.0  # mirrored system: its clockwise phi_1 is the rail's -psi
+        parts["M"].add(idx, Ms, sign)
+        parts["C_end"].add(idx, Cs, sign)
+        parts["K_end"].add(idx, Ks, sign)
+
+
+def _exact_blocks(mesh: Mesh, dofs: DofMap, exact_sides: Iterable[Side]) -> dict:
+    """``{side: (rows, cols)}`` model indices of the 2x2 block at each exact end, row-major."""
+    out = {}
+    for side in SIDES:
+        if side in exact_sides:
+            node = mesh.end_node(side)
+            idx = dofs.index[[rail_dof(node, "w"), rail_dof(node, "psi")]]
+            r, c = np.meshgrid(idx, idx, indexing="ij")
+            out[side] = (r.ravel(), c.ravel())
+    return out
+
+
+def assemble(track: Track, mesh: Mesh, dofs: DofMap, system_matrices=None,
+             exact_sides: Iterable[Side] = ()) -> TrackMatrices:
+    """Assemble every family of a track model on one pattern (see the module docstring).
+
+    Parameters
+    ----------
+    track : Track
+        Rail, pad and (ballasted) sleeper and ballast parameters.
+    mesh : Mesh
+        The rail's mesh.
+    dofs : DofMap
+        The DOF numbering; pinned DOFs (index -1) are dropped.
+    system_matrices : tuple of ndarray, optional
+        ``(M, C, K)`` of the equivalent system attached at the ends listed in ``dofs.systems``,
+        from :meth:`semitrack.EquivalentSystem.matrices`.
+    exact_sides : iterable of {"left", "right"}
+        Ends closed by the exact (frequency-dependent) end stiffness; their 2x2 blocks are put
+        in the pattern.
+
+    Returns
+    -------
+    TrackMatrices
+    """
+    parts = {key: _Triplets() for key in FAMILIES}
+    _add_rail(parts, mesh, track)
+    _add_supports(parts, mesh, dofs, track)
+    _add_end_systems(parts, mesh, dofs, system_matrices)
+    coo = {key: t.coo() for key, t in parts.items()}
+    reduced = {key: (dofs.index[r], dofs.index[c], v) for key, (r, c, v) in coo.items()}
+    blocks = _exact_blocks(mesh, dofs, exact_sides)
+    pattern = Pattern.union(dofs.n_dof, [r for r, _, _ in reduced.values()] + [r for r, _ in blocks.values()],
+                            [c for _, c, _ in reduced.values()] + [c for _, c in blocks.values()])
+    data = {key: pattern.sum(*entries) for key, entries in reduced.items()}
+    exact = {side: pattern.positions(r, c) for side, (r, c) in blocks.items()}
+    return TrackMatrices(pattern=pattern, data=data, exact=exact)

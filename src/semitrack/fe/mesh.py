@@ -1,0 +1,183 @@
+"""The mesh of an FE track and its DOF map: node positions, supports, and the numbering of every DOF.
+
+Geometry
+    x is measured from the central cross-section (or the cut of a semi-infinite track), which is
+    a mid-span; the supports sit at ``x = (k + 1/2) d`` and the ends of the model are mid-spans,
+    so the paper's equivalent system attaches exactly at an end. Each half bay is divided into
+    ``elements_per_bay / 2`` equal elements (so mid-spans and supports are nodes).
+
+DOF numbering (the *full* numbering, before pinned DOFs are removed)
+    the rail's ``(w, psi)`` per node, node by node (``2 j`` and ``2 j + 1``); then one vertical
+    DOF per sleeper (ballasted track, in the order of the supports); then the internal DOFs of
+    the equivalent system at the left end, then those at the right end (all of a system's DOFs
+    but its first two, which are the rail's ``(w, psi)`` at the end node). A pinned end removes
+    the rail's ``w`` at its end node; :attr:`DofMap.index` maps the full numbering to the
+    model's (``-1`` for a removed DOF).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+
+__all__ = ["Side", "Kind", "SIDES", "Mesh", "bay_mesh", "DofMap", "rail_dof", "dof_map"]
+
+#: An end of the model.
+Side = Literal["left", "right"]
+#: A rail DOF at a node: vertical displacement (m) or clockwise rotation (rad).
+Kind = Literal["w", "psi"]
+SIDES: tuple[Side, Side] = ("left", "right")
+
+
+@dataclass(frozen=True)
+class Mesh:
+    """Nodes and elements of the rail between two mid-span cuts.
+
+    Attributes
+    ----------
+    x : ndarray
+        Node positions (m), increasing, equally spaced by ``element_length``.
+    element_length : float
+        Length of every element (m).
+    support_nodes : ndarray of int
+        Indices of the nodes that carry a support.
+    """
+
+    x: np.ndarray
+    element_length: float
+    support_nodes: np.ndarray
+
+    @property
+    def n_nodes(self) -> int:
+        """Number of rail nodes."""
+        return self.x.size
+
+    @property
+    def n_elements(self) -> int:
+        """Number of rail elements."""
+        return self.x.size - 1
+
+    def element_dofs(self) -> np.ndarray:
+        """Full DOF indices ``(w_a, psi_a, w_b, psi_b)`` of every element, shape (n_elements, 4)."""
+        return 2 * np.arange(self.n_elements)[:, None] + np.arange(4)[None, :]
+
+    def end_node(self, side: Side) -> int:
+        """Index of the node at the ``"left"`` or ``"right"`` end."""
+        return 0 if side == "left" else self.n_nodes - 1
+
+    def locate(self, xp: float) -> tuple[int, float]:
+        """The element that holds position ``xp`` (m) and the local coordinate ``xi`` in [0, 1] there.
+
+        ``xp`` must lie on the rail (the caller checks); a node between two elements belongs to
+        the element on its right, the last node to the last element.
+        """
+        h = self.element_length
+        e = min(max(int(np.floor((xp - self.x[0]) / h)), 0), self.n_elements - 1)
+        xi = min(max((xp - self.x[e]) / h, 0.0), 1.0)
+        return e, xi
+
+
+def bay_mesh(spacing: float, n_left: int, n_right: int, elements_per_bay: int) -> Mesh:
+    """Mesh of ``n_left`` bays left and ``n_right`` bays right of a mid-span at x = 0.
+
+    Parameters
+    ----------
+    spacing : float
+        Support spacing d (m).
+    n_left, n_right : int
+        Bays left and right of x = 0 (checked by the caller).
+    elements_per_bay : int
+        Even number of elements per bay (checked by the caller).
+
+    Returns
+    -------
+    Mesh
+        Nodes from ``-n_left d`` to ``n_right d``; supports at ``x = (k + 1/2) d``.
+
+    Examples
+    --------
+    >>> m = bay_mesh(0.6, 1, 1, 4)
+    >>> m.x.round(2).tolist(), m.support_nodes.tolist()
+    ([-0.6, -0.45, -0.3, -0.15, 0.0, 0.15, 0.3, 0.45, 0.6], [2, 6])
+    """
+    d, ne = spacing, elements_per_bay
+    n_el = ne * (n_left + n_right)
+    h = d / ne
+    x = -n_left * d + h * np.arange(n_el + 1)
+    x[np.abs(x) < 1e-12 * d] = 0.0
+    return Mesh(x=x, element_length=h, support_nodes=np.arange(ne // 2, n_el, ne))
+
+
+@dataclass(frozen=True)
+class DofMap:
+    """Where each DOF of an FE track sits, in the full numbering and in the model's.
+
+    Attributes
+    ----------
+    n_full : int
+        Number of DOFs before pinned DOFs are removed.
+    sleepers : ndarray of int
+        Full indices of the sleeper DOFs (empty for a slab track).
+    systems : dict
+        ``{side: full indices of the internal DOFs}`` of each attached equivalent system.
+    index : ndarray of int
+        Model index of each full DOF; -1 where a pinned end removed it.
+    """
+
+    n_full: int
+    sleepers: np.ndarray
+    systems: Mapping[Side, np.ndarray]
+    index: np.ndarray
+
+    @property
+    def n_dof(self) -> int:
+        """Number of DOFs of the model (pinned DOFs removed)."""
+        return int(np.count_nonzero(self.index >= 0))
+
+
+def rail_dof(node: int, kind: Kind = "w") -> int:
+    """Full index of the rail DOF ``kind`` ("w" or "psi") at ``node``."""
+    return 2 * node + (kind == "psi")
+
+
+def dof_map(mesh: Mesh, n_sleepers: int, system_dofs: Mapping[Side, int], pinned: Iterable[Side]) -> DofMap:
+    """Number the DOFs of a track model (see the module docstring).
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The rail's mesh.
+    n_sleepers : int
+        Number of sleeper DOFs (one per support on a ballasted track, else 0).
+    system_dofs : mapping
+        ``{side: number of internal DOFs}`` of the equivalent system attached at that side.
+    pinned : iterable of {"left", "right"}
+        Ends whose rail ``w`` is removed.
+
+    Returns
+    -------
+    DofMap
+
+    Examples
+    --------
+    >>> dofs = dof_map(bay_mesh(0.6, 1, 1, 4), 2, {"right": 3}, ["left"])
+    >>> dofs.n_full, dofs.n_dof, dofs.sleepers.tolist(), dofs.systems["right"].tolist()
+    (23, 22, [18, 19], [20, 21, 22])
+    """
+    n_rail = 2 * mesh.n_nodes
+    sleepers = n_rail + np.arange(n_sleepers)
+    n_full = n_rail + n_sleepers
+    systems = {}
+    for side in SIDES:
+        if side in system_dofs:
+            systems[side] = np.arange(n_full, n_full + system_dofs[side])
+            n_full += system_dofs[side]
+    keep = np.ones(n_full, dtype=bool)
+    for side in pinned:
+        keep[rail_dof(mesh.end_node(side), "w")] = False
+    index = np.full(n_full, -1, dtype=np.int64)
+    index[keep] = np.arange(int(keep.sum()))
+    return DofMap(n_full=n_full, sleepers=sleepers, systems=systems, index=index)
