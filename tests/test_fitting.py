@@ -2,19 +2,24 @@
 
 Fits are judged by error metrics, never by their parameters (those are not unique: e.g. the
 dampers at a slab joint are only determined as a sum). Every tolerance is stated with its reason.
-The module-scoped fixtures fit each of the paper's tracks once (N = 5, seed 0); the whole file
-runs in about 20-30 s on 2 cores.
+The paper's two N = 5 fits come from the session fixture ``paper_fits`` (conftest.py, through
+``st.cached_fit``), computed once for the whole test session; the whole file runs in about
+30-40 s on 2 cores.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import pathlib
+import pickle
 import warnings
 
 import numpy as np
 import pytest
 
 import semitrack as st
+from semitrack.base.paper_values import FIT_BANDS
+from semitrack.equivalent import cache
 from semitrack.equivalent.constraints import (
     ballasted_constraints,
     ballasted_from_free,
@@ -40,7 +45,6 @@ from semitrack.paper.systems import (
     paper_table7,
 )
 
-PAPER_BANDS = {"slab": (3.0, 900.0), "ballasted": (3.0, 750.0)}  # where the paper says its fits hold
 TRACKS = {"slab": st.slab_track, "ballasted": st.ballasted_track}
 PAPER_SYSTEMS = {"slab": paper_table4, "ballasted": paper_table7}
 
@@ -58,22 +62,15 @@ PASSIVITY_TOL = 1e-9
 
 
 @pytest.fixture(scope="module")
-def fits():
-    """One constrained fit per track as in the paper: N = 5, the paper's band, seed 0."""
-    return {layout: fit_equivalent(TRACKS[layout](), layout, 5, band=PAPER_BANDS[layout], seed=0)
-            for layout in ("slab", "ballasted")}
-
-
-@pytest.fixture(scope="module")
-def slab_unconstrained(fits):
+def slab_unconstrained(paper_fits):
     """The unconstrained slab fit, started from the constrained one (so it can only improve)."""
-    c = fits["slab"]
-    return fit_equivalent(st.slab_track(), "slab", 5, band=PAPER_BANDS["slab"], seed=0, constrained=False,
+    c = paper_fits["slab"]
+    return fit_equivalent(st.slab_track(), "slab", 5, band=FIT_BANDS["slab"], seed=0, constrained=False,
                           n_starts=4, initial=c.system)
 
 
 def paper_errors(layout):
-    f = error_band_grid(PAPER_BANDS[layout], 3.0)
+    f = error_band_grid(FIT_BANDS[layout], 3.0)
     return error_summary(PAPER_SYSTEMS[layout]().receptance(f), st.semi_infinite_receptance(TRACKS[layout](), f))
 
 
@@ -100,7 +97,7 @@ def test_residuals_and_analytic_jacobian(layout, constrained):
     track = TRACKS[layout]()
     char = fit_characteristic_frequencies(track, layout)
     model = FitParametrisation(layout, 4, constrained, references(track, layout, char), char)
-    f = np.geomspace(3.0, 900.0, 25)
+    f = np.geomspace(*FIT_BANDS["slab"], 25)
     alpha = st.semi_infinite_receptance(track, f)
     problem = Residuals(model, f, alpha)
     theta = np.random.default_rng(5).normal(scale=0.5, size=model.n_theta)
@@ -145,8 +142,8 @@ def test_characteristic_frequencies_follow_the_track_not_constants():
 
 def test_default_fit_frequencies():
     char = {"f_n1": 114.9, "f_n2": 500.5, "f_anti": 244.8}
-    f = default_fit_frequencies((3.0, 750.0), char)
-    assert f[0] == 3.0 and f[-1] == 750.0
+    f = default_fit_frequencies(FIT_BANDS["ballasted"], char)
+    assert (f[0], f[-1]) == FIT_BANDS["ballasted"]
     assert np.all(np.diff(f) > 0)
     for v in char.values():
         assert np.any(np.isclose(f, v, rtol=1e-12, atol=0))
@@ -158,13 +155,13 @@ def test_default_fit_frequencies():
 
 # --- the paper's two tracks ------------------------------------------------------------------------
 @pytest.mark.parametrize("layout", ["slab", "ballasted"])
-def test_fit_beats_the_paper_tables_twice_over(fits, layout):
+def test_fit_beats_the_paper_tables_twice_over(paper_fits, layout):
     # the requirement: at least 2x better than Table 4 / Table 7 on both the median and the
     # maximum complex relative error, over the same dense 3 Hz grid of the paper's band.
     # (Measured: slab 0.022/0.090 vs 0.154/0.534; ballasted 0.056/0.142 vs 0.168/0.735.)
-    fit = fits[layout]
+    fit = paper_fits[layout]
     paper = paper_errors(layout)
-    np.testing.assert_allclose(fit.error_frequencies, error_band_grid(PAPER_BANDS[layout], 3.0))
+    np.testing.assert_allclose(fit.error_frequencies, error_band_grid(FIT_BANDS[layout], 3.0))
     assert fit.median_error <= paper.median / 2, (fit.median_error, paper.median)
     assert fit.max_error <= paper.max / 2, (fit.max_error, paper.max)
     # the reported errors are those of the returned system
@@ -177,8 +174,8 @@ def test_fit_beats_the_paper_tables_twice_over(fits, layout):
 
 
 @pytest.mark.parametrize("layout", ["slab", "ballasted"])
-def test_constrained_fit_obeys_the_paper_constraints(fits, layout):
-    fit = fits[layout]
+def test_constrained_fit_obeys_the_paper_constraints(paper_fits, layout):
+    fit = paper_fits[layout]
     s, ch = fit.system, fit.characteristic_frequencies
     if layout == "slab":
         derived = slab_constraints(s.m, s.L, ch["f_n"])
@@ -203,12 +200,12 @@ def _check_passive(system, band):
 
 
 @pytest.mark.parametrize("layout", ["slab", "ballasted"])
-def test_fitted_systems_are_passive(fits, layout):
-    _check_passive(fits[layout].system, PAPER_BANDS[layout])
+def test_fitted_systems_are_passive(paper_fits, layout):
+    _check_passive(paper_fits[layout].system, FIT_BANDS[layout])
 
 
-def test_unconstrained_fit_shows_what_the_constraints_cost(fits, slab_unconstrained):
-    c, u = fits["slab"], slab_unconstrained
+def test_unconstrained_fit_shows_what_the_constraints_cost(paper_fits, slab_unconstrained):
+    c, u = paper_fits["slab"], slab_unconstrained
     assert not u.constrained
     assert set(u.free_parameters) >= {"k", "J"}
     # started from the constrained optimum, the free fit can only lower the cost (the solver
@@ -217,7 +214,7 @@ def test_unconstrained_fit_shows_what_the_constraints_cost(fits, slab_unconstrai
     # and it is no longer tied to Eq. (19)-(20)
     derived = slab_constraints(u.system.m, u.system.L, c.characteristic_frequencies["f_n"])
     assert not np.allclose(u.system.k, derived["k"], rtol=1e-6)
-    _check_passive(u.system, PAPER_BANDS["slab"])
+    _check_passive(u.system, FIT_BANDS["slab"])
     paper = paper_errors("slab")
     assert u.median_error <= paper.median / 2
 
@@ -245,7 +242,7 @@ ROUND_TRIP_MAX = 1e-5
 def test_round_trip_slab_three_bars():
     true = slab_from_free(m=[8.0, 30.0, 120.0], L=[0.15, 0.3, 0.4], c_l=[200.0, 1500.0, 3000.0],
                           c_r=[500.0, 2000.0, 8000.0], k_phi=[1.5e7, 5e6], c_phi=[300.0, 1000.0], f_n=175.0)
-    fit = fit_equivalent(st.slab_track(), "slab", 3, band=(3, 900), target=true.receptance,
+    fit = fit_equivalent(st.slab_track(), "slab", 3, band=FIT_BANDS["slab"], target=true.receptance,
                          characteristic={"f_n": 175.0}, n_starts=4, seed=1)
     assert fit.median_error < ROUND_TRIP_MEDIAN
     assert fit.max_error < ROUND_TRIP_MAX
@@ -262,10 +259,10 @@ def test_round_trip_ballasted_two_bars_sampled_target():
     true = ballasted_from_free(m=[10.0, 60.0], L=[0.2, 0.5], c_l=[100.0, 2000.0], c_r=[3000.0, 500.0],
                                k_phi=[1e7], c_phi=[800.0], d_l=[5000.0, 15000.0], d_r=[8000.0, 3000.0],
                                f_n1=110.0, f_n2=480.0, f_anti=250.0)
-    f = np.linspace(3.0, 750.0, 250)
+    f = np.linspace(*FIT_BANDS["ballasted"], 250)
     char = {"f_n1": 110.0, "f_n2": 480.0, "f_anti": 250.0}
-    fit = fit_equivalent(st.ballasted_track(), "ballasted", 2, band=(3, 750), target=(f, true.receptance(f)),
-                         characteristic=char, n_starts=4)
+    fit = fit_equivalent(st.ballasted_track(), "ballasted", 2, band=FIT_BANDS["ballasted"],
+                         target=(f, true.receptance(f)), characteristic=char, n_starts=4)
     assert fit.median_error < ROUND_TRIP_MEDIAN
     assert fit.max_error < ROUND_TRIP_MAX
     np.testing.assert_array_equal(fit.error_frequencies, f)  # sampled target: errors on its samples
@@ -320,21 +317,21 @@ def test_warns_when_the_fit_is_poor():
     assert fit.median_error > POOR_MEDIAN_ERROR
 
 
-def test_no_warning_for_a_good_fit(fits):
+def test_no_warning_for_a_good_fit():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         fit_equivalent(st.slab_track(), "slab", 3, band=(3, 300), n_starts=2)
 
 
-def test_fit_result_is_frozen_and_complete(fits):
-    fit = fits["slab"]
+def test_fit_result_is_frozen_and_complete(paper_fits):
+    fit = paper_fits["slab"]
     assert isinstance(fit, FitResult)
     with pytest.raises(dataclasses.FrozenInstanceError):
         fit.median_error = 0.0
     for name in ("fit_freqs", "error_frequencies", "theta", "start_costs", "at_bound"):
         assert not getattr(fit, name).flags.writeable, name
     assert isinstance(fit.system, SlabEquivalent)
-    assert isinstance(fits["ballasted"].system, BallastedEquivalent)
+    assert isinstance(paper_fits["ballasted"].system, BallastedEquivalent)
     assert fit.n_starts == 20 and fit.start_costs.size == 20
     assert fit.cost <= np.min(fit.start_costs)  # continuing the screened starts only lowers the cost
     assert 0 <= fit.best_start < fit.n_starts
@@ -400,4 +397,114 @@ def test_layout_defaults_from_the_track():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         fit = fit_equivalent(st.ballasted_track(), n_bars=1, n_starts=1, max_nfev=1)
-    assert fit.layout == "ballasted" and fit.band == PAPER_BANDS["ballasted"]
+    assert fit.layout == "ballasted" and fit.band == FIT_BANDS["ballasted"]
+
+
+# --- fits computed once (cache.py) --------------------------------------------------------------------
+# A small fit keeps these tests fast; what is tested is the bookkeeping, not the fit.
+SMALL = dict(n_bars=2, band=(3.0, 300.0), n_starts=1, max_nfev=20)
+
+
+@pytest.fixture
+def counted_fits(monkeypatch):
+    """Count the fits that cached_fit computes, with an empty in-process memo."""
+    calls = []
+
+    def counting(**kwargs):
+        calls.append(kwargs)
+        return fit_equivalent(**kwargs)
+
+    monkeypatch.setattr(cache, "fit_equivalent", counting)
+    cache.clear_fit_memo()
+    yield calls
+    cache.clear_fit_memo()
+
+
+def _same_fit(a, b):
+    np.testing.assert_array_equal(a.theta, b.theta)
+    np.testing.assert_array_equal(a.start_costs, b.start_costs)
+    assert a.system == b.system and a.cost == b.cost and a.median_error == b.median_error
+
+
+def test_cached_fit_is_fit_equivalent_computed_once(counted_fits):
+    track = st.slab_track()
+    first = st.cached_fit(track, "slab", **SMALL)
+    _same_fit(first, fit_equivalent(track, "slab", **SMALL))
+    assert len(counted_fits) == 1
+    # the same arguments, spelt otherwise (int band, defaults given), hit the memo
+    again = st.cached_fit(st.slab_track(), "slab", n_bars=2, band=(3, 300), seed=0, n_starts=1, max_nfev=20,
+                          constrained=True, error_df=3.0)
+    assert again is first and len(counted_fits) == 1
+
+
+def test_cached_fit_folder_is_read_back_and_survives_corruption(counted_fits, tmp_path):
+    track = st.ballasted_track()
+    folder = tmp_path / "cache"  # created by cached_fit
+    first = st.cached_fit(track, "ballasted", cache_dir=folder, **SMALL)
+    files = list(folder.glob("fit-*.pkl"))
+    assert [f.name for f in files] == [f"fit-{cache.fit_cache_key(track, 'ballasted', **SMALL)}.pkl"]
+    assert not list(folder.glob("*.tmp"))  # the atomic write left no temporary file
+    cache.clear_fit_memo()  # a new process: only the folder remembers
+    back = st.cached_fit(track, "ballasted", cache_dir=folder, **SMALL)
+    assert len(counted_fits) == 1
+    _same_fit(back, first)
+    assert not back.theta.flags.writeable and not back.system.m.flags.writeable  # read-only after unpickling
+    for junk in (b"", b"not a pickle", pickle.dumps({"a": 1})):  # empty, corrupt, not a FitResult
+        files[0].write_bytes(junk)
+        cache.clear_fit_memo()
+        _same_fit(st.cached_fit(track, "ballasted", cache_dir=folder, **SMALL), first)
+        with open(files[0], "rb") as fh:
+            _same_fit(pickle.load(fh), first)  # rewritten
+    assert len(counted_fits) == 4
+
+
+def test_cache_keys_tell_arguments_apart():
+    track = st.slab_track()
+    key = cache.fit_cache_key(track, "slab", **SMALL)
+    assert len(key) == 64
+    assert key == cache.fit_cache_key(track, "slab", n_bars=2, band=(3, 300), n_starts=1, max_nfev=20, seed=0,
+                                      fit_freqs=None, target=None)
+    others = [
+        cache.fit_cache_key(track, "slab", **(SMALL | {"n_bars": 3})),
+        cache.fit_cache_key(track, "slab", **(SMALL | {"band": (3.0, 301.0)})),
+        cache.fit_cache_key(track, "slab", **SMALL, seed=1),
+        cache.fit_cache_key(track, "slab", **SMALL, constrained=False),
+        cache.fit_cache_key(track, "slab", **SMALL, fit_freqs=[10.0, 100.0]),
+        cache.fit_cache_key(track, "slab", **SMALL, fit_freqs="paper"),
+        cache.fit_cache_key(track, "slab", **SMALL, characteristic={"f_n": 180.0}),
+        cache.fit_cache_key(track, "slab", **SMALL, initial=slab_from_free([1.0, 2.0], [0.3, 0.3], [1, 1], [1, 1],
+                                                                            [1e6], [1.0], f_n=180.0)),
+        cache.fit_cache_key(track.replace(kv=1.01 * track.kv), "slab", **SMALL),
+        cache.fit_cache_key(track, "ballasted", **SMALL),
+    ]
+    assert len(set(others + [key])) == len(others) + 1
+    # the track's name is a label, not a parameter
+    assert cache.fit_cache_key(track.replace(name="mine"), "slab", **SMALL) == key
+    # the paper's band is the default band
+    assert cache.fit_cache_key(track, "slab") == cache.fit_cache_key(track, "slab", band=FIT_BANDS["slab"])
+    with pytest.raises(TypeError, match="callable target"):
+        cache.fit_cache_key(track, "slab", target=lambda f: np.ones((f.size, 2, 2)))
+    with pytest.raises(TypeError, match="n_start"):
+        cache.fit_cache_key(track, "slab", n_start=3)
+    with pytest.raises(ValueError, match="layout"):
+        cache.fit_cache_key(track, "floating")
+
+
+def test_cache_key_follows_the_package_source(monkeypatch, tmp_path):
+    # the digest covers every *.py file below the folder, by path and content, and nothing else
+    digest = cache.package_source_digest
+    assert cache._PACKAGE_DIR == pathlib.Path(st.__file__).resolve().parent  # the installed package's own files
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "a.py").write_text("x = 1\n")
+    only_a = digest(tmp_path)
+    (tmp_path / "sub" / "b.py").write_text("")
+    with_b = digest(tmp_path)
+    (tmp_path / "a.py").write_text("x = 2\n")
+    changed_a = digest(tmp_path)
+    assert len({only_a, with_b, changed_a}) == 3
+    (tmp_path / "notes.txt").write_text("not code")
+    assert digest(tmp_path) == changed_a
+    # and the key follows the digest
+    key = cache.fit_cache_key(st.slab_track(), "slab")
+    monkeypatch.setattr(cache, "package_source_digest", lambda root=None: "0" * 64)
+    assert cache.fit_cache_key(st.slab_track(), "slab") != key

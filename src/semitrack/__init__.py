@@ -7,6 +7,7 @@ truncated track models". SI units; frequencies in Hz at the API.
 
 from .base.paper_values import FIT_BANDS as PAPER_FIT_BANDS
 from .base.paper_values import PAPER_GRID
+from .equivalent.cache import cached_fit
 from .equivalent.constraints import ballasted_from_free, cell_frequencies, slab_from_free, unit_cell_frequencies
 from .equivalent.fitting import FitResult, default_fit_frequencies, fit_characteristic_frequencies, fit_equivalent
 from .equivalent.io import export_system, load_system_csv, load_system_json, load_system_mat
@@ -30,7 +31,7 @@ __all__ = [
     "PeriodicCell", "QUANTITIES", "SlabEquivalent", "Track", "TrackFileError", "TruncatedTrack",
     "WavenumberSettings", "default_fit_frequencies", "fe_central_receptance", "fe_semi_infinite_receptance",
     "fit_characteristic_frequencies", "fit_equivalent", "load_track_toml", "parameter_table",
-    "ballasted_from_free", "ballasted_track", "cell_frequencies", "central_response",
+    "ballasted_from_free", "ballasted_track", "cached_fit", "cell_frequencies", "central_response",
     "characteristic_frequencies", "continuous_foundation_receptance", "error_band_grid",
     "error_summary", "export_system", "find_extrema", "load_system_csv", "load_system_json",
     "load_system_mat", "paper_consistency_report", "paper_frequency_table", "paper_table4",

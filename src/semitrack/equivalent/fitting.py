@@ -48,7 +48,7 @@ from .metrics import ErrorSummary, error_summary
 from .multistart import MultiStartOutcome, run_multistart, start_points
 from .parametrisation import FitParametrisation, references
 from .residuals import Residuals
-from .systems import EquivalentSystem
+from .systems import EquivalentSystem, readonly_state
 from .targets import (
     CHARACTERISTIC_SEARCH_BAND,
     FitFrequencies,
@@ -164,6 +164,9 @@ class FitResult:
     at_bound: np.ndarray = field(repr=False)
     elapsed: float
     seed: int
+
+    def __setstate__(self, state: dict) -> None:
+        readonly_state(self, state)
 
     def diagnostics(self) -> dict:
         """The least-squares diagnostics as a plain dict (for tables and logs)."""

@@ -114,6 +114,19 @@ def parameter_array(name: str, value: ArrayLike, *, positive: bool = False) -> n
     return arr
 
 
+def readonly_state(obj: object, state: dict) -> None:
+    """``__setstate__`` of the package's frozen records: restore ``state``, arrays read-only again.
+
+    Pickling does not keep the writeable flag of an array; the records that promise read-only
+    arrays (the systems, :class:`~.fitting.FitResult`) set it again when unpickled.
+    """
+    obj.__dict__.update(state)
+    for value in state.values():
+        for item in value if isinstance(value, tuple) else (value,):
+            if isinstance(item, np.ndarray):
+                item.setflags(write=False)
+
+
 def _symmetrised(name: str, X: np.ndarray) -> np.ndarray:
     """Check that an assembled matrix is symmetric to rounding, then return it exactly symmetric."""
     scale = np.max(np.abs(X)) if X.size else 0.0
@@ -319,6 +332,9 @@ class EquivalentSystem:
 
     def __hash__(self):
         return hash((type(self).__name__,) + tuple(getattr(self, n).tobytes() for n in self.parameter_names()))
+
+    def __setstate__(self, state: dict) -> None:
+        readonly_state(self, state)
 
     def to_frame(self):
         """Parameters as a pandas DataFrame: one row per parameter (with unit), one column per bar.

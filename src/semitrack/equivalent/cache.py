@@ -1,0 +1,247 @@
+"""Fits computed once: an in-process memo and, for the book build, a cache folder.
+
+The N = 5 fits of the paper's two tracks take seconds each, and several chapters of the book
+(and the tests) use them. :func:`cached_fit` returns the :class:`~.fitting.FitResult` of
+:func:`~.fitting.fit_equivalent` for the same arguments, computing it at most once per process
+and, when ``cache_dir`` is given, at most once per cache folder.
+
+**Key.** The SHA-256 of
+
+* the package's own source: every ``*.py`` file below the installed ``semitrack`` directory
+  (relative path and bytes, :func:`package_source_digest`), so any change of the code
+  invalidates every entry;
+* the track's parameters (every field of the :class:`~semitrack.model.tracks.Track` but its
+  ``name``, a label);
+* every argument of :func:`~.fitting.fit_equivalent`, defaults filled in and ``band=None``
+  resolved to the paper's band of the layout.
+
+Arrays (``fit_freqs``, a sampled ``target``) enter by dtype, shape and bytes, an ``initial``
+system by its layout and parameters. A callable ``target`` cannot be keyed (its code and state
+are not part of any stable identity) and is refused; call :func:`~.fitting.fit_equivalent`.
+
+**Files.** With ``cache_dir``, the result is pickled to ``<cache_dir>/fit-<key>.pkl``, written
+atomically (a temporary file in the folder, then :func:`os.replace`), and read back by later
+processes. A file that cannot be read (truncated, corrupt, written by an incompatible version)
+is ignored: the fit is recomputed and the file rewritten.
+
+**For the book build only.** The notebooks call ``st.cached_fit(track, layout, band=...,
+seed=0, cache_dir="../_build/.semitrack-cache")``; ``_build`` is git-ignored and removed by CI
+before each build, so the cache lives for one build and is never committed. Loading a pickle
+runs code: point ``cache_dir`` only at a folder your own build writes.
+
+A cached result is the very object the first call returned: its ``elapsed`` is the time of that
+fit, and warnings of the fit (poor or unconverged) are issued only when it is computed.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import hashlib
+import inspect
+import json
+import os
+import pickle
+from pathlib import Path
+
+import numpy as np
+
+from ..base.checks import check_band
+from ..base.paper_values import FIT_BANDS
+from ..model.tracks import Track, require_track
+from .assembly import Layout, check_layout
+from .fitting import FitResult, fit_equivalent
+from .io import atomic_write
+from .systems import EquivalentSystem
+
+__all__ = ["cached_fit", "fit_cache_key", "package_source_digest", "clear_fit_memo"]
+
+# The package directory: semitrack/, two levels above this file.
+_PACKAGE_DIR = Path(__file__).resolve().parent.parent
+
+_MEMO: dict[str, FitResult] = {}
+
+# Bound once, so that the arguments are those of the real fit_equivalent even where a test
+# replaces the module's fit_equivalent to count calls.
+_FIT_SIGNATURE = inspect.signature(fit_equivalent)
+
+
+def package_source_digest(root: str | os.PathLike | None = None) -> str:
+    """SHA-256 (hex) of every ``*.py`` file below ``root``: relative path and content, sorted.
+
+    Parameters
+    ----------
+    root : str or os.PathLike, optional
+        The folder; default the installed ``semitrack`` package, whose digest is computed once
+        per process (the code a process runs does not change under it).
+
+    Returns
+    -------
+    str
+        64 hexadecimal digits.
+    """
+    if root is None:
+        return _own_source_digest()
+    return _digest_of(Path(root))
+
+
+@functools.cache
+def _own_source_digest() -> str:
+    return _digest_of(_PACKAGE_DIR)
+
+
+def _digest_of(root: Path) -> str:
+    h = hashlib.sha256()
+    for rel in sorted(p.relative_to(root).as_posix() for p in root.rglob("*.py") if p.is_file()):
+        data = (root / rel).read_bytes()
+        for part in (rel.encode(), len(data).to_bytes(8, "little"), data):
+            h.update(part)
+    return h.hexdigest()
+
+
+def _canonical(value):
+    """A JSON-able, type-tagged description of an argument (TypeError for what cannot be keyed)."""
+    if value is None or isinstance(value, (bool, np.bool_, str)):
+        return value if not isinstance(value, np.bool_) else bool(value)
+    if isinstance(value, (int, np.integer)):
+        return ["int", int(value)]
+    if isinstance(value, (float, np.floating)):
+        return ["float", float(value).hex()]
+    if isinstance(value, np.ndarray):
+        a = np.ascontiguousarray(value)
+        return ["ndarray", a.dtype.str, list(a.shape), hashlib.sha256(a.tobytes()).hexdigest()]
+    if isinstance(value, (tuple, list)):
+        return [type(value).__name__] + [_canonical(v) for v in value]
+    if isinstance(value, dict):
+        return ["dict"] + [[str(k), _canonical(value[k])] for k in sorted(value, key=str)]
+    if isinstance(value, EquivalentSystem):
+        return ["system", value.layout, _canonical(value.parameters())]
+    if isinstance(value, Track):
+        return ["track"] + [[f.name, _canonical(getattr(value, f.name))]
+                            for f in dataclasses.fields(value) if f.name != "name"]
+    if callable(value):
+        raise TypeError("cached_fit cannot key a callable target (its code and state have no stable identity); "
+                        "pass sampled (f, alpha) or call fit_equivalent")
+    raise TypeError(f"cached_fit cannot key an argument of type {type(value).__name__}: {value!r}")
+
+
+def _bound_arguments(track, layout, n_bars, band, seed, options) -> dict:
+    """Every argument of fit_equivalent, defaults filled in and the band resolved."""
+    layout = check_layout(layout)
+    band = check_band(FIT_BANDS[layout] if band is None else band)
+    bound = _FIT_SIGNATURE.bind(track, layout, n_bars=n_bars, band=band, seed=seed, **options)
+    bound.apply_defaults()
+    return dict(bound.arguments)
+
+
+def fit_cache_key(track: Track, layout: Layout, n_bars: int = 5, band: tuple[float, float] | None = None,
+                  seed: int = 0, **options) -> str:
+    """The key of :func:`cached_fit`: SHA-256 (hex) of the package source, the track and the arguments.
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+    layout : {"slab", "ballasted"}
+        The layout.
+    n_bars : int
+        Number of bars.
+    band : (float, float), optional
+        Band (Hz); None is the paper's band of the layout and gives the same key as that band.
+    seed : int
+        Seed of the multi-start.
+    **options
+        Any other argument of :func:`~.fitting.fit_equivalent`; omitted ones enter with their
+        defaults.
+
+    Returns
+    -------
+    str
+        64 hexadecimal digits.
+
+    Raises
+    ------
+    TypeError
+        For an unknown option or an argument that cannot be keyed (a callable target).
+    """
+    track = require_track(track)
+    arguments = _bound_arguments(track, layout, n_bars, band, seed, options)
+    description = {"source": package_source_digest(),
+                   "arguments": [[name, _canonical(value)] for name, value in sorted(arguments.items())]}
+    return hashlib.sha256(json.dumps(description, sort_keys=True).encode()).hexdigest()
+
+
+def _load(path: Path) -> FitResult | None:
+    """The result stored at ``path``, or None when it is absent or cannot be read."""
+    try:
+        with open(path, "rb") as fh:
+            result = pickle.load(fh)
+    except FileNotFoundError:
+        return None
+    except Exception:  # truncated, corrupt or incompatible: recompute and rewrite
+        return None
+    return result if isinstance(result, FitResult) else None
+
+
+def cached_fit(track: Track, layout: Layout, n_bars: int = 5, band: tuple[float, float] | None = None,
+               seed: int = 0, cache_dir: str | os.PathLike | None = None, **options) -> FitResult:
+    """:func:`~.fitting.fit_equivalent`, computed once per process and, with ``cache_dir``, once per folder.
+
+    See the module docstring for the key and the files. Meant for the book build and the
+    tests, which use the paper's fits many times; the cache folder is never committed.
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+    layout : {"slab", "ballasted"}
+        Layout of the equivalent system.
+    n_bars : int
+        Number of bars N (the paper's 5 by default).
+    band : (float, float), optional
+        Frequency band (Hz); default the paper's band of the layout
+        (:data:`~semitrack.base.paper_values.FIT_BANDS`).
+    seed : int
+        Seed of the multi-start.
+    cache_dir : str or os.PathLike, optional
+        Folder of the pickled results (created if missing), e.g.
+        ``"../_build/.semitrack-cache"`` from the book's notebooks. None: the in-process memo
+        only.
+    **options
+        Any other argument of :func:`~.fitting.fit_equivalent` (``n_starts``, ``constrained``,
+        ``fit_freqs``, ...), except a callable ``target``.
+
+    Returns
+    -------
+    FitResult
+        Equal to what :func:`~.fitting.fit_equivalent` returns for these arguments.
+
+    Raises
+    ------
+    TypeError, ValueError
+        As :func:`~.fitting.fit_equivalent` does, and TypeError for a callable ``target``.
+
+    Examples
+    --------
+    >>> import semitrack as st
+    >>> a = st.cached_fit(st.slab_track(), "slab", n_bars=2, band=(3, 300), n_starts=1)
+    >>> st.cached_fit(st.slab_track(), "slab", n_bars=2, band=(3.0, 300.0), n_starts=1) is a
+    True
+    """
+    key = fit_cache_key(track, layout, n_bars, band, seed, **options)
+    if key in _MEMO:
+        return _MEMO[key]
+    path = None if cache_dir is None else Path(cache_dir) / f"fit-{key}.pkl"
+    result = None if path is None else _load(path)
+    if result is None:
+        result = fit_equivalent(**_bound_arguments(track, layout, n_bars, band, seed, options))
+        if path is not None:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            atomic_write(path, lambda fh: pickle.dump(result, fh, protocol=pickle.HIGHEST_PROTOCOL), binary=True)
+    _MEMO[key] = result
+    return result
+
+
+def clear_fit_memo() -> None:
+    """Forget the results memoised in this process (the files of a cache folder stay)."""
+    _MEMO.clear()
