@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.linalg
+from numpy.typing import ArrayLike
 
 from ..base.checks import check_positive
 from .systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent, parameter_array
@@ -78,7 +79,7 @@ def support_mass_relation(k, s, f_anti):
     return (k + s) / _omega2(f_anti)
 
 
-def slab_constraints(m, L, f_n: float) -> dict[str, np.ndarray]:
+def slab_constraints(m: ArrayLike, L: ArrayLike, f_n: float) -> dict[str, np.ndarray]:
     """Spring stiffness and inertia of the slab layout from Eq. (19) and (20).
 
     Parameters
@@ -100,7 +101,7 @@ def slab_constraints(m, L, f_n: float) -> dict[str, np.ndarray]:
     return {"k": slab_spring_relation(m, f_n), "J": inertia_relation(m, L)}
 
 
-def ballasted_constraints(m, L, f_n1: float, f_n2: float, f_anti: float) -> dict[str, np.ndarray]:
+def ballasted_constraints(m: ArrayLike, L: ArrayLike, f_n1: float, f_n2: float, f_anti: float) -> dict[str, np.ndarray]:
     """Stiffnesses, inertia and support masses of the ballasted layout, Eq. (23), (28)-(30).
 
     Parameters
@@ -133,23 +134,84 @@ def ballasted_constraints(m, L, f_n1: float, f_n2: float, f_anti: float) -> dict
     return {"k": k, "J": inertia_relation(m, L), "s": s, "mu": support_mass_relation(k, s, f_anti)}
 
 
-def slab_from_free(m, L, c_l, c_r, k_phi, c_phi, f_n: float) -> SlabEquivalent:
-    """A :class:`SlabEquivalent` whose ``k`` and ``J`` follow Eq. (19)-(20) at ``f_n`` (Hz).
+def slab_from_free(m: ArrayLike, L: ArrayLike, c_l: ArrayLike, c_r: ArrayLike, k_phi: ArrayLike,
+                   c_phi: ArrayLike, f_n: float) -> SlabEquivalent:
+    """A :class:`SlabEquivalent` whose ``k`` and ``J`` follow Eq. (19)-(20) at ``f_n``.
 
-    The free parameters are the 6N - 2 of the paper's fit: ``m, L, c_l, c_r`` (length N, in kg,
-    m, N s/m, N s/m) and ``k_phi, c_phi`` (length N - 1, N m/rad and N m s/rad).
+    The free parameters are the 6N - 2 of the paper's fit.
+
+    Parameters
+    ----------
+    m : array_like, shape (N,)
+        Bar masses (kg).
+    L : array_like, shape (N,)
+        Bar lengths (m), positive.
+    c_l, c_r : array_like, shape (N,)
+        Dampers to the ground under the left and right end of each bar (N s/m).
+    k_phi : array_like, shape (N-1,)
+        Rotational stiffness between bars j and j+1 (N m/rad).
+    c_phi : array_like, shape (N-1,)
+        Rotational damping between bars j and j+1 (N m s/rad).
+    f_n : float
+        The repeated natural frequency of every bar on its end springs (Hz).
+
+    Returns
+    -------
+    SlabEquivalent
+        With ``k = m omega_n^2 / 2`` (N/m) and ``J = m L^2 / 4`` (kg m^2).
+
+    Examples
+    --------
+    >>> import semitrack as st
+    >>> bar = st.slab_from_free(m=[10.0], L=[0.5], c_l=[0.0], c_r=[0.0], k_phi=[], c_phi=[], f_n=100.0)
+    >>> st.cell_frequencies(bar).round(6)
+    array([[100., 100.]])
     """
     derived = slab_constraints(m, L, f_n)
     return SlabEquivalent(m=m, J=derived["J"], L=L, k=derived["k"], c_l=c_l, c_r=c_r,
                           k_phi=k_phi, c_phi=c_phi)
 
 
-def ballasted_from_free(m, L, c_l, c_r, k_phi, c_phi, d_l, d_r,
+def ballasted_from_free(m: ArrayLike, L: ArrayLike, c_l: ArrayLike, c_r: ArrayLike, k_phi: ArrayLike,
+                        c_phi: ArrayLike, d_l: ArrayLike, d_r: ArrayLike,
                         f_n1: float, f_n2: float, f_anti: float) -> BallastedEquivalent:
     """A :class:`BallastedEquivalent` whose ``k, J, s, mu`` follow Eq. (23), (28)-(30).
 
-    The free parameters are the 8N - 2 of the paper's fit: ``m, L, c_l, c_r, d_l, d_r``
-    (length N) and ``k_phi, c_phi`` (length N - 1); frequencies in Hz.
+    The free parameters are the 8N - 2 of the paper's fit.
+
+    Parameters
+    ----------
+    m : array_like, shape (N,)
+        Bar masses (kg).
+    L : array_like, shape (N,)
+        Bar lengths (m), positive.
+    c_l, c_r : array_like, shape (N,)
+        Upper dampers at the left and right end of each bar (N s/m).
+    k_phi : array_like, shape (N-1,)
+        Rotational stiffness between bars j and j+1 (N m/rad).
+    c_phi : array_like, shape (N-1,)
+        Rotational damping between bars j and j+1 (N m s/rad).
+    d_l, d_r : array_like, shape (N,)
+        Lower dampers under the left and right support masses (N s/m).
+    f_n1, f_n2 : float
+        The two repeated natural frequencies of each unit cell (Hz).
+    f_anti : float
+        Natural frequency of a support mass between its springs (Hz), strictly between
+        ``f_n1`` and ``f_n2``.
+
+    Returns
+    -------
+    BallastedEquivalent
+        With ``k`` (N/m), ``J`` (kg m^2), ``s`` (N/m) and ``mu`` (kg) from
+        :func:`ballasted_constraints`.
+
+    Examples
+    --------
+    >>> import semitrack as st
+    >>> bar = st.ballasted_from_free([20.0], [0.4], [0.0], [0.0], [], [], [0.0], [0.0],
+    ...                              f_n1=117.0, f_n2=465.0, f_anti=243.0)
+    >>> st.cell_frequencies(bar).round(6)
+    array([[117., 117., 465., 465.]])
     """
     derived = ballasted_constraints(m, L, f_n1, f_n2, f_anti)
     return BallastedEquivalent(m=m, J=derived["J"], L=L, k=derived["k"], c_l=c_l, c_r=c_r,
@@ -157,10 +219,25 @@ def ballasted_from_free(m, L, c_l, c_r, k_phi, c_phi, d_l, d_r,
                                d_l=d_l, d_r=d_r)
 
 
-def support_mass_frequency(k, s, mu) -> np.ndarray:
-    """Natural frequency ``sqrt((k + s) / mu) / (2 pi)`` (Hz) of a support mass ``mu`` (kg)
-    between an upper spring ``k`` and a lower spring ``s`` (N/m) with the upper end held;
-    Eq. (23) sets it to ``f_anti``."""
+def support_mass_frequency(k: ArrayLike, s: ArrayLike, mu: ArrayLike) -> np.ndarray:
+    """Natural frequency ``sqrt((k + s) / mu) / (2 pi)`` of a support mass with the upper end held.
+
+    Eq. (23) sets it to ``f_anti``.
+
+    Parameters
+    ----------
+    k : array_like, shape (N,)
+        Upper springs (N/m).
+    s : array_like, shape (N,)
+        Lower springs (N/m).
+    mu : array_like, shape (N,)
+        Support masses (kg), positive.
+
+    Returns
+    -------
+    ndarray, shape (N,)
+        Frequencies (Hz).
+    """
     k = parameter_array("k", k)
     s = parameter_array("s", s)
     mu = parameter_array("mu", mu, positive=True)
@@ -169,16 +246,41 @@ def support_mass_frequency(k, s, mu) -> np.ndarray:
 
 def unit_cell_frequencies(m: float, J: float, L: float, k: float,
                           mu: float | None = None, s: float | None = None) -> np.ndarray:
-    """Undamped natural frequencies (Hz, ascending) of one unit cell (paper Fig. 13).
+    """Undamped natural frequencies of one unit cell (paper Fig. 13).
 
-    The cell is one rigid bar (mass ``m`` kg, inertia ``J`` kg m^2 about its centre, length
-    ``L`` m) with a spring ``k`` (N/m) under each end. Without ``mu``/``s`` the springs go to
-    the ground (slab layout, 2 frequencies). With them, each spring rests on a support mass
-    ``mu`` (kg) on a lower spring ``s`` (N/m) (ballasted layout, 4 frequencies).
+    The cell is one rigid bar with a spring under each end. Without ``mu``/``s`` the springs
+    go to the ground (slab layout, 2 frequencies); with them, each spring rests on a support
+    mass on a lower spring (ballasted layout, 4 frequencies). Coordinates are the centre
+    displacement and rotation of the bar (and the two support masses), not the end
+    coordinates of Eq. (21)/(31), so that the constraint relations are checked independently.
 
-    Coordinates are the centre displacement and rotation of the bar (and the two support
-    masses), not the end coordinates of Eq. (21)/(31). ``m``, ``J`` (and ``mu``) must be
-    positive so that the mass matrix is positive definite.
+    Parameters
+    ----------
+    m : float
+        Bar mass (kg), positive.
+    J : float
+        Moment of inertia of the bar about its centre (kg m^2), positive.
+    L : float
+        Bar length (m), positive.
+    k : float
+        Spring under each end of the bar (N/m), positive.
+    mu : float, optional
+        Support mass under each end (kg), positive; goes with ``s``.
+    s : float, optional
+        Lower spring under each support mass (N/m), positive; goes with ``mu``.
+
+    Returns
+    -------
+    ndarray, shape (2,) or (4,)
+        Natural frequencies (Hz), ascending.
+
+    Examples
+    --------
+    A bar on two springs: bounce ``sqrt(2 k / m)`` and pitch ``sqrt(k L^2 / (2 J))`` rad/s.
+
+    >>> import semitrack as st
+    >>> st.unit_cell_frequencies(m=10.0, J=0.1, L=0.4, k=1e7).round(2)
+    array([225.08, 450.16])
     """
     m = check_positive("m", m)
     J = check_positive("J", J)
@@ -203,9 +305,19 @@ def unit_cell_frequencies(m: float, J: float, L: float, k: float,
 
 
 def cell_frequencies(system: EquivalentSystem) -> np.ndarray:
-    """Natural frequencies (Hz) of every unit cell of ``system``, shape ``(N, 2)`` for the slab
-    layout and ``(N, 4)`` for the ballasted one; rows of bars whose cell is degenerate (a zero
-    mass, inertia, spring or support mass, such as the massless bars of Table 4) are NaN."""
+    """Natural frequencies of every unit cell of a system (:func:`unit_cell_frequencies`).
+
+    Parameters
+    ----------
+    system : SlabEquivalent or BallastedEquivalent
+        The system; cell j is bar j with its springs (and support masses).
+
+    Returns
+    -------
+    ndarray, shape (N, 2) slab or (N, 4) ballasted
+        Frequencies (Hz), ascending per row; rows of bars whose cell is degenerate (a zero
+        mass, inertia, spring or support mass, such as the massless bars of Table 4) are NaN.
+    """
     if not isinstance(system, EquivalentSystem):
         raise TypeError(f"system must be an EquivalentSystem, got {type(system).__name__}")
     ballasted = isinstance(system, BallastedEquivalent)

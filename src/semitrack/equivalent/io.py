@@ -43,7 +43,9 @@ import json
 import os
 import tempfile
 import warnings
+from collections.abc import Callable
 from pathlib import Path
+from typing import IO, Any, Literal
 
 import numpy as np
 import scipy.io
@@ -93,8 +95,23 @@ def _check_path(path) -> Path:
     return Path(path)
 
 
-def atomic_write(path, write, binary: bool) -> Path:
-    """Call ``write(fh)`` on a temporary file next to ``path``, then move it onto ``path``."""
+def atomic_write(path: str | os.PathLike, write: Callable[[IO], Any], binary: bool) -> Path:
+    """Call ``write(fh)`` on a temporary file next to ``path``, then move it onto ``path``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to (re)place; its folder must exist.
+    write : callable
+        Writes the content to the open file object it is given.
+    binary : bool
+        Open the temporary file in binary mode (else text, UTF-8, no newline translation).
+
+    Returns
+    -------
+    Path
+        ``path``. On any error the temporary file is removed and ``path`` is left as it was.
+    """
     path = _check_path(path)
     folder = path.parent if str(path.parent) else Path(".")
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
@@ -135,8 +152,14 @@ def _check_matrices(system: EquivalentSystem, stored: dict, source: str) -> None
 
 
 # --- dict / JSON ----------------------------------------------------------------------------------
-def system_to_dict(system: EquivalentSystem) -> dict:
-    """Plain-Python description of a system (the JSON layout above)."""
+def system_to_dict(system: EquivalentSystem) -> dict[str, Any]:
+    """Plain-Python description of a system (the JSON layout above).
+
+    Parameters
+    ----------
+    system : SlabEquivalent or BallastedEquivalent
+        The system.
+    """
     system = _check_system(system)
     names = system.dof_names()
     M, C, K = system.matrices()
@@ -158,8 +181,21 @@ def system_to_dict(system: EquivalentSystem) -> dict:
     }
 
 
-def system_from_dict(data: dict, source: str = "data") -> EquivalentSystem:
-    """Rebuild a system from :func:`system_to_dict` output (matrices checked if present)."""
+def system_from_dict(data: dict[str, Any], source: str = "data") -> EquivalentSystem:
+    """Rebuild a system from :func:`system_to_dict` output (matrices checked if present).
+
+    Parameters
+    ----------
+    data : dict
+        The description; the parameters are the source of truth.
+    source : str
+        Where it came from, quoted in errors and warnings.
+
+    Warns
+    -----
+    UserWarning
+        When stored matrices differ from those rebuilt from the parameters.
+    """
     if not isinstance(data, dict):
         raise TypeError(f"{source} must be a dict, got {type(data).__name__}")
     if data.get("format") != FORMAT_NAME:
@@ -180,14 +216,42 @@ def system_from_dict(data: dict, source: str = "data") -> EquivalentSystem:
     return system
 
 
-def save_system_json(system: EquivalentSystem, path) -> Path:
-    """Write ``system`` to a JSON file (atomically); returns the path."""
+def save_system_json(system: EquivalentSystem, path: str | os.PathLike) -> Path:
+    """Write ``system`` to a JSON file (atomically).
+
+    Parameters
+    ----------
+    system : SlabEquivalent or BallastedEquivalent
+        The system.
+    path : str or os.PathLike
+        The file.
+
+    Returns
+    -------
+    Path
+    """
     data = system_to_dict(system)
     return atomic_write(path, lambda fh: json.dump(data, fh, indent=1), binary=False)
 
 
-def load_system_json(path) -> EquivalentSystem:
-    """Read a system written by :func:`save_system_json`."""
+def load_system_json(path: str | os.PathLike) -> EquivalentSystem:
+    """Read a system written by :func:`save_system_json`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The JSON file.
+
+    Returns
+    -------
+    SlabEquivalent or BallastedEquivalent
+        Built from the stored parameters (the stored matrices are only compared with it).
+
+    Raises
+    ------
+    ValueError
+        For a file of another format or version, or without layout or parameters.
+    """
     path = _check_path(path)
     with open(path, encoding="utf-8") as fh:
         data = json.load(fh)
@@ -199,8 +263,20 @@ def _fmt(x: float) -> str:
     return repr(float(x))
 
 
-def save_system_csv(system: EquivalentSystem, path) -> Path:
-    """Write ``system`` to one sectioned CSV file (format in the module docstring)."""
+def save_system_csv(system: EquivalentSystem, path: str | os.PathLike) -> Path:
+    """Write ``system`` to one sectioned CSV file (format in the module docstring), atomically.
+
+    Parameters
+    ----------
+    system : SlabEquivalent or BallastedEquivalent
+        The system.
+    path : str or os.PathLike
+        The file.
+
+    Returns
+    -------
+    Path
+    """
     system = _check_system(system)
     N = system.n_bars
     names = system.dof_names()
@@ -225,8 +301,24 @@ def save_system_csv(system: EquivalentSystem, path) -> Path:
     return atomic_write(path, lambda fh: fh.write(text), binary=False)
 
 
-def load_system_csv(path) -> EquivalentSystem:
-    """Read a system written by :func:`save_system_csv`."""
+def load_system_csv(path: str | os.PathLike) -> EquivalentSystem:
+    """Read a system written by :func:`save_system_csv`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The CSV file.
+
+    Returns
+    -------
+    SlabEquivalent or BallastedEquivalent
+        Built from the stored parameters (the stored matrices are only compared with it).
+
+    Raises
+    ------
+    ValueError
+        For a file without its [meta] or [parameters] section, of another format or version.
+    """
     path = _check_path(path)
     sections: dict[str, list[list[str]]] = {}
     current = None
@@ -262,8 +354,20 @@ def load_system_csv(path) -> EquivalentSystem:
 
 
 # --- MAT --------------------------------------------------------------------------------------------
-def save_system_mat(system: EquivalentSystem, path) -> Path:
-    """Write ``system`` to a MATLAB .mat file (format 5) with :func:`scipy.io.savemat`."""
+def save_system_mat(system: EquivalentSystem, path: str | os.PathLike) -> Path:
+    """Write ``system`` to a MATLAB .mat file (format 5) with :func:`scipy.io.savemat`, atomically.
+
+    Parameters
+    ----------
+    system : SlabEquivalent or BallastedEquivalent
+        The system.
+    path : str or os.PathLike
+        The file.
+
+    Returns
+    -------
+    Path
+    """
     system = _check_system(system)
     M, C, K = system.matrices()
     content = {
@@ -281,8 +385,24 @@ def save_system_mat(system: EquivalentSystem, path) -> Path:
     return atomic_write(path, lambda fh: scipy.io.savemat(fh, content, oned_as="row"), binary=True)
 
 
-def load_system_mat(path) -> EquivalentSystem:
-    """Read a system written by :func:`save_system_mat`."""
+def load_system_mat(path: str | os.PathLike) -> EquivalentSystem:
+    """Read a system written by :func:`save_system_mat`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The .mat file.
+
+    Returns
+    -------
+    SlabEquivalent or BallastedEquivalent
+        Built from the stored parameters (the stored matrices are only compared with it).
+
+    Raises
+    ------
+    ValueError
+        For a file without the variables ``layout`` and ``parameters``.
+    """
     path = _check_path(path)
     raw = scipy.io.loadmat(path, simplify_cells=True)
     for key in ("layout", "parameters"):
@@ -302,9 +422,38 @@ def load_system_mat(path) -> EquivalentSystem:
 _WRITERS = {".json": save_system_json, ".csv": save_system_csv, ".mat": save_system_mat}
 
 
-def export_system(system: EquivalentSystem, path, format: str | None = None) -> Path:
-    """Write ``system`` as JSON, CSV or MAT, chosen by ``format`` (``"json"``, ``"csv"``,
-    ``"mat"``) or else by the file suffix."""
+def export_system(system: EquivalentSystem, path: str | os.PathLike,
+                  format: Literal["json", "csv", "mat"] | None = None) -> Path:
+    """Write ``system`` as JSON, CSV or MAT (formats in the module docstring), atomically.
+
+    Parameters
+    ----------
+    system : SlabEquivalent or BallastedEquivalent
+        The system.
+    path : str or os.PathLike
+        The file.
+    format : {"json", "csv", "mat"}, optional
+        The format; default: from the suffix of ``path``.
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    ValueError
+        When neither ``format`` nor the suffix names a format.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> import semitrack as st
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> path = st.export_system(st.paper_table4(), folder / "table4.json")
+    >>> st.load_system_json(path) == st.paper_table4()
+    True
+    >>> import shutil; shutil.rmtree(folder)
+    """
     path = _check_path(path)
     key = f".{format.lower().lstrip('.')}" if format is not None else path.suffix.lower()
     if key not in _WRITERS:

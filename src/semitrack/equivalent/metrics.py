@@ -12,6 +12,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..base.checks import check_band
 from ..base.conventions import ELEMENTS
@@ -35,7 +36,7 @@ class ErrorSummary:
 
     median: float
     max: float
-    per_element: dict
+    per_element: dict[str, np.ndarray]
 
     def element_medians(self) -> dict[str, float]:
         """Median error of each element over frequency (-)."""
@@ -60,13 +61,13 @@ def _as_receptance(name: str, alpha) -> np.ndarray:
     return a
 
 
-def receptance_errors(alpha_eq, alpha_ref) -> dict[str, np.ndarray]:
+def receptance_errors(alpha_eq: ArrayLike, alpha_ref: ArrayLike) -> dict[str, np.ndarray]:
     """Complex relative errors ``|alpha_E - alpha| / |alpha|`` per element and frequency.
 
     Parameters
     ----------
     alpha_eq : array_like, shape (n_f, 2, 2) or (2, 2)
-        Receptance of the equivalent system.
+        Receptance of the equivalent system (elements in m/N, 1/N, 1/N, rad/(N m)).
     alpha_ref : array_like, same shape
         Reference receptance (the semi-infinite track); must be non-zero where compared.
 
@@ -89,14 +90,36 @@ def receptance_errors(alpha_eq, alpha_ref) -> dict[str, np.ndarray]:
     return out
 
 
-def error_summary(alpha_eq, alpha_ref) -> ErrorSummary:
-    """:class:`ErrorSummary` of :func:`receptance_errors`."""
+def error_summary(alpha_eq: ArrayLike, alpha_ref: ArrayLike) -> ErrorSummary:
+    """Median and maximum of the complex relative errors of :func:`receptance_errors`.
+
+    Parameters
+    ----------
+    alpha_eq : array_like, shape (n_f, 2, 2) or (2, 2)
+        Receptance of the equivalent system (elements in m/N, 1/N, 1/N, rad/(N m)).
+    alpha_ref : array_like, same shape
+        Reference receptance (the semi-infinite track); alpha11, alpha12 and alpha22 must be
+        non-zero.
+
+    Returns
+    -------
+    ErrorSummary
+        Over all frequencies and the three elements (-).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import semitrack as st
+    >>> ref = np.array([[1e-9, 2e-9], [2e-9, 5e-8]])
+    >>> round(st.error_summary(1.1 * ref, ref).max, 12)
+    0.1
+    """
     errors = receptance_errors(alpha_eq, alpha_ref)
     allv = np.concatenate(list(errors.values()))
     return ErrorSummary(median=float(np.median(allv)), max=float(np.max(allv)), per_element=errors)
 
 
-def error_band_grid(band, df: float = 3.0) -> np.ndarray:
+def error_band_grid(band: tuple[float, float], df: float = 3.0) -> np.ndarray:
     """A uniform frequency grid (Hz) from ``band[0]`` to ``band[1]`` inclusive, spacing <= ``df``.
 
     Parameters
@@ -105,6 +128,17 @@ def error_band_grid(band, df: float = 3.0) -> np.ndarray:
         Lower and upper frequency (Hz), ``0 < band[0] < band[1]``, finite.
     df : float
         Largest allowed spacing (Hz), positive.
+
+    Returns
+    -------
+    ndarray
+        Equally spaced frequencies (Hz), at least 2.
+
+    Examples
+    --------
+    >>> import semitrack as st
+    >>> st.error_band_grid((3.0, 900.0)).size
+    300
     """
     lo, hi = check_band(band)
     if isinstance(df, bool) or not isinstance(df, (int, float)) or not (math.isfinite(df) and df > 0):
