@@ -12,6 +12,7 @@ import io
 import os
 import sys
 import traceback
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -22,6 +23,7 @@ from .base.conventions import ALL_ELEMENTS, ELEMENT_TEX, ELEMENT_UNITS, ELEMENTS
 from .base.paper_values import FIT_BANDS, PAPER_GRID_BAND, PAPER_GRID_STEP
 from .equivalent.io import atomic_write, export_system, load_system_json, save_system_json
 from .model.trackfile import TrackFileError, load_track_toml
+from .model.tracks import Track
 from .progress import Progress
 
 #: Largest frequency grid the CLI accepts (a guard against a mistyped --df).
@@ -41,7 +43,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 # ------------------------------------------------------------------------------------------
-def checked(check, *args):
+def checked(check: Callable, *args):
     """Run one of the package's checks (:mod:`semitrack.base.checks`); its error becomes an InputError."""
     try:
         return check(*args)
@@ -61,7 +63,7 @@ def frequency_grid(fmin: float, fmax: float, df: float) -> np.ndarray:
     return fmin + df * np.arange(n)
 
 
-def _track(path: str):
+def _track(path: str) -> Track:
     try:
         return load_track_toml(path)
     except TrackFileError as err:
@@ -76,7 +78,7 @@ def _output_path(path: str) -> Path:
 
 
 # ------------------------------------------------------------------------------------------
-def receptance_csv(track, f, alpha, method: str) -> str:
+def receptance_csv(track: Track, f: np.ndarray, alpha: np.ndarray, method: str) -> str:
     """CSV text of a receptance sweep: header comments with units and signs, then one row per f.
 
     The columns are ``f_Hz`` and, for each element of
@@ -100,7 +102,7 @@ def receptance_csv(track, f, alpha, method: str) -> str:
     return buf.getvalue()
 
 
-def _plot_receptance(path: Path, track, f, alpha) -> None:
+def _plot_receptance(path: Path, track: Track, f: np.ndarray, alpha: np.ndarray) -> None:
     from matplotlib.figure import Figure  # no pyplot: the CLI selects no backend
 
     fig = Figure(figsize=(10, 3.4), layout="constrained")
@@ -114,7 +116,7 @@ def _plot_receptance(path: Path, track, f, alpha) -> None:
     atomic_write(path, lambda fh: fig.savefig(fh, format="png", dpi=110), binary=True)
 
 
-def cmd_receptance(args) -> int:
+def cmd_receptance(args: argparse.Namespace) -> int:
     from .methods.receptance import semi_infinite_receptance
 
     track = _track(args.track)
@@ -138,7 +140,7 @@ def cmd_receptance(args) -> int:
     return 0
 
 
-def cmd_fit(args) -> int:
+def cmd_fit(args: argparse.Namespace) -> int:
     from .equivalent.fitting import fit_equivalent
 
     track = _track(args.track)
@@ -160,7 +162,7 @@ def cmd_fit(args) -> int:
     return 0
 
 
-def cmd_export(args) -> int:
+def cmd_export(args: argparse.Namespace) -> int:
     try:
         system = load_system_json(args.system)
     except (OSError, ValueError, TypeError, KeyError) as err:
@@ -175,7 +177,7 @@ def cmd_export(args) -> int:
     return 0
 
 
-def cmd_features(args) -> int:
+def cmd_features(args: argparse.Namespace) -> int:
     from .methods.features import characteristic_frequencies
 
     track = _track(args.track)
@@ -193,7 +195,7 @@ def cmd_features(args) -> int:
 
 
 # ------------------------------------------------------------------------------------------
-def _track_and_grid_arguments(p, step: str) -> None:
+def _track_and_grid_arguments(p: argparse.ArgumentParser, step: str) -> None:
     p.add_argument("track", help="track description file (TOML)")
     (fmin, fmax), df = PAPER_GRID_BAND, PAPER_GRID_STEP  # the paper's grid by default
     p.add_argument("--fmin", type=float, default=fmin, help=f"lowest frequency, Hz (default {fmin:g})")
@@ -251,7 +253,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv=None) -> int:
+def main(argv: Sequence[str] | None = None) -> int:
     """Run the program; returns the exit code."""
     parser = build_parser()
     try:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import sys
 import time
+from typing import TextIO
 
 
 class Progress:
@@ -25,7 +26,7 @@ class Progress:
         Where to write (stderr by default); writing happens only if it is a terminal.
     """
 
-    def __init__(self, label: str, total: int, quiet: bool = False, stream=None):
+    def __init__(self, label: str, total: int, quiet: bool = False, stream: TextIO | None = None):
         self.stream = stream if stream is not None else sys.stderr
         self.enabled = not quiet and hasattr(self.stream, "isatty") and self.stream.isatty()
         self.label, self.total, self.start = label, max(int(total), 1), time.perf_counter()

@@ -5,20 +5,21 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 
-def _is_real_number(value) -> bool:
+def _is_real_number(value: object) -> bool:
     return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
 
 
-def check_real(name: str, value) -> float:
+def check_real(name: str, value: object) -> float:
     """Return ``value`` as a float, or raise TypeError if it is not a real number."""
     if not _is_real_number(value):
         raise TypeError(f"{name} must be a real number, got {value!r} ({type(value).__name__})")
     return float(value)
 
 
-def check_positive(name: str, value) -> float:
+def check_positive(name: str, value: object) -> float:
     """A real number that is > 0 and finite."""
     v = check_real(name, value)
     if not (math.isfinite(v) and v > 0):
@@ -26,7 +27,7 @@ def check_positive(name: str, value) -> float:
     return v
 
 
-def check_nonnegative(name: str, value) -> float:
+def check_nonnegative(name: str, value: object) -> float:
     """A real number that is >= 0 and finite."""
     v = check_real(name, value)
     if not (math.isfinite(v) and v >= 0):
@@ -34,14 +35,14 @@ def check_nonnegative(name: str, value) -> float:
     return v
 
 
-def check_string(name: str, value) -> str:
+def check_string(name: str, value: object) -> str:
     """A ``str`` (labels such as a track's name)."""
     if not isinstance(value, str):
         raise TypeError(f"{name} must be a string, got {value!r}")
     return value
 
 
-def check_int_at_least(name: str, value, minimum: int) -> int:
+def check_int_at_least(name: str, value: object, minimum: int) -> int:
     """An integer (not a bool) that is >= ``minimum``."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
         raise TypeError(f"{name} must be an integer, got {value!r} ({type(value).__name__})")
@@ -50,7 +51,7 @@ def check_int_at_least(name: str, value, minimum: int) -> int:
     return int(value)
 
 
-def as_frequencies(f, name: str = "f") -> np.ndarray:
+def as_frequencies(f: ArrayLike, name: str = "f") -> np.ndarray:
     """Frequencies in Hz as a float array (any shape); all must be positive and finite.
 
     Raises
@@ -75,7 +76,7 @@ def as_frequencies(f, name: str = "f") -> np.ndarray:
     return arr
 
 
-def check_band(band, name: str = "band") -> tuple[float, float]:
+def check_band(band: ArrayLike, name: str = "band") -> tuple[float, float]:
     """A frequency band ``(f_lo, f_hi)`` in Hz with ``0 < f_lo < f_hi``, both finite."""
     try:
         lo, hi = (float(b) for b in band)

@@ -60,7 +60,7 @@ def curves_of(r: CentralResponse) -> dict[str, np.ndarray]:
     return curves | {name: alpha[..., i, k] for name, (i, k) in ELEMENTS.items()}
 
 
-def grid_extrema(y) -> tuple[np.ndarray, np.ndarray]:
+def grid_extrema(y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Indices of interior local maxima and minima of ``|y|`` on a grid.
 
     A plateau of equal values counts once, at its first point.
@@ -74,7 +74,7 @@ def grid_extrema(y) -> tuple[np.ndarray, np.ndarray]:
     return peaks, dips
 
 
-def parabolic_refine(f, y, i: int) -> float:
+def parabolic_refine(f: ArrayLike, y: ArrayLike, i: int) -> float:
     """Vertex of the parabola through (f, log|y|) at grid points i-1, i, i+1 (Hz)."""
     f = np.asarray(f, dtype=float)
     g = np.log(np.abs(np.asarray(y)[i - 1 : i + 2]))
@@ -174,7 +174,7 @@ def characteristic_frequencies(track: Track | PeriodicCell, band: tuple[float, f
     if f.size < 3:
         raise ValueError(f"band {band!r} with df={df!r} gives fewer than 3 grid points; use a smaller df")
 
-    def evaluate(x):
+    def evaluate(x: float) -> dict[str, complex]:
         return {k: v[0] for k, v in response_curves(track, np.array([x])).items()}
 
     return find_extrema(f, response_curves(track, f), evaluate)

@@ -29,7 +29,7 @@ from ..model.tracks import PeriodicCell
 _UNIT_CIRCLE_TOL = 1e-9
 
 
-def period_transfer(cell: PeriodicCell, omega, x_cut: float) -> np.ndarray:
+def period_transfer(cell: PeriodicCell, omega: np.ndarray, x_cut: float) -> np.ndarray:
     """Transfer matrix of one period starting at ``x_cut``: s(x_cut + L) = T s(x_cut).
 
     Parameters
@@ -65,7 +65,7 @@ def period_transfer(cell: PeriodicCell, omega, x_cut: float) -> np.ndarray:
     return field_transfer(track, omega, period - here) @ t
 
 
-def bloch_waves(cell: PeriodicCell, omega, x_cut: float):
+def bloch_waves(cell: PeriodicCell, omega: np.ndarray, x_cut: float) -> tuple[np.ndarray, ...]:
     """Bloch waves of the period starting at ``x_cut``, split into right- and left-decaying.
 
     Returns
@@ -98,7 +98,7 @@ def _decay_key(lam, vec, omega):
     return np.where(propagating, -0.5 * _UNIT_CIRCLE_TOL * np.sign(power), log_mod)
 
 
-def end_stiffness(cell: PeriodicCell, omega, x_cut: float):
+def end_stiffness(cell: PeriodicCell, omega: np.ndarray, x_cut: float) -> tuple[np.ndarray, np.ndarray]:
     """Dynamic stiffness of the two semi-infinite tracks on either side of a cut at ``x_cut``.
 
     Returns
@@ -116,7 +116,7 @@ def end_stiffness(cell: PeriodicCell, omega, x_cut: float):
     return np.swapaxes(k_right, 1, 2), np.swapaxes(k_left, 1, 2)
 
 
-def infinite_receptance(cell: PeriodicCell, omega, x: float) -> np.ndarray:
+def infinite_receptance(cell: PeriodicCell, omega: np.ndarray, x: float) -> np.ndarray:
     """2x2 receptance of the infinite track at ``x`` (response (w, psi) to load (F, M) at x).
 
     Shape ``(n, 2, 2)``; the displacement is continuous at x and the load splits between the

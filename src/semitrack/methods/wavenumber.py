@@ -23,6 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..base.checks import check_int_at_least, check_positive
 
@@ -74,8 +75,9 @@ class WavenumberSettings:
         return self.dbeta * np.arange(-n_half, n_half)
 
 
-def displacement_fields(cell: PeriodicCell, omega, x_rel, settings: WavenumberSettings | None = None,
-                        x0: float | None = None, chunk_bytes: float = 192e6) -> np.ndarray:
+def displacement_fields(cell: PeriodicCell, omega: ArrayLike, x_rel: ArrayLike,
+                        settings: WavenumberSettings | None = None, x0: float | None = None,
+                        chunk_bytes: float = 192e6) -> np.ndarray:
     """Rail displacement of the infinite track due to a unit force and a unit moment, Eq. (12).
 
     Parameters
@@ -145,7 +147,7 @@ class _Grid:
         self.phase_direct = np.exp(1j * np.outer(x_rel, self.beta))  # (P, N)
         self.phase_b = np.exp(1j * np.outer(self.beta, pos))  # (N, S): B(beta) of Eq. (8)
 
-    def fields(self, omega, points_per_block: int = 8):
+    def fields(self, omega: np.ndarray, points_per_block: int = 8) -> np.ndarray:
         cell, n_s = self.cell, self.pos.size
         n_w, n_beta, n_p = omega.size, self.beta.size, self.x_rel.size
         comps = operator_inverse(cell.track, omega[:, None, None], self.beta_j[None])  # 4 x (w, J, N)
@@ -180,7 +182,8 @@ class _Grid:
         return np.stack([coef @ c for c in comps], -1).reshape(n_w, -1, n_beta, 2, 2)
 
 
-def central_quantities(cell: PeriodicCell, omega, settings: WavenumberSettings | None = None, dxs=None):
+def central_quantities(cell: PeriodicCell, omega: ArrayLike, settings: WavenumberSettings | None = None,
+                       dxs: ArrayLike | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """w1, psi2, Q2, M1 of Eq. (14)-(16) from the fields at x' = 0, dx and 2 dx.
 
     Parameters
@@ -216,6 +219,6 @@ def central_quantities(cell: PeriodicCell, omega, settings: WavenumberSettings |
     return (np.repeat(w1[:, None], n, 1), np.repeat(psi2[:, None], n, 1), q2, m1)
 
 
-def odd_slope(y1, y2, dx):
+def odd_slope(y1: np.ndarray, y2: np.ndarray, dx: float | np.ndarray) -> np.ndarray:
     """Slope at 0 of an odd function sampled at dx and 2 dx: fit a x + b x^3, return a."""
     return (8 * y1 - y2) / (6 * dx)

@@ -14,12 +14,13 @@ end loads applied to a semi-infinite rail x > x_c are simply (Q(x_c+), M(x_c+)).
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.linalg import expm
 
 from .tracks import Track
 
 
-def operator_inverse(track: Track, omega, beta):
+def operator_inverse(track: Track, omega: ArrayLike, beta: ArrayLike) -> tuple[np.ndarray, ...]:
     """Closed-form inverse of the paper's operator D(beta, omega) (Eq. 6), element-wise.
 
     D = -omega^2 M + K0 + i beta K1 + beta^2 K2, with the matrices of Eq. (4):
@@ -51,7 +52,7 @@ def operator_inverse(track: Track, omega, beta):
     return b * inv_det, -c * inv_det, c * inv_det, a * inv_det
 
 
-def state_matrix(track: Track, omega) -> np.ndarray:
+def state_matrix(track: Track, omega: ArrayLike) -> np.ndarray:
     """Matrix A(omega) of the first-order field equation ds/dx = A s, shape ``(n, 4, 4)``.
 
     The state is s = (w, psi, Q, M). From the homogeneous Eq. (1)-(2) with Eq. (15)-(16):
@@ -72,7 +73,7 @@ def state_matrix(track: Track, omega) -> np.ndarray:
     return a
 
 
-def field_transfer(track: Track, omega, length: float) -> np.ndarray:
+def field_transfer(track: Track, omega: ArrayLike, length: float) -> np.ndarray:
     """Transfer matrix of a free rail segment: s(x + length) = F s(x), shape ``(n, 4, 4)``.
 
     Computed as the matrix exponential of ``A(omega) * length`` (batched over frequency).

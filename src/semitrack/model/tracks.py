@@ -34,7 +34,7 @@ FIELD_RULES: dict[str, Callable] = {
 }
 
 
-def check_track_field(key: str, value):
+def check_track_field(key: str, value: object) -> float | str:
     """Check one Track field against its rule in :data:`FIELD_RULES` and return it converted.
 
     Parameters
@@ -293,7 +293,7 @@ def _build(params: dict, overrides: dict, forbidden: tuple[str, ...]) -> Track:
     return Track(**params)
 
 
-def require_track(track, name: str = "track") -> Track:
+def require_track(track: object, name: str = "track") -> Track:
     """Return ``track`` if it is a :class:`Track`, else raise the package's one TypeError for it.
 
     Parameters
@@ -308,7 +308,7 @@ def require_track(track, name: str = "track") -> Track:
     return track
 
 
-def require_cell(track, name: str = "track") -> PeriodicCell:
+def require_cell(track: object, name: str = "track") -> PeriodicCell:
     """The periodic cell of ``track``: a :class:`PeriodicCell` as it is, a :class:`Track` as ``track.cell()``.
 
     Parameters
@@ -330,7 +330,7 @@ def require_cell(track, name: str = "track") -> PeriodicCell:
     raise _not_a(name, track, "Track or PeriodicCell")
 
 
-def _not_a(name: str, value, what: str) -> TypeError:
+def _not_a(name: str, value: object, what: str) -> TypeError:
     """The package's one wording for a value that is not a track."""
     return TypeError(f"{name} must be a semitrack {what} (e.g. st.slab_track()), got {type(value).__name__}")
 

@@ -34,8 +34,8 @@ def alpha_relative_error(alpha: ArrayLike, exact: ArrayLike) -> np.ndarray:
     return (np.abs(alpha - exact) / np.abs(exact)).max(axis=(-2, -1))
 
 
-def convergence_study(track: Track | PeriodicCell, f: ArrayLike, beta_factors=(1, 2, 5, 10, 20),
-                      dxs=(PAPER_DX, 0.02, 0.01, 0.005, 0.002, 0.001), **settings) -> pd.DataFrame:
+def convergence_study(track: Track | PeriodicCell, f: ArrayLike, beta_factors: Sequence[float] = (1, 2, 5, 10, 20),
+                      dxs: Sequence[float] = (PAPER_DX, 0.02, 0.01, 0.005, 0.002, 0.001), **settings) -> pd.DataFrame:
     """Error of the wavenumber alpha against the exact alpha over a grid of settings.
 
     Parameters

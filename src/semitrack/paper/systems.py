@@ -12,6 +12,8 @@ The printed numbers themselves live in :mod:`semitrack.base.paper_values` (``TAB
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from ..base.paper_values import (
@@ -129,7 +131,8 @@ def table4_consistency(f_n: float = PAPER_FREQUENCIES["f_n_slab"]) -> dict[str, 
 
 
 def table7_consistency(f_n1: float = PAPER_FREQUENCIES["f_n1"],
-                       f_n2_candidates=(PAPER_FREQUENCIES["f_n2_stated"], PAPER_FREQUENCIES["f_n2_peak"]),
+                       f_n2_candidates: Sequence[float] = (PAPER_FREQUENCIES["f_n2_stated"],
+                                                           PAPER_FREQUENCIES["f_n2_peak"]),
                        f_anti: float = PAPER_FREQUENCIES["f_anti"]) -> dict[str, np.ndarray]:
     """Per-bar check of Table 7 against Eq. (23), (28)-(30).
 
@@ -184,7 +187,8 @@ def table7_consistency(f_n1: float = PAPER_FREQUENCIES["f_n1"],
 
 def paper_consistency_report(f_n: float = PAPER_FREQUENCIES["f_n_slab"],
                              f_n1: float = PAPER_FREQUENCIES["f_n1"],
-                             f_n2_candidates=(PAPER_FREQUENCIES["f_n2_stated"], PAPER_FREQUENCIES["f_n2_peak"]),
+                             f_n2_candidates: Sequence[float] = (PAPER_FREQUENCIES["f_n2_stated"],
+                                                                 PAPER_FREQUENCIES["f_n2_peak"]),
                              f_anti: float = PAPER_FREQUENCIES["f_anti"]) -> dict[str, dict[str, np.ndarray]]:
     """Both checks: ``{"table4": table4_consistency(f_n), "table7": table7_consistency(...)}``.
 
