@@ -1,7 +1,7 @@
 """The package's layers: every import points down the stack described in ARCHITECTURE.md.
 
 Layers, lowest first: ``base`` (checks, conventions, the paper's numbers) -> ``model`` ->
-``methods`` -> ``equivalent`` -> ``fe`` -> ``paper`` -> the top-level modules (``cli``,
+``methods`` -> ``equivalent`` -> ``boundary`` -> ``fe`` -> ``paper`` -> the top-level modules (``cli``,
 ``plotting``, ``progress`` and the flat namespace). A module may import from its own subpackage
 and from lower layers only. The test reads the source with :mod:`ast`, so it also sees imports
 inside functions, and it fails on a module that no layer claims, so ARCHITECTURE.md and this
@@ -20,8 +20,8 @@ import semitrack
 PACKAGE = pathlib.Path(semitrack.__file__).parent
 ROOT = PACKAGE.parent.parent
 
-LAYERS = {"base": 0, "model": 1, "methods": 2, "equivalent": 3, "fe": 4, "paper": 5}
-TOP = 6  # cli, plotting, progress, __init__, __main__
+LAYERS = {"base": 0, "model": 1, "methods": 2, "equivalent": 3, "boundary": 4, "fe": 5, "paper": 6}
+TOP = 7  # cli, plotting, progress, __init__, __main__
 TOP_MODULES = {"__init__", "__main__", "cli", "plotting", "progress"}
 # Only the command line defers imports of the package, so that `semitrack --help` and bad-input
 # errors answer without importing scipy and the fitting machinery.

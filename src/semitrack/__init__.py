@@ -7,6 +7,8 @@ truncated track models". SI units; frequencies in Hz at the API.
 
 from .base.paper_values import FIT_BANDS as PAPER_FIT_BANDS
 from .base.paper_values import PAPER_GRID
+from .boundary.fitting import BroadbandBoundary, fit_boundary
+from .boundary.io import load_boundary, save_boundary
 from .equivalent.cache import cached_fit
 from .equivalent.constraints import ballasted_from_free, cell_frequencies, slab_from_free, unit_cell_frequencies
 from .equivalent.fitting import FitResult, default_fit_frequencies, fit_characteristic_frequencies, fit_equivalent
@@ -27,6 +29,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "PAPER_FIT_BANDS", "PAPER_GRID",
+    "BroadbandBoundary", "fit_boundary", "load_boundary", "save_boundary",
     "BallastedEquivalent", "CentralResponse", "EquivalentSystem", "ErrorSummary", "FETrack", "FitResult",
     "PeriodicCell", "QUANTITIES", "SlabEquivalent", "Track", "TrackFileError", "TruncatedTrack",
     "WavenumberSettings", "default_fit_frequencies", "fe_central_receptance", "fe_semi_infinite_receptance",

@@ -1,0 +1,261 @@
+"""Fitting the broadband boundary: a passive rational end model of a semi-infinite track.
+
+The pipeline of :func:`fit_boundary`, for a track and a band (default 3-3000 Hz):
+
+1. The exact end stiffness ``K = alpha^-1`` (transfer method) on the band's 3 Hz grid plus a
+   log-spaced set that resolves the band's low end.
+2. The known limits: the static stiffness ``K0 = Re K(f -> 0)`` (evaluated at 1 mHz) and the
+   dashpot ``D = diag(sqrt(kappa A G rho A), sqrt(E I rho I))`` of a semi-infinite Timoshenko
+   beam end (real moduli) are pinned; vector fitting (:mod:`.vector_fitting`) then fits the
+   remainder ``(K - K0)/s - D`` with common poles, weighted by ``|s| / |K_ij|`` (relative
+   errors of ``K``).
+3. The coefficients are refined on alpha's own relative error (:mod:`.refinement`).
+4. Passivity is tested exactly and enforced by perturbing the coefficients with the least growth
+   of that error (:mod:`.passivity`).
+5. With ``n_poles=None`` the order grows through :data:`ORDERS` until the errors meet ``tol`` or
+   stop improving; the best passive model is kept.
+
+The paper's hysteretic (loss-factor) damping is not causal: a stable rational model can match it
+only approximately, and the more so the larger the loss factor. Tracks with causal (viscous)
+damping are matched to round-off level by the same pipeline.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..base.checks import check_band, check_int_at_least, check_positive
+from ..equivalent.metrics import ErrorSummary, error_band_grid, error_summary
+from ..methods.receptance import semi_infinite_receptance
+from ..model.tracks import Track, require_track
+from .passivity import BoundaryPassivityReport, enforce_passivity, passivity_report
+from .rational import SYMMETRIC_ELEMENTS, BoundaryStateSpace, RationalEndStiffness
+from .refinement import refine_coefficients, relative_alpha_residuals
+from .vector_fitting import starting_poles, vector_fit
+
+__all__ = ["BroadbandBoundary", "fit_boundary", "track_end_limits", "ORDERS"]
+
+#: Orders (number of poles, pairs counted twice) tried in turn when ``n_poles`` is None.
+ORDERS = (24, 36, 48, 60)
+#: Largest order accepted (the cost of a fit grows about quadratically with it).
+MAX_POLES = 120
+#: Frequency (Hz) at which the static stiffness K0 = Re K(f -> 0) is evaluated.
+STATIC_FREQUENCY = 1e-3
+
+
+def track_end_limits(track: Track) -> tuple[np.ndarray, np.ndarray]:
+    """The two limits a boundary model pins: static stiffness ``K0`` and the dashpot ``D``.
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+
+    Returns
+    -------
+    K0 : ndarray, shape (2, 2)
+        ``Re K`` at 1 mHz (N/m, N/rad, N m/rad); real symmetric.
+    D : ndarray, shape (2, 2)
+        ``diag(sqrt(kappa A G rho A), sqrt(E I rho I))`` with the real moduli (N s/m, N m s/rad):
+        the impedance of a semi-infinite Timoshenko beam end at high frequency.
+    """
+    K0 = np.linalg.inv(semi_infinite_receptance(track, [STATIC_FREQUENCY])[0]).real
+    D = np.diag([np.sqrt(track.kAG.real * track.rho * track.A), np.sqrt(track.EI.real * track.rho * track.I)])
+    return 0.5 * (K0 + K0.T), D
+
+
+@dataclass(frozen=True, eq=False)
+class BroadbandBoundary:
+    """A passive rational model of a semi-infinite track's end, fitted over a band.
+
+    Attributes
+    ----------
+    model : RationalEndStiffness
+        The rational end stiffness (poles, coefficients, ``K0``, ``D``).
+    band : tuple of float
+        The fit band (Hz).
+    errors : ErrorSummary
+        Element-wise relative error of alpha11/alpha12/alpha22 on the band's 3 Hz grid.
+    passivity : BoundaryPassivityReport
+        The exact passivity test of the final model.
+    track_name : str
+        Name of the fitted track.
+    enforcement_rounds : int
+        Rounds of passivity enforcement that were needed (0: the refined fit was passive).
+    orders_tried : dict
+        ``{n_poles: (median, max)}`` for every order fitted on the way.
+    elapsed : float
+        Wall time of the fit (s).
+    """
+
+    model: RationalEndStiffness
+    band: tuple[float, float]
+    errors: ErrorSummary
+    passivity: BoundaryPassivityReport
+    track_name: str = ""
+    enforcement_rounds: int = 0
+    orders_tried: dict = field(default_factory=dict)
+    elapsed: float = 0.0
+
+    @property
+    def median_error(self) -> float:
+        """Median element-wise relative error of alpha over the band (3 Hz grid)."""
+        return self.errors.median
+
+    @property
+    def max_error(self) -> float:
+        """Maximum element-wise relative error of alpha over the band (3 Hz grid)."""
+        return self.errors.max
+
+    @property
+    def n_poles(self) -> int:
+        """Number of poles (pairs counted twice); the model has ``2 n_poles`` states."""
+        return self.model.n_poles
+
+    def dynamic_stiffness(self, f: ArrayLike) -> np.ndarray:
+        """End dynamic stiffness ``K(f)``, shape ``(n, 2, 2)``, at any positive frequencies.
+
+        Parameters
+        ----------
+        f : array_like
+            Frequencies (Hz).
+        """
+        return self.model.dynamic_stiffness(f)
+
+    def receptance(self, f: ArrayLike) -> np.ndarray:
+        """End receptance ``alpha(f) = K(f)^-1``, shape ``(n, 2, 2)``, at any positive frequencies.
+
+        Parameters
+        ----------
+        f : array_like
+            Frequencies (Hz).
+        """
+        return self.model.receptance(f)
+
+    def state_space(self) -> BoundaryStateSpace:
+        """Real state space with the end velocity as input; unpacks as ``A, B, C, D``."""
+        return self.model.state_space()
+
+    def is_passive(self) -> BoundaryPassivityReport:
+        """The exact (Hamiltonian) passivity test, re-run on the model; truthy only if passive."""
+        return passivity_report(self.model)
+
+    def __repr__(self) -> str:
+        p = "passive (proven)" if self.passivity else "NOT passive"
+        return (f"BroadbandBoundary(track={self.track_name!r}, band={self.band} Hz, n_poles={self.n_poles}, "
+                f"median_error={self.median_error:.4f}, max_error={self.max_error:.4f}, {p})")
+
+
+#: Guard samples extend the fit this factor beyond each end of the band (low weight).
+GUARD_FACTOR = 30.0
+
+
+def _fit_samples(band: tuple[float, float], df: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(fit frequencies, error-grid frequencies, guard mask).
+
+    The fit sees the error grid, a log-spaced set that resolves the band's low end, and guard
+    samples a factor :data:`GUARD_FACTOR` beyond each end, without which the model is free to
+    turn active (negative damping) just outside the band, where no data holds it.
+    """
+    grid = error_band_grid(band, df)
+    below = np.geomspace(band[0] / GUARD_FACTOR, band[0], 40, endpoint=False)
+    above = np.geomspace(band[1], band[1] * GUARD_FACTOR, 41)[1:]
+    f = np.unique(np.concatenate([below, grid, np.geomspace(band[0], band[1], 200), above]))
+    return f, grid, (f < band[0]) | (f > band[1])
+
+
+def _one_order(n_poles: int, f: np.ndarray, alpha: np.ndarray, guard: np.ndarray, K0: np.ndarray,
+               D: np.ndarray, band: tuple[float, float], rng: np.random.Generator | None, n_iter: int):
+    """Vector fit, refinement and passivity enforcement at one order."""
+    s = 2j * np.pi * f
+    K = np.linalg.inv(alpha)
+    G = (K - K0) / s[:, None, None] - D
+    data = np.stack([G[:, i, k] for i, k in SYMMETRIC_ELEMENTS], axis=1)
+    weights = np.abs(s)[:, None] / np.abs(np.stack([K[:, i, k] for i, k in SYMMETRIC_ELEMENTS], axis=1))
+    weights[guard] *= 0.3
+    n_pairs = n_poles // 3
+    poles = starting_poles(band[0], band[1], n_pairs, n_poles - 2 * n_pairs)
+    if rng is not None:  # a multi-start: jitter the starting poles by up to a factor 1.5
+        poles = poles * np.exp(rng.uniform(-0.4, 0.4, poles.size))
+    poles, coef = vector_fit(s, data, weights, poles, n_iter)
+    model, w = refine_coefficients(RationalEndStiffness(poles, coef, K0, D), f, alpha, guard=guard)
+    return enforce_passivity(model, linearise=lambda m: relative_alpha_residuals(m, f, alpha, w))
+
+
+def fit_boundary(track: Track, band: tuple[float, float] = (3.0, 3000.0), n_poles: int | None = None,
+                 seed: int = 0, *, tol: tuple[float, float] = (0.02, 0.06), df: float = 3.0,
+                 n_starts: int = 1, n_iter: int = 20) -> BroadbandBoundary:
+    """Fit a passive rational model of the end dynamic stiffness of the semi-infinite ``track``.
+
+    Parameters
+    ----------
+    track : Track
+        The track (hysteretic loss factors as in the paper, or any other).
+    band : tuple of float
+        Fit band (Hz); the error is judged on its ``df`` grid.
+    n_poles : int, optional
+        Number of poles (complex pairs counted twice; ``2 n_poles`` states). ``None`` tries
+        :data:`ORDERS` in turn and keeps the first that meets ``tol`` or, when none does, the
+        best one once a larger order stops improving the maximum error by 10 %.
+    seed : int
+        Seed of the starting-pole jitter of the extra starts (``n_starts > 1``); the first start
+        is deterministic and uses no random numbers.
+    tol : tuple of float
+        ``(median, max)`` element-wise relative error of alpha that ends the order search.
+    df : float
+        Step (Hz) of the error grid.
+    n_starts : int
+        Starting-pole sets per order (the best is kept).
+    n_iter : int
+        Vector-fitting pole relocations per start.
+
+    Returns
+    -------
+    BroadbandBoundary
+
+    Examples
+    --------
+    >>> import semitrack as st
+    >>> bnd = st.fit_boundary(st.slab_track(), band=(3, 3000), n_poles=24)
+    >>> bool(bnd.is_passive()), bnd.max_error < 0.1
+    (True, True)
+    """
+    require_track(track)
+    band = check_band(band)
+    df = check_positive("df", df)
+    n_starts = check_int_at_least("n_starts", n_starts, 1)
+    n_iter = check_int_at_least("n_iter", n_iter, 1)
+    orders = ORDERS if n_poles is None else (check_int_at_least("n_poles", n_poles, 2),)
+    if max(orders) > MAX_POLES:
+        raise ValueError(f"n_poles must be <= {MAX_POLES} (fit cost grows with its square), got {n_poles}")
+    start = time.perf_counter()
+    f, grid, guard = _fit_samples(band, df)
+    alpha = semi_infinite_receptance(track, f)
+    K0, D = track_end_limits(track)
+    on_grid = np.isin(f, grid)
+    best, tried = None, {}
+    for order in orders:
+        for k in range(n_starts):
+            rng = np.random.default_rng([seed, order, k]) if k else None
+            model, rounds = _one_order(order, f, alpha, guard, K0, D, band, rng, n_iter)
+            err = error_summary(model.receptance(grid), alpha[on_grid])
+            tried.setdefault(order, (err.median, err.max))
+            tried[order] = min(tried[order], (err.median, err.max), key=lambda e: e[1])
+            if best is None or err.max < best[1].max:
+                best = (model, err, rounds)
+        if best[1].median <= tol[0] and best[1].max <= tol[1]:
+            break
+        if len(tried) > 1 and list(tried.values())[-1][1] > 0.9 * list(tried.values())[-2][1]:
+            break
+    model, err, rounds = best
+    report = passivity_report(model)
+    if not report:
+        warnings.warn(f"fit_boundary: passivity could not be enforced ({report}); the model may "
+                      "generate energy in a time-domain simulation", RuntimeWarning, stacklevel=2)
+    return BroadbandBoundary(model=model, band=band, errors=err, passivity=report, track_name=track.name,
+                             enforcement_rounds=rounds, orders_tried=tried, elapsed=time.perf_counter() - start)

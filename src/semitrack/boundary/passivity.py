@@ -1,0 +1,306 @@
+"""Passivity of a rational end model: an exact test and its enforcement by residue perturbation.
+
+A semi-infinite track end absorbs energy: its impedance ``K(s)/s`` (force per velocity) is
+positive real. For the model of :mod:`.rational`, ``K(s)/s = K0/s + Z(s)``. The spring ``K0/s``
+is lossless (its Hermitian part on ``s = i omega`` vanishes) and passive when ``K0`` is positive
+semi-definite, so the model is passive exactly when
+
+* every pole of ``Z`` is in the open left half-plane,
+* ``K0`` is symmetric positive semi-definite, and
+* ``Re Z(i omega)`` (the Hermitian part of a complex-symmetric matrix) is positive semi-definite
+  at every ``omega`` in ``[0, inf)``.
+
+The last condition is checked exactly, not by sampling: with ``R = D + D^T`` positive definite,
+the eigenvalues of ``Re Z(i omega)`` cross zero exactly at the frequencies ``omega`` for which
+``i omega`` is an eigenvalue of the Hamiltonian matrix
+
+    M = [[A - B R^-1 C,      -B R^-1 B^T      ],
+         [C^T R^-1 C,        -A^T + C^T R^-1 B^T]].
+
+Between consecutive crossings the sign of the smallest eigenvalue is constant, so one evaluation
+per interval (and ``Re Z(i inf) = D > 0`` beyond the last) decides passivity everywhere. All
+eigen-analysis runs on the model scaled by ``D^-1/2`` on both sides (a congruence, which keeps
+definiteness), so that ``w`` and ``psi`` with their different units weigh alike.
+
+Enforcement perturbs the coefficients ``c`` only (never the poles, ``K0`` or ``D``): at the
+frequency of the worst point of each violating interval, with ``v`` the eigenvector of the
+smallest eigenvalue ``lambda``, the constraint ``lambda + v^T Re(dZ) v >= margin`` is linear in
+the perturbation ``dc``. The perturbation minimises a given quadratic form (the linearised growth
+of the fit error), a small quadratic programme solved by SLSQP; constraints accumulate over the
+iterations and the Hamiltonian test is repeated until it passes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import nnls
+
+from .rational import SYMMETRIC_ELEMENTS, RationalEndStiffness
+from .vector_fitting import pole_basis
+
+__all__ = ["BoundaryPassivityReport", "passivity_report", "hamiltonian_crossings", "enforce_passivity"]
+
+# Imaginary-axis eigenvalues of M: |Re| below this fraction of |lambda| (plus an absolute floor).
+_AXIS_TOL = 1e-7
+
+
+@dataclass(frozen=True)
+class BoundaryPassivityReport:
+    """Outcome of the exact passivity test of a rational end model; truthy only when passive.
+
+    Attributes
+    ----------
+    passive : bool
+        Stable, ``K0`` positive semi-definite and ``Re Z(i omega) >= 0`` for all ``omega``.
+    stable : bool
+        All poles strictly in the left half-plane.
+    static_stiffness_psd : bool
+        ``K0`` symmetric positive semi-definite.
+    crossings_hz : ndarray
+        Frequencies (Hz) where an eigenvalue of the scaled ``Re Z(i omega)`` crosses zero.
+    violations_hz : list of (float, float)
+        Frequency intervals (Hz) where ``Re Z`` is indefinite (the upper end may be ``inf``).
+    worst_frequency_hz : float
+        Frequency (Hz) of the smallest eigenvalue found (at a violation, or over a check grid).
+    worst_eigenvalue : float
+        That smallest eigenvalue of the scaled ``Re Z`` (dimensionless; 1 at high frequency).
+    method : str
+        How it was decided ("Hamiltonian eigenvalues").
+    """
+
+    passive: bool
+    stable: bool
+    static_stiffness_psd: bool
+    crossings_hz: np.ndarray
+    violations_hz: list
+    worst_frequency_hz: float
+    worst_eigenvalue: float
+    method: str = "Hamiltonian eigenvalues"
+
+    def __bool__(self) -> bool:
+        return bool(self.passive)
+
+
+def _scaled(model: RationalEndStiffness):
+    """State space of ``S Z S`` with ``S = D^-1/2``, so that the scaled D is the identity."""
+    ss = model.state_space()
+    w, v = np.linalg.eigh(ss.D)
+    S = v @ np.diag(w ** -0.5) @ v.T
+    return ss.A, ss.B @ S, S @ ss.C, S @ ss.D @ S, S
+
+
+def hamiltonian_crossings(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray) -> np.ndarray:
+    """Frequencies ``omega >= 0`` (rad/s) where an eigenvalue of ``Re Z(i omega)`` is zero.
+
+    Parameters
+    ----------
+    A, B, C, D : ndarray
+        Real state space of ``Z(s) = D + C (sI - A)^-1 B`` with ``D + D^T`` positive definite.
+    """
+    Ri = np.linalg.inv(D + D.T)
+    M = np.block([[A - B @ Ri @ C, -B @ Ri @ B.T], [C.T @ Ri @ C, -A.T + C.T @ Ri @ B.T]])
+    lam = np.linalg.eigvals(M)
+    scale = max(1.0, np.max(np.abs(lam)))
+    on_axis = np.abs(lam.real) <= _AXIS_TOL * np.maximum(np.abs(lam), scale * 1e-6)
+    return np.unique(np.round(np.abs(lam[on_axis].imag), 12))
+
+
+def _min_eig(A, B, C, D, omega: np.ndarray):
+    """Smallest eigenvalue and its eigenvector of the scaled ``Re Z(i omega)``."""
+    omega = np.atleast_1d(omega)
+    n = A.shape[0]
+    rhs = np.broadcast_to(B, (omega.size,) + B.shape)
+    X = np.linalg.solve(1j * omega[:, None, None] * np.eye(n) - A, rhs)
+    H = (D + C @ X).real
+    w, v = np.linalg.eigh(0.5 * (H + np.swapaxes(H, 1, 2)))
+    return w[:, 0], v[:, :, 0]
+
+
+def _violations(A, B, C, D, crossings: np.ndarray):
+    """Violating intervals (rad/s) and the worst point in each: [(lo, hi, omega_min, lambda_min)]."""
+    edges = np.concatenate([[0.0], crossings, [np.inf]])
+    out = []
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        top = hi if np.isfinite(hi) else max(10 * lo, lo + 1.0)
+        grid = np.linspace(lo, top, 41) if lo > 0 or np.isfinite(hi) else np.linspace(0, top, 41)
+        lam, _ = _min_eig(A, B, C, D, grid[1:-1] if grid.size > 2 else grid)
+        k = int(np.argmin(lam))
+        if lam[k] < 0:
+            out.append((lo, hi, (grid[1:-1] if grid.size > 2 else grid)[k], lam[k]))
+    return out
+
+
+def passivity_report(model: RationalEndStiffness) -> BoundaryPassivityReport:
+    """The exact passivity test of a rational end model (see the module docstring).
+
+    Parameters
+    ----------
+    model : RationalEndStiffness
+        The model to test.
+    """
+    stable = bool(np.all(model.poles.real < 0))
+    k0 = model.K0
+    psd = bool(np.allclose(k0, k0.T, rtol=1e-12, atol=0) and np.linalg.eigvalsh(0.5 * (k0 + k0.T))[0]
+               >= -1e-12 * np.abs(k0).max())
+    A, B, C, D, _ = _scaled(model)
+    crossings = hamiltonian_crossings(A, B, C, D) if stable else np.empty(0)
+    bad = _violations(A, B, C, D, crossings) if stable else []
+    if bad:
+        worst = min(bad, key=lambda b: b[3])
+        w_f, w_l = worst[2], worst[3]
+    else:  # passive: report the smallest eigenvalue over a log grid as the margin
+        grid = np.concatenate([[0.0], 2 * np.pi * np.geomspace(1e-3, 1e6, 400), crossings])
+        lam, _ = _min_eig(A, B, C, D, grid)
+        k = int(np.argmin(lam))
+        w_f, w_l = grid[k], lam[k]
+    return BoundaryPassivityReport(
+        passive=stable and psd and not bad, stable=stable, static_stiffness_psd=psd,
+        crossings_hz=crossings / (2 * np.pi),
+        violations_hz=[(lo / (2 * np.pi), hi / (2 * np.pi)) for lo, hi, *_ in bad],
+        worst_frequency_hz=float(w_f / (2 * np.pi)), worst_eigenvalue=float(w_l))
+
+
+# Directions v = (cos t, sin t) at which v^T Re Z v >= margin is imposed: the positive
+# semi-definite cone of 2x2 matrices is the intersection of these half-spaces over all t, and a
+# dozen directions approximate it closely (the exact test then confirms or asks for more).
+_ANGLES = np.linspace(0.0, np.pi, 12, endpoint=False)
+
+
+def _constraint_rows(model: RationalEndStiffness, S: np.ndarray, omega: np.ndarray,
+                     directions: np.ndarray) -> np.ndarray:
+    """Rows ``g`` with ``v^T Re(S Z S)(i omega) v = v^T v + g . c``, one per (omega, direction).
+
+    ``directions`` has shape ``(n_omega, n_dir, 2)``; returns ``(n_omega * n_dir, n_coefficients)``.
+    Each row is an exact half-space in the coefficients (the form is affine in them).
+    """
+    phi = pole_basis(1j * np.atleast_1d(omega), model.poles).real  # (n_w, n_coef)
+    u = directions @ S  # S symmetric: v^T S E S v = u^T E u
+    weights = np.stack([u[..., i] * u[..., k] * (1.0 if i == k else 2.0) for i, k in SYMMETRIC_ELEMENTS],
+                       axis=-1)  # (n_w, n_dir, 3)
+    return np.einsum("wm,waj->wamj", phi, weights).reshape(-1, phi.shape[1] * 3)
+
+
+def _cuts(model: RationalEndStiffness, omegas: np.ndarray):
+    """Half-spaces at ``omegas``: a fan of fixed directions plus the current eigenvector of the
+    smallest eigenvalue (the cut that the present model violates most)."""
+    A, B, C, D, S = _scaled(model)
+    _, vec = _min_eig(A, B, C, D, omegas)
+    fan = np.stack([np.cos(_ANGLES), np.sin(_ANGLES)], axis=1)
+    directions = np.concatenate([np.broadcast_to(fan, (omegas.size,) + fan.shape), vec[:, None, :]], axis=1)
+    G = _constraint_rows(model, S, omegas, directions)
+    unit = np.sum(directions ** 2, axis=-1).ravel()  # v^T (S D S) v with S D S = I
+    return G, unit
+
+
+def _least_distance(M: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """``argmin ||y||`` subject to ``M y >= h``: least-distance programming by one NNLS solve
+    (Lawson & Hanson, *Solving Least Squares Problems*, ch. 23)."""
+    scale = np.linalg.norm(M, axis=1)
+    scale[scale == 0] = 1.0
+    M, h = M / scale[:, None], h / scale
+    E = np.vstack([M.T, h[None, :]])
+    rhs = np.zeros(E.shape[0])
+    rhs[-1] = 1.0
+    u, _ = nnls(E, rhs, maxiter=50 * E.shape[1])
+    r = E @ u - rhs
+    if abs(r[-1]) < 1e-14:
+        raise np.linalg.LinAlgError("the passivity constraints are inconsistent")
+    return -r[:-1] / r[-1]
+
+
+def _constrained_step(J: np.ndarray, r: np.ndarray, G: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """``argmin ||r + J dc||`` subject to ``G dc >= h`` (a constrained Gauss-Newton step).
+
+    With ``J = Q R`` (a little Tikhonov regularisation keeps ``R`` invertible) the substitution
+    ``y = R dc + Q^T r`` turns it into a least-distance programme in ``y``.
+    """
+    n = J.shape[1]
+    tik = 1e-8 * np.linalg.norm(J) / np.sqrt(n)
+    Q, R = np.linalg.qr(np.vstack([J, tik * np.eye(n)]))
+    qr_ = Q.T @ np.concatenate([r, np.zeros(n)])
+    GRi = np.linalg.solve(R.T, G.T).T  # G R^-1
+    y = _least_distance(GRi, h + GRi @ qr_)
+    return np.linalg.solve(R, y - qr_)
+
+
+def _guard_omegas(model: RationalEndStiffness) -> np.ndarray:
+    """A log grid (rad/s) spanning the poles a decade either side, and omega = 0."""
+    mags = np.abs(model.poles)
+    return np.concatenate([[0.0], np.geomspace(mags.min() / 10, mags.max() * 10, 200)])
+
+
+def _interval_omegas(intervals) -> np.ndarray:
+    """Sample points inside each violating interval (log-spaced where it spans decades)."""
+    out = []
+    for lo, hi, omega_min, _ in intervals:
+        top = hi if np.isfinite(hi) else 10 * max(lo, 1.0)
+        pts = np.geomspace(max(lo, 1e-6 * top), top, 25) if top > 10 * max(lo, 1e-12) else np.linspace(lo, top, 25)
+        out.append(np.concatenate([pts, [omega_min]]))
+    return np.concatenate(out) if out else np.empty(0)
+
+
+def enforce_passivity(model: RationalEndStiffness, linearise=None, margin: float = 1e-4,
+                      max_iter: int = 12) -> tuple[RationalEndStiffness, int]:
+    """Perturb the coefficients until the exact test passes, at the least cost of fit accuracy.
+
+    Each round adds cuts (half-spaces in the coefficients) where the model is, or may turn,
+    non-passive, then takes a constrained Gauss-Newton step on the fit residuals from
+    ``linearise``. Once passive, rounds go on while they lower the fit cost by more than 0.1 %,
+    always keeping a passive model.
+
+    Parameters
+    ----------
+    model : RationalEndStiffness
+        A stable model with ``K0`` positive semi-definite.
+    linearise : callable, optional
+        ``linearise(model) -> (r, J)``: the fit residual vector and its Jacobian with respect to
+        the flattened coefficients. Without it the perturbation minimises the coefficients'
+        relative change.
+    margin : float
+        Smallest value of ``v^T Re Z v`` imposed at the cut points (``Z`` scaled to the identity
+        at high frequency, so dimensionless).
+    max_iter : int
+        Maximum number of rounds.
+
+    Returns
+    -------
+    model : RationalEndStiffness
+        The passive model of least cost found (or the last attempt when none was passive;
+        check :func:`passivity_report`).
+    n_iter : int
+        Rounds used (0 when the model was passive already).
+    """
+    def residuals(m):
+        if linearise is not None:
+            return linearise(m)
+        c, ref = m.coefficients.ravel(), model.coefficients.ravel()
+        w = 1.0 / np.maximum(np.abs(ref), np.abs(ref).max() * 1e-12 + 1e-300)
+        return w * (c - ref), np.diag(w)
+
+    A, B, C, D, _ = _scaled(model)
+    bad = _violations(A, B, C, D, hamiltonian_crossings(A, B, C, D))
+    if not bad:
+        return model, 0
+    rows, bounds = [], []
+    current, omegas, best, best_cost = model, _guard_omegas(model), None, np.inf
+    rounds = 0
+    while rounds < max_iter:
+        rounds += 1
+        G, unit = _cuts(current, np.concatenate([omegas, _interval_omegas(bad)]))
+        rows.append(G)
+        bounds.append(margin - unit)  # G c + v^T v >= margin
+        G_all, b_all = np.concatenate(rows), np.concatenate(bounds)
+        c = current.coefficients.ravel()
+        r, J = residuals(current)
+        c = c + _constrained_step(J, r, G_all, b_all - G_all @ c)
+        current = RationalEndStiffness(model.poles, c.reshape(model.coefficients.shape), model.K0, model.D)
+        A, B, C, D, _ = _scaled(current)
+        bad = _violations(A, B, C, D, hamiltonian_crossings(A, B, C, D))
+        if not bad:  # passive: keep going only while the fit keeps improving
+            cost = float(np.sum(residuals(current)[0] ** 2))
+            if cost > best_cost * (1 - 1e-3):
+                break
+            best, best_cost = current, cost
+    return (best if best is not None else current), rounds

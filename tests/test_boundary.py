@@ -1,0 +1,203 @@
+"""The broadband boundary: vector fitting, the exact passivity test, enforcement, the fitted ends.
+
+Independent checks: vector fitting recovers a rational function it did not build; the state
+space reproduces the pole-residue form; the Hamiltonian test agrees with dense sampling (and
+finds what a coarse grid misses); the fitted models of the paper's tracks are proven passive,
+keep the static stiffness and the Timoshenko dashpot, and meet stated error bounds.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import semitrack as st
+from semitrack.base.paper_values import FIT_BANDS
+from semitrack.boundary.fitting import track_end_limits
+from semitrack.boundary.passivity import enforce_passivity, hamiltonian_crossings, passivity_report
+from semitrack.boundary.rational import RationalEndStiffness, symmetric_from_columns
+from semitrack.boundary.vector_fitting import pole_basis, starting_poles, vector_fit
+from semitrack.equivalent.metrics import error_band_grid, error_summary
+
+BAND = (3.0, 3000.0)
+
+
+def _synthetic(seed=1, n_pairs=4, n_real=3):
+    """A random stable model with symmetric coefficients (not necessarily passive)."""
+    rng = np.random.default_rng(seed)
+    w = 2 * np.pi * np.sort(rng.uniform(10, 2000, n_pairs))
+    poles = np.concatenate([-w * rng.uniform(0.01, 0.2, n_pairs) + 1j * w,
+                            -2 * np.pi * np.sort(rng.uniform(1, 5000, n_real)) + 0j])
+    coef = rng.normal(size=(2 * n_pairs + n_real, 3)) * np.array([3e7, 3e6, 3e5])
+    return RationalEndStiffness(poles, coef, K0=np.array([[5e7, 2e7], [2e7, 1.6e7]]), D=np.diag([1.2e5, 1.2e3]))
+
+
+def _min_eig_dense(model, f):
+    s = 2j * np.pi * f
+    Z = model.impedance(s).real
+    return np.linalg.eigvalsh(0.5 * (Z + np.swapaxes(Z, 1, 2)))[:, 0]
+
+
+def test_vector_fitting_recovers_a_rational_function():
+    """Data from a known model are refitted to round-off from different starting poles."""
+    true = _synthetic()
+    f = np.geomspace(1.0, 5000.0, 400)
+    s = 2j * np.pi * f
+    data = pole_basis(s, true.poles) @ true.coefficients
+    poles, coef = vector_fit(s, data, np.ones_like(data.real), starting_poles(1.0, 5000.0, 4, 3), n_iter=15)
+    fitted = pole_basis(s, poles) @ coef
+    assert np.max(np.abs(fitted - data)) / np.max(np.abs(data)) < 1e-8
+    assert np.allclose(np.sort_complex(poles), np.sort_complex(true.poles), rtol=1e-6)
+
+
+def test_state_space_reproduces_the_pole_residue_form():
+    model = _synthetic()
+    A, B, C, D = model.state_space()
+    f = np.array([0.5, 37.0, 910.0, 2.5e4])
+    s = 2j * np.pi * f
+    X = np.linalg.solve(s[:, None, None] * np.eye(A.shape[0]) - A, np.broadcast_to(B, (f.size,) + B.shape))
+    K_ss = model.K0 + s[:, None, None] * (D + C @ X)
+    assert np.allclose(K_ss, model.dynamic_stiffness(f), rtol=1e-10, atol=0)
+    assert np.allclose(model.receptance(f) @ model.dynamic_stiffness(f), np.eye(2), atol=1e-10)
+
+
+def test_static_and_high_frequency_limits_are_exact_by_construction():
+    model = _synthetic()
+    assert np.allclose(model.dynamic_stiffness([1e-9])[0], model.K0, rtol=1e-6)
+    f = np.array([1e8])
+    assert np.allclose(model.dynamic_stiffness(f)[0] / (2j * np.pi * f[0]), model.D, rtol=1e-5,
+                       atol=1e-6 * model.D.max())
+
+
+def test_hamiltonian_test_agrees_with_dense_sampling():
+    """Crossings sit where an eigenvalue of Re Z is zero; the verdict matches a dense grid."""
+    model = _synthetic(seed=3)
+    report = passivity_report(model)
+    f = np.geomspace(1e-3, 1e6, 20001)
+    sampled_negative = np.any(_min_eig_dense(model, f) < 0)
+    assert bool(report) is (not sampled_negative)
+    A, B, C, D = model.state_space()
+    S = np.diag(np.diag(D) ** -0.5)
+    for w in hamiltonian_crossings(A, B @ S, S @ C, S @ D @ S):
+        Z = model.impedance(np.array([1j * w]))[0].real
+        eig = np.linalg.eigvalsh(S @ (0.5 * (Z + Z.T)) @ S)
+        assert np.min(np.abs(eig)) < 1e-6 * np.max(np.abs(eig)) + 1e-9
+
+
+def test_hamiltonian_test_finds_a_violation_a_coarse_grid_misses():
+    """A lightly damped pole pair with the wrong-signed residue makes Re Z negative in a band
+    far narrower than the spacing of a 3 Hz grid: sampling misses it, the exact test does not."""
+    w0 = 2 * np.pi * 1000.5  # half-way between two points of the 3 Hz grid
+    poles = np.array([-1e-3 * w0 + 1j * w0])
+    coef = np.array([[-2e6, 0.0, 0.0], [0.0, 0.0, 0.0]])  # Re Z11 < 0 within ~1.3 Hz of w0
+    model = RationalEndStiffness(poles, coef, K0=np.eye(2) * 1e7, D=np.diag([1.2e5, 1.2e3]))
+    grid = np.arange(3.0, 3000.1, 3.0)
+    assert np.all(_min_eig_dense(model, grid) > 0)
+    report = passivity_report(model)
+    assert not report
+    lo, hi = report.violations_hz[0]
+    assert lo < 1000.5 < hi and hi - lo < 3.0
+
+
+def test_enforcement_makes_a_model_passive_with_a_small_change():
+    model = _synthetic(seed=3)
+    assert not passivity_report(model)
+    fixed, rounds = enforce_passivity(model)
+    assert passivity_report(fixed) and rounds >= 1
+    assert np.allclose(fixed.poles, model.poles) and np.array_equal(fixed.K0, model.K0)
+    f = np.geomspace(1e-3, 1e6, 20001)
+    assert np.min(_min_eig_dense(fixed, f)) > -1e-9 * np.max(np.diag(model.D))
+
+
+@pytest.fixture(scope="module")
+def fitted():
+    """The paper's two tracks fitted once (about 10-30 s each)."""
+    return {name: st.fit_boundary(track(), band=BAND, seed=0)
+            for name, track in (("slab", st.slab_track), ("ballasted", st.ballasted_track))}
+
+
+@pytest.mark.parametrize("name", ["slab", "ballasted"])
+def test_fitted_boundary_is_proven_passive_and_keeps_the_limits(fitted, name):
+    bnd = fitted[name]
+    track = st.slab_track() if name == "slab" else st.ballasted_track()
+    assert bnd.is_passive() and bnd.passivity.stable
+    assert np.all(bnd.model.poles.real < 0)
+    K0, D = track_end_limits(track)
+    exact_static = np.linalg.inv(st.semi_infinite_receptance(track, [1e-3])[0]).real
+    assert np.allclose(bnd.dynamic_stiffness([1e-6])[0], exact_static, rtol=0.01)
+    f = 1e7
+    assert np.allclose(bnd.dynamic_stiffness([f])[0].imag / (2 * np.pi * f), D, rtol=0.01, atol=1e-3 * D.max())
+    # Far outside the band the receptance is still finite and passive (Im alpha11 <= 0 here).
+    far = bnd.receptance([1e-4, 1e5, 1e6])
+    assert np.all(np.isfinite(far)) and np.all(far[:, 0, 0].imag <= 0)
+
+
+# Measured (3 Hz grid over 3-3000 Hz, element-wise): slab 1.8 % median, 6.7 % max; ballasted
+# 3.6 % / 14.5 %. The loss factors of the paper are not causal: a causal passive model with the
+# static stiffness pinned cannot follow a constant loss factor eta over three decades to better
+# than about 0.7-0.9 eta (Kramers-Kronig), i.e. ~7-9 % for the pads (eta 0.1) and ~20-25 % for
+# the ballast (eta 0.3) alone. Bounds keep ~10 % headroom over the measured values.
+HYSTERETIC_BOUNDS = {"slab": (0.02, 0.074), "ballasted": (0.04, 0.16)}
+
+
+@pytest.mark.parametrize("name", ["slab", "ballasted"])
+def test_fitted_boundary_error_over_the_full_band(fitted, name):
+    bnd = fitted[name]
+    track = st.slab_track() if name == "slab" else st.ballasted_track()
+    g = error_band_grid(BAND, 3.0)
+    err = error_summary(bnd.receptance(g), st.semi_infinite_receptance(track, g))
+    assert err.median == pytest.approx(bnd.median_error) and err.max == pytest.approx(bnd.max_error)
+    median, largest = HYSTERETIC_BOUNDS[name]
+    assert bnd.median_error <= median and bnd.max_error <= largest
+
+
+def test_boundary_beats_the_n5_systems_beyond_their_band(fitted):
+    """Above the paper's fit band the N = 5 systems fail; the broadband end does not."""
+    fit5 = st.fit_equivalent(st.slab_track(), "slab", 5, band=FIT_BANDS["slab"], seed=0)
+    g = error_band_grid((900.0, 3000.0), 3.0)
+    exact = st.semi_infinite_receptance(st.slab_track(), g)
+    assert error_summary(fitted["slab"].receptance(g), exact).max < 0.5 * error_summary(
+        fit5.system.receptance(g), exact).max
+
+
+@pytest.mark.parametrize("fmt", ["json", "mat"])
+def test_export_round_trip(fitted, tmp_path, fmt):
+    bnd = fitted["slab"]
+    path = st.save_boundary(bnd, tmp_path / f"end.{fmt}")
+    back = st.load_boundary(path)
+    f = np.geomspace(0.1, 1e5, 50)
+    assert np.allclose(back.dynamic_stiffness(f), bnd.dynamic_stiffness(f), rtol=1e-12)
+    assert back.is_passive() and back.band == bnd.band
+
+
+def test_load_refuses_a_mismatched_state_space(fitted, tmp_path):
+    import json
+
+    path = st.save_boundary(fitted["slab"], tmp_path / "end.json")
+    data = json.loads(path.read_text())
+    data["state_space"]["A"][0][0] *= 1.5
+    path.write_text(json.dumps(data))
+    with pytest.raises(ValueError, match="does not match"):
+        st.load_boundary(path)
+
+
+@pytest.mark.parametrize("bad, exc, match", [
+    (dict(band=(3000.0, 3.0)), ValueError, "band"),
+    (dict(n_poles=1), ValueError, "n_poles"),
+    (dict(n_poles=1000), ValueError, "n_poles"),
+    (dict(n_poles=2.5), TypeError, "n_poles"),
+    (dict(df=0.0), ValueError, "df"),
+])
+def test_bad_arguments_are_named(bad, exc, match):
+    with pytest.raises(exc, match=match):
+        st.fit_boundary(st.slab_track(), **bad)
+
+
+def test_track_must_be_a_track():
+    with pytest.raises(TypeError, match="track"):
+        st.fit_boundary("slab")
+
+
+def test_symmetric_columns_helper():
+    m = symmetric_from_columns(np.array([[1.0, 2.0, 3.0]]))
+    assert np.array_equal(m[0], [[1.0, 2.0], [2.0, 3.0]])
