@@ -2,9 +2,18 @@
 
 from __future__ import annotations
 
+import pickle
+
 import numpy as np
 import pytest
 
+from semitrack.equivalent.assembly import (
+    IllConditionedError,
+    assembly,
+    dynamic_stiffness,
+    end_loads,
+    scaled_solve,
+)
 from semitrack.equivalent.constraints import (
     ballasted_constraints,
     ballasted_from_free,
@@ -430,3 +439,57 @@ def test_error_band_grid():
         error_band_grid((900.0, 3.0))
     with pytest.raises(ValueError, match="df must be positive"):
         error_band_grid((3.0, 900.0), df=0)
+
+
+# --- the shared assembly (assembly.py) ---------------------------------------------------------------
+# Central differences with a relative step of 1e-6: truncation ~1e-12, rounding ~1e-10 of the
+# largest derivative; a wrong term is O(1).
+SENSITIVITY_RTOL = 1e-6
+
+
+@pytest.mark.parametrize("system", [random_slab(3, 7), random_ballasted(3, 8)], ids=["slab3", "ballasted3"])
+def test_receptance_sensitivities_match_finite_differences(system):
+    """d alpha / d v and d alpha / d L of the assembly, against differences of the system's receptance."""
+    f = np.array([40.0, 180.0, 650.0])
+    pairs = ((0, 0), (0, 1), (1, 1))
+    params = system.parameters()
+    asm = assembly(system.layout, system.n_bars)
+    M, C, K = system.matrices()
+    X = scaled_solve(dynamic_stiffness(M, C, K, TWO_PI * f), end_loads(system.n_dof))
+    d_values, d_lengths = asm.receptance_sensitivities(X, params, TWO_PI * f, pairs)
+
+    def alpha(name, j, h):
+        changed = params[name].copy()
+        changed[j] += h
+        a = system.replace(**{name: changed}).receptance(f)
+        return np.stack([a[:, i, k] for i, k in pairs], axis=1)
+
+    for name in ("k", "c_r", "m", "k_phi", "L"):
+        for j in range(params[name].size):
+            h = 1e-6 * params[name][j]
+            fd = (alpha(name, j, h) - alpha(name, j, -h)) / (2 * h)
+            if name == "L":
+                got = d_lengths[:, :, j]
+            else:  # one value enters through every term of its family (k: both ends)
+                got = d_values[name][:, j, :]
+            np.testing.assert_allclose(got, fd, rtol=0, atol=SENSITIVITY_RTOL * np.max(np.abs(fd)))
+
+
+def test_scaled_solve_refuses_a_singular_dynamic_stiffness():
+    Z = np.zeros((2, 3, 3), complex)
+    Z[:, 0, 0] = Z[:, 1, 1] = 1.0  # the third coordinate is free
+    with pytest.raises(IllConditionedError) as info:
+        scaled_solve(Z, np.eye(3)[:, :2], cond_limit=1e12)
+    assert info.value.index == 0 and info.value.n_bad == 2
+    with pytest.raises(np.linalg.LinAlgError):  # without the check, numpy's own error
+        scaled_solve(Z, np.eye(3)[:, :2])
+
+
+@pytest.mark.parametrize("system", [paper_table4(), paper_table7()], ids=["table4", "table7"])
+def test_pickle_round_trip_keeps_arrays_read_only(system):
+    system.matrices()  # the cached matrices travel too
+    back = pickle.loads(pickle.dumps(system))
+    assert back == system
+    assert not back.m.flags.writeable and not back._mck[0].flags.writeable
+    with pytest.raises(ValueError):
+        back.k[0] = 1.0
