@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import semitrack as st
-from semitrack.base.paper_values import PAPER_BETA_MAX
+from semitrack.base.paper_values import PAPER_BETA_MAX, PAPER_DBETA, PAPER_DX, PAPER_J_MAX
 from semitrack.methods.wavenumber import WavenumberSettings, displacement_fields
 
 CHECK_F = np.array([3.0, 183.0, 945.0])  # low, bouncing, and near the first pinned-pinned frequency
@@ -18,9 +18,8 @@ def _max_rel_error(alpha, ref):
 
 def test_paper_settings_are_the_default():
     s = WavenumberSettings()
-    assert s.beta_max == pytest.approx(78.54, abs=0.01) and s.dbeta == pytest.approx(2 * np.pi * 0.0025)
-    assert s.j_max == 20 and s.dx == 0.04
-    assert s.beta.size == 10000 and np.pi / s.beta_max == pytest.approx(0.04)  # FFT x-step of the paper
+    assert (s.beta_max, s.dbeta, s.j_max, s.dx) == (PAPER_BETA_MAX, PAPER_DBETA, PAPER_J_MAX, PAPER_DX)
+    assert s.beta.size == 10000 and np.pi / s.beta_max == pytest.approx(s.dx)  # the paper's dx is its FFT x-step
 
 
 def test_wavenumber_converges_to_exact(track):
