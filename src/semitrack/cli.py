@@ -157,7 +157,7 @@ def cmd_fit(args: argparse.Namespace) -> int:
     progress.close()
     save_system_json(fit.system, out)
     print(f"fitted a {layout} equivalent system with {args.bars} bars to '{track.name}' over {fmin:g}-{fmax:g} Hz")
-    print(f"median relative error {fit.median_error:.4f}, maximum {fit.max_error:.4f} (alpha11, alpha12, alpha22)")
+    print(f"median relative error {fit.median_error:.4f}, maximum {fit.max_error:.4f} ({', '.join(ELEMENTS)})")
     print(f"written to {out}")
     return 0
 

@@ -42,6 +42,13 @@ def check_string(name: str, value: object) -> str:
     return value
 
 
+def check_choice(name: str, value: object, choices: tuple) -> object:
+    """One of ``choices`` (e.g. a method name), compared with ``==``."""
+    if value not in choices:
+        raise ValueError(f"{name} must be one of {choices}, got {value!r}")
+    return value
+
+
 def check_int_at_least(name: str, value: object, minimum: int) -> int:
     """An integer (not a bool) that is >= ``minimum``."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):

@@ -15,7 +15,7 @@ import pandas as pd
 from numpy.typing import ArrayLike
 from scipy.optimize import minimize_scalar
 
-from ..base.checks import as_frequencies, check_band, check_positive
+from ..base.checks import as_frequencies, check_band, check_choice, check_positive
 from ..base.conventions import ELEMENTS
 from ..base.paper_values import PAPER_GRID_BAND, PAPER_GRID_STEP
 from ..model.tracks import PeriodicCell, Track
@@ -102,8 +102,7 @@ def refine_extremum(func: Callable[[float], complex], f_lo: float, f_hi: float, 
     xtol : float
         Absolute tolerance on the frequency (Hz).
     """
-    if kind not in ("peak", "dip"):
-        raise ValueError(f"kind must be 'peak' or 'dip', got {kind!r}")
+    check_choice("kind", kind, ("peak", "dip"))
     sign = -1.0 if kind == "peak" else 1.0
     res = minimize_scalar(lambda x: sign * np.log(abs(func(x))), bounds=(f_lo, f_hi), method="bounded",
                           options={"xatol": xtol})

@@ -20,7 +20,7 @@ from typing import Literal, get_args
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import as_frequencies, check_real
+from ..base.checks import as_frequencies, check_choice, check_real
 from ..model.tracks import PeriodicCell, Track, require_cell
 from .transfer import end_stiffness, infinite_receptance
 from .wavenumber import WavenumberSettings, central_quantities
@@ -82,8 +82,7 @@ class CentralResponse:
 
 
 def _settings(method: str, options: dict) -> WavenumberSettings | None:
-    if method not in METHODS:
-        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+    check_choice("method", method, METHODS)
     if method == "transfer":
         if options:
             raise TypeError(f"method='transfer' takes no discretisation settings, got {sorted(options)}")

@@ -21,6 +21,7 @@ from importlib import resources
 from pathlib import Path
 from typing import NoReturn
 
+from ..base.checks import check_choice
 from .tracks import Track, check_track_field, require_track
 
 SECTIONS = {
@@ -38,8 +39,7 @@ class TrackFileError(ValueError):
 
 def example_path(name: str) -> Path:
     """Path of a shipped example file, ``"slab"`` or ``"ballasted"``."""
-    if name not in EXAMPLES:
-        raise ValueError(f"example must be one of {EXAMPLES}, got {name!r}")
+    check_choice("example", name, EXAMPLES)
     return Path(str(resources.files("semitrack") / "examples" / f"{name}.toml"))
 
 
@@ -144,8 +144,10 @@ def _parse_track_dict(data: dict, where: _Locator) -> dict[str, tuple[str | None
     kind = data.get("type")
     if kind is None:
         where.fail(None, "type", f'missing key "type"; it must be one of {TYPES}')
-    if kind not in TYPES:
-        where.fail(None, "type", f"type must be one of {TYPES}, got {kind!r}")
+    try:
+        check_choice("type", kind, TYPES)
+    except ValueError as err:
+        where.fail(None, "type", str(err))
     if kind == "slab" and "ballast" in data:
         where.fail("ballast", "", 'a [ballast] section needs type = "ballasted"; remove it for a slab track')
     values: dict[str, tuple[str | None, object]] = {"name": (None, data.get("name", kind))}
