@@ -74,6 +74,17 @@ def _check_system(left: str, right: str, system, n_bays: int) -> None:
         raise ValueError(f"a model with zero bays needs 'equivalent' or 'exact' ends, got ends ({left!r}, {right!r})")
 
 
+def _symmetric_lu(z: sp.csc_matrix):
+    """Sparse LU of a complex symmetric Z: minimum degree on ``Z^T + Z``, diagonal pivots preferred.
+
+    SuperLU's symmetric mode keeps a diagonal pivot unless it is below 0.1 times the largest
+    entry of its column. Plain partial pivoting picks off-diagonal pivots among the DOFs of an
+    attached ballasted system and fills the factors four times as much: 10 times slower on a
+    160-bay ballasted track, for the same result to 1e-12.
+    """
+    return splu(z, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.1, options={"SymmetricMode": True})
+
+
 class FETrack:
     """A finite FE model of the rail on discrete supports between two mid-span cuts.
 
@@ -360,8 +371,7 @@ class FETrack:
         out = np.empty((f.size, self.n_dof, rhs.shape[1]), dtype=complex)
         rhs_c = np.ascontiguousarray(rhs, dtype=complex)
         for i, w in enumerate(omega):
-            z = self._csc(self._z_data(k0, w, exact, i))
-            out[i] = splu(z, permc_spec="MMD_AT_PLUS_A").solve(rhs_c)
+            out[i] = _symmetric_lu(self._csc(self._z_data(k0, w, exact, i))).solve(rhs_c)
         return out
 
     def receptance(self, f: ArrayLike, x: float = 0.0) -> np.ndarray:
