@@ -23,6 +23,7 @@ import time
 import numpy as np
 
 import semitrack as st
+from semitrack.base.paper_values import FIT_BANDS
 from semitrack.equivalent.metrics import error_band_grid, error_summary
 from semitrack.fe.models import TruncatedTrack, fe_central_receptance, fe_semi_infinite_receptance
 from semitrack.fe.timedomain import moving_load_response, pulse_response, relative_l2_error
@@ -30,8 +31,8 @@ from semitrack.fe.timedomain import moving_load_response, pulse_response, relati
 QUICK = "--quick" in sys.argv
 GRID = np.arange(3.0, 3000.0, 6.0)
 CASES = (
-    (st.slab_track(), st.paper_table4(), (3.0, 900.0)),
-    (st.ballasted_track(), st.paper_table7(), (3.0, 750.0)),
+    (st.slab_track(), st.paper_table4(), FIT_BANDS["slab"]),
+    (st.ballasted_track(), st.paper_table7(), FIT_BANDS["ballasted"]),
 )
 
 
@@ -127,7 +128,8 @@ def time_domain() -> None:
         runs = {}
         for key, m in models.items():
             t, runs[key] = timed(lambda: pulse_response(m, pos, t_end=0.03))
-            print(f"   {track.name:<10} pulse (f_max 1.5 kHz, 30 ms = 1500 steps) {key:<10} n_dof {m.n_dof:5d}: {t:6.2f} s")
+            print(f"   {track.name:<10} pulse (f_max 1.5 kHz, 30 ms = 1500 steps) {key:<10} n_dof {m.n_dof:5d}: "
+                  f"{t:6.2f} s")
         doubled = pulse_response(TruncatedTrack(track, 200, "pinned", elements_per_bay=8), pos, t_end=0.03)
         e = relative_l2_error(runs["reference"].u, doubled.u)
         print(f"   {track.name:<10} pulse reference 100 vs 200 bays: {e.max():.1e}")
@@ -148,8 +150,8 @@ def time_domain() -> None:
                                    elements_per_bay=8)
                 t, h = timed(lambda: moving_load_response(m, **kw))
                 e = relative_l2_error(h.u, ref.u)
-                print(f"   {track.name:<10} moving load, {n_bays:2d} bays, {ends:<10} ends ({t:4.2f} s): error under the "
-                      f"load {100 * e[0]:5.2f} %, at x = 0 {100 * e[1]:5.2f} %")
+                print(f"   {track.name:<10} moving load, {n_bays:2d} bays, {ends:<10} ends ({t:4.2f} s): error "
+                      f"under the load {100 * e[0]:5.2f} %, at x = 0 {100 * e[1]:5.2f} %")
     print()
 
 

@@ -13,6 +13,7 @@ import scipy.optimize as so
 import scipy.sparse as sp
 
 import semitrack as st
+from semitrack.base.paper_values import FIT_BANDS
 from semitrack.equivalent.metrics import error_band_grid, error_summary
 from semitrack.fe.damping import viscous_reference_frequencies
 from semitrack.fe.element import timoshenko_element, timoshenko_shape_functions
@@ -324,8 +325,8 @@ def test_short_track_is_not_enough(track):
 # Truncated tracks with the paper's equivalent systems
 # ------------------------------------------------------------------------------------------------
 CASES = {
-    "slab": (st.slab_track, st.paper_table4, (3.0, 900.0)),
-    "ballasted": (st.ballasted_track, st.paper_table7, (3.0, 750.0)),
+    "slab": (st.slab_track, st.paper_table4, FIT_BANDS["slab"]),
+    "ballasted": (st.ballasted_track, st.paper_table7, FIT_BANDS["ballasted"]),
 }
 
 

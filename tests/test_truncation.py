@@ -5,16 +5,16 @@ import pandas as pd
 import pytest
 
 import semitrack as st
+from semitrack.base.paper_values import FIT_BANDS
 from semitrack.fe.truncation import bays_needed, truncation_study
 
-CASES = {"slab": (st.slab_track, (3.0, 900.0)), "ballasted": (st.ballasted_track, (3.0, 750.0))}
+TRACKS = {"slab": st.slab_track, "ballasted": st.ballasted_track}
 
 
 @pytest.mark.parametrize("layout", ["slab", "ballasted"])
-def test_ten_bays_with_fitted_ends_reproduce_the_infinite_track(layout):
-    maker, band = CASES[layout]
-    track = maker()
-    system = st.fit_equivalent(track, layout=layout, n_bars=5, band=band, seed=0).system
+def test_ten_bays_with_fitted_ends_reproduce_the_infinite_track(layout, paper_fits):
+    track, band = TRACKS[layout](), FIT_BANDS[layout]
+    system = paper_fits[layout].system  # N = 5 over the paper's band, seed 0
     f = np.arange(band[0], band[1] + 1.0, 6.0)
     study = truncation_study(track, f, n_bays=(10,), ends={"equivalent": ("equivalent", system),
                                                           "pinned": ("pinned", None)})

@@ -1,12 +1,22 @@
-"""One house style for the book's figures. The library never selects a matplotlib backend."""
+"""The book's figures, in one house style. The library never selects a matplotlib backend.
+
+Every ``*_figure`` function takes results computed by the package (arrays, tables, the results
+of a study), draws one figure and returns ``(fig, axes)``; the notebooks call them and compute
+nothing by hand. Methods and kinds of end keep one line style throughout (:data:`METHOD_STYLE`);
+element names, labels and units come from :mod:`semitrack.base.conventions`.
+"""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from contextlib import contextmanager
 
 import matplotlib as mpl
 import matplotlib.pyplot as plt
 import numpy as np
+import pandas as pd
+
+from .base.conventions import ELEMENT_TEX, ELEMENT_UNITS, ELEMENTS
 
 #: Line styles per method, used in every figure so that a method always looks the same.
 METHOD_STYLE = {
@@ -31,7 +41,7 @@ RC = {
 
 @contextmanager
 def house_style():
-    """Context manager applying the house rcParams."""
+    """Context manager applying the house rcParams (:data:`RC`) inside a ``with`` block."""
     with mpl.rc_context(RC):
         yield
 
@@ -42,7 +52,22 @@ def apply_house_style() -> None:
 
 
 def magnitude_axes(ax, ylabel: str, xlabel: str = "Frequency (Hz)", logx: bool = False):
-    """Log-magnitude axes with units on both axes."""
+    """Log-magnitude axes with units on both axes.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes.
+    ylabel, xlabel : str
+        Axis labels, with units.
+    logx : bool
+        Logarithmic frequency axis too.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        ``ax``.
+    """
     ax.set_yscale("log")
     if logx:
         ax.set_xscale("log")
@@ -52,19 +77,67 @@ def magnitude_axes(ax, ylabel: str, xlabel: str = "Frequency (Hz)", logx: bool =
 
 
 def plot_magnitude(ax, f, values, label: str, **style):
-    """Plot |values| against f."""
+    """Plot ``|values|`` against ``f``.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes.
+    f : array_like
+        Frequencies (Hz).
+    values : array_like
+        Complex values, same length as ``f``.
+    label : str
+        Legend label.
+    **style
+        Line properties (e.g. ``**METHOD_STYLE["exact"]``).
+
+    Returns
+    -------
+    list of matplotlib.lines.Line2D
+    """
     return ax.plot(f, np.abs(values), label=label, **style)
 
 
 def plot_phase(ax, f, values, label: str, **style):
-    """Plot the phase of values (rad) against f, in [-pi, pi]."""
+    """Plot the phase of ``values`` (rad, in [-pi, pi]) against ``f``.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes.
+    f : array_like
+        Frequencies (Hz).
+    values : array_like
+        Complex values, same length as ``f``.
+    label : str
+        Legend label.
+    **style
+        Line properties.
+
+    Returns
+    -------
+    list of matplotlib.lines.Line2D
+    """
     ax.set_ylabel("Phase (rad)")
     ax.set_yticks([-np.pi, -np.pi / 2, 0, np.pi / 2, np.pi], ["$-\\pi$", "$-\\pi/2$", "0", "$\\pi/2$", "$\\pi$"])
     return ax.plot(f, np.angle(values), label=label, **style)
 
 
 def mark_frequencies(ax, freqs, labels=None, **style):
-    """Thin vertical lines at characteristic frequencies, with optional labels at the top."""
+    """Thin vertical lines at characteristic frequencies, with optional labels at the top.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes.
+    freqs : sequence of float
+        Frequencies (Hz).
+    labels : sequence of str, optional
+        One label per frequency.
+    **style
+        Line properties overriding the thin grey dotted default.
+    """
     style = {"color": "0.5", "lw": 0.7, "ls": ":", **style}
     for i, fr in enumerate(freqs):
         ax.axvline(fr, **style)
@@ -74,28 +147,53 @@ def mark_frequencies(ax, freqs, labels=None, **style):
 
 
 def new_figure(nrows: int = 1, ncols: int = 1, **kwargs):
-    """``plt.subplots`` with the house style applied and a constrained layout."""
+    """``plt.subplots`` with the house style applied and a constrained layout.
+
+    Parameters
+    ----------
+    nrows, ncols : int
+        Grid of panels.
+    **kwargs
+        Passed to :func:`matplotlib.pyplot.subplots` (``figsize``, ``sharex``...).
+
+    Returns
+    -------
+    fig, axes
+    """
     apply_house_style()
     kwargs.setdefault("layout", "constrained")
     return plt.subplots(nrows, ncols, **kwargs)
 
 
-ELEMENT_UNITS = {"alpha11": "m/N", "alpha12": "rad/N", "alpha22": "rad/(N m)"}
-_ELEMENT_INDEX = {"alpha11": (0, 0), "alpha12": (0, 1), "alpha22": (1, 1)}
-_ELEMENT_TEX = {"alpha11": r"$|\alpha_{11}|$", "alpha12": r"$|\alpha_{12}|$", "alpha22": r"$|\alpha_{22}|$"}
+def _magnitude_label(element: str) -> str:
+    """Axis label ``|alpha_ij| (unit)`` of a receptance element, from the package's conventions."""
+    return f"$|{ELEMENT_TEX[element].strip('$')}|$ ({ELEMENT_UNITS[element]})"
 
 
 def receptance_figure(f, receptances: dict, title: str = "", logx: bool = False):
     """Magnitudes of alpha11, alpha12, alpha22, one panel each, one line per method.
 
-    ``receptances`` maps a method label (a key of :data:`METHOD_STYLE` or any text) to an array
-    of shape ``(n_f, 2, 2)``. Returns ``(fig, axes)``.
+    Parameters
+    ----------
+    f : array_like
+        Frequencies (Hz).
+    receptances : dict
+        Method label (a key of :data:`METHOD_STYLE` or any text) to an array of shape
+        ``(n_f, 2, 2)`` (m/N, 1/N, rad/(N m)).
+    title : str
+        Figure title.
+    logx : bool
+        Logarithmic frequency axis.
+
+    Returns
+    -------
+    fig, axes
     """
     fig, axes = new_figure(1, 3, figsize=(10.0, 3.4), sharex=True)
-    for ax, (name, (i, k)) in zip(axes, _ELEMENT_INDEX.items()):
+    for ax, (name, (i, k)) in zip(axes, ELEMENTS.items()):
         for label, alpha in receptances.items():
             plot_magnitude(ax, f, np.asarray(alpha)[:, i, k], label, **METHOD_STYLE.get(label, {}))
-        magnitude_axes(ax, f"{_ELEMENT_TEX[name]} ({ELEMENT_UNITS[name]})", logx=logx)
+        magnitude_axes(ax, _magnitude_label(name), logx=logx)
     axes[0].legend()
     if title:
         fig.suptitle(title)
@@ -105,11 +203,21 @@ def receptance_figure(f, receptances: dict, title: str = "", logx: bool = False)
 def fields_figure(x, q, title: str = ""):
     """w and psi around a unit force (left) and a unit moment (right), real and imaginary parts.
 
-    ``q`` has shape ``(n_x, 2, 2)``: response (w, psi) by load (force, moment), at positions
-    ``x`` (m) relative to the load. Returns ``(fig, axes)``.
+    Parameters
+    ----------
+    x : array_like
+        Positions relative to the load (m).
+    q : ndarray, shape (n_x, 2, 2)
+        Response (w, psi) by load (force, moment).
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    fig, axes
     """
     fig, axes = new_figure(2, 2, figsize=(9.0, 5.5), sharex=True)
-    labels = [[r"$w_1$ (m/N)", r"$w_2$ (m/(N m))"], [r"$\psi_1$ (rad/N)", r"$\psi_2$ (rad/(N m))"]]
+    labels = [[r"$w_1$ (m/N)", r"$w_2$ (1/N)"], [r"$\psi_1$ (1/N)", r"$\psi_2$ (rad/(N m))"]]
     for i in range(2):
         for k in range(2):
             ax = axes[i, k]
@@ -129,7 +237,16 @@ def fields_figure(x, q, title: str = ""):
 def convergence_figure(study, title: str = ""):
     """Error of the wavenumber alpha against dx, one line per wavenumber range, one panel per f.
 
-    ``study`` is the table returned by :func:`semitrack.paper.convergence.convergence_study`.
+    Parameters
+    ----------
+    study : pandas.DataFrame
+        The table of :func:`semitrack.paper.convergence.convergence_study`.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    fig, axes
     """
     freqs = sorted(study["f (Hz)"].unique())
     fig, axes = new_figure(1, len(freqs), figsize=(3.4 * len(freqs), 3.4), sharey=True)
@@ -153,7 +270,18 @@ def convergence_figure(study, title: str = ""):
 def central_response_figure(f, responses: dict, title: str = ""):
     """|w1|, |psi2|, |Q2|, |M1| and |det(alpha^-1)| (paper Fig. 4/10), one panel each.
 
-    ``responses`` maps a method label to a :class:`semitrack.CentralResponse`.
+    Parameters
+    ----------
+    f : array_like
+        Frequencies (Hz).
+    responses : dict
+        Method label to a :class:`semitrack.CentralResponse`.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    fig, axes
     """
     fig, axes = new_figure(2, 3, figsize=(10.5, 6.0), sharex=True)
     spec = [("w1", r"$|\tilde w_1|$ (m/N)"), ("psi2", r"$|\tilde\psi_2|$ (rad/(N m))"),
@@ -171,12 +299,26 @@ def central_response_figure(f, responses: dict, title: str = ""):
 
 
 def phase_figure(f, receptances: dict, title: str = ""):
-    """Phases of alpha11, alpha12, alpha22 (paper Fig. 6/9/15), one panel each."""
+    """Phases of alpha11, alpha12, alpha22 (paper Fig. 6/9/15), one panel each.
+
+    Parameters
+    ----------
+    f : array_like
+        Frequencies (Hz).
+    receptances : dict
+        Method label to an array of shape ``(n_f, 2, 2)``.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    fig, axes
+    """
     fig, axes = new_figure(1, 3, figsize=(10.0, 3.2), sharex=True, sharey=True)
-    for ax, (name, (i, k)) in zip(axes, _ELEMENT_INDEX.items()):
+    for ax, (name, (i, k)) in zip(axes, ELEMENTS.items()):
         for label, alpha in receptances.items():
             plot_phase(ax, f, np.asarray(alpha)[:, i, k], label, **METHOD_STYLE.get(label, {}))
-        ax.set_title(name.replace("alpha", "alpha_"))
+        ax.set_title(ELEMENT_TEX[name])
         ax.set_xlabel("Frequency (Hz)")
     axes[0].legend()
     if title:
@@ -189,6 +331,19 @@ def equivalent_schematic(system, ax=None, title: str = ""):
 
     Bars are drawn with a thickness that grows with their mass, springs as zig-zags whose
     labels give the stiffness; support masses (ballasted layout) as boxes labelled with mu.
+
+    Parameters
+    ----------
+    system : EquivalentSystem
+        The system.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure by default.
+    title : str
+        Axes title; by default the layout and N.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
     """
     if ax is None:
         _, ax = new_figure(figsize=(10.0, 3.2))
@@ -231,3 +386,142 @@ def equivalent_schematic(system, ax=None, title: str = ""):
     ax.spines["left"].set_visible(False)
     ax.set_title(title or f"{system.layout} equivalent system, N = {system.n_bars} (springs labelled in N/m)")
     return ax
+
+
+# ------------------------------------------------------------------------------------------------
+# Finite-element tracks (book chapter "truncated track models")
+# ------------------------------------------------------------------------------------------------
+def _panels(n: int, **kwargs):
+    fig, axes = new_figure(1, n, **kwargs)
+    return fig, np.atleast_1d(axes)
+
+
+def long_track_error_figure(errors: Mapping[str, pd.DataFrame]):
+    """Relative error of the long FE tracks' alpha and w1 against the exact method, one panel per track.
+
+    Parameters
+    ----------
+    errors : dict
+        Track name to the table of :func:`semitrack.fe.accuracy.long_track_errors`
+        (columns ``f (Hz)``, ``alpha error``, ``w1 error``).
+
+    Returns
+    -------
+    fig, axes
+    """
+    fig, axes = _panels(len(errors), figsize=(10.0, 3.4), sharey=True)
+    for ax, (name, e) in zip(axes, errors.items()):
+        ax.semilogy(e["f (Hz)"], e["alpha error"], label=r"$\alpha$ (largest element)", color="k", lw=1)
+        ax.semilogy(e["f (Hz)"], e["w1 error"], label=r"$\tilde w_1$", color="tab:blue", lw=1)
+        ax.set_title(f"{name} track: long FE track vs exact")
+        ax.set_xlabel("Frequency (Hz)")
+    axes[0].set_ylabel("relative error (-)")
+    axes[0].legend()
+    return fig, axes
+
+
+def truncation_figure(studies: Mapping[str, pd.DataFrame], bands: Mapping[str, tuple[float, float]],
+                      median: float = 0.05, maximum: float = 0.10):
+    """Median (top) and maximum (bottom) error of w1 of truncated tracks against their length.
+
+    One column per track, one line per kind of end (styled by :data:`METHOD_STYLE`, solid).
+
+    Parameters
+    ----------
+    studies : dict
+        Track name to the table of :func:`semitrack.fe.truncation.truncation_study`.
+    bands : dict
+        Track name to the band (Hz) the errors were taken over (for the titles).
+    median, maximum : float
+        Targets drawn as dotted lines (fractions).
+
+    Returns
+    -------
+    fig, axes
+        ``axes`` of shape (2, n_tracks).
+    """
+    fig, axes = new_figure(2, len(studies), figsize=(10.5, 6.5), sharex=True, squeeze=False)
+    for col, (name, study) in enumerate(studies.items()):
+        for label, grp in study.groupby("ends", sort=False):
+            style = {k: v for k, v in METHOD_STYLE.get(label, {}).items() if k != "ls"}
+            for row, column in enumerate(("median error", "max error")):
+                axes[row, col].loglog(grp["n_bays"], grp[column], marker="o", ms=3, label=label, **style)
+        axes[0, col].axhline(median, color="0.5", ls=":")
+        axes[1, col].axhline(maximum, color="0.5", ls=":")
+        lo, hi = bands[name]
+        axes[0, col].set_title(f"{name} track, {lo:g}-{hi:g} Hz")
+        axes[1, col].set_xlabel("bays on each side of the centre")
+    axes[0, 0].set_ylabel("median error of w1 (-)")
+    axes[1, 0].set_ylabel("max error of w1 (-)")
+    axes[0, 0].legend(fontsize=8)
+    return fig, axes
+
+
+def truncated_w1_figure(curves: Mapping[str, pd.DataFrame], bands: Mapping[str, tuple[float, float]],
+                        n_bays: int):
+    """|w1| of the infinite track and of truncated tracks, the band above each fit band shaded.
+
+    Parameters
+    ----------
+    curves : dict
+        Track name to the table of :func:`semitrack.fe.truncation.truncated_w1` (indexed by
+        frequency in Hz; a column ``"infinite track (exact)"`` and one per kind of end, m/N).
+    bands : dict
+        Track name to its fit band (Hz); frequencies above it are shaded.
+    n_bays : int
+        Bays on each side of the truncated models (for the legend).
+
+    Returns
+    -------
+    fig, axes
+    """
+    fig, axes = _panels(len(curves), figsize=(10.5, 3.6), sharey=True)
+    for ax, (name, table) in zip(axes, curves.items()):
+        f = table.index.to_numpy()
+        for label, w1 in table.items():
+            if label == "infinite track (exact)":
+                plot_magnitude(ax, f, w1, label, **METHOD_STYLE["exact"])
+            else:
+                plot_magnitude(ax, f, w1, f"{n_bays} bays, {label} ends", **METHOD_STYLE.get(label, {}))
+        magnitude_axes(ax, r"$|\tilde w_1|$ (m/N)")
+        ax.axvspan(bands[name][1], f[-1], color="0.92", zorder=-1)
+        ax.set_title(f"{name} track")
+    axes[0].legend(fontsize=8)
+    return fig, axes
+
+
+def pulse_figure(results: Mapping[str, dict], n_bays: int, reference_bays: int):
+    """Rail displacement after a pulse: long reference, pinned ends and equivalent ends.
+
+    One column per track, one row per recorded position.
+
+    Parameters
+    ----------
+    results : dict
+        Track name to the result of :func:`semitrack.fe.truncation.truncation_errors` with a
+        ``"pulse"`` excitation and ``"pinned"`` and ``"equivalent"`` ends (TimeHistory ``t`` in
+        s, ``u`` in m per N of peak force).
+    n_bays, reference_bays : int
+        Bays on each side of the truncated models and of the reference (for the legend).
+
+    Returns
+    -------
+    fig, axes
+        ``axes`` of shape (n_positions, n_tracks).
+    """
+    n_rows = next(iter(results.values()))["reference"].u.shape[1]
+    fig, axes = new_figure(n_rows, len(results), figsize=(10.5, 3.0 * n_rows), sharex=True, squeeze=False)
+    lines = (("reference", METHOD_STYLE["exact"], f"{reference_bays}-bay reference"),
+             ("pinned", dict(color="tab:red", lw=0.9, ls=":"), f"{n_bays} bays, pinned ends"),
+             ("equivalent", METHOD_STYLE["our system"], f"{n_bays} bays, our equivalent ends"))
+    for col, (name, res) in enumerate(results.items()):
+        t_ms = 1e3 * res["reference"].t
+        for row in range(n_rows):
+            ax = axes[row, col]
+            for key, style, label in lines:
+                ax.plot(t_ms, 1e9 * res[key].u[:, row], label=label, **style)
+            ax.set_ylabel(f"w at {res['reference'].labels[row][2:-1]} (nm per N)")
+        axes[0, col].set_title(f"{name} track: Hann pulse at the centre")
+        axes[-1, col].set_xlabel("time (ms)")
+    axes[0, 0].legend(fontsize=8)
+    return fig, axes

@@ -47,7 +47,7 @@ EndsSpec = Mapping[str, tuple[End, EquivalentSystem | None]]
 
 
 def compared_ends(paper_system: EquivalentSystem, our_system: EquivalentSystem) -> dict:
-    """The five kinds of end the book compares, labelled as :data:`semitrack.plotting.METHOD_STYLE`.
+    """The five kinds of end the book compares, under the labels its figures style.
 
     Parameters
     ----------
