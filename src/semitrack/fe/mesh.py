@@ -23,12 +23,13 @@ from typing import Literal
 
 import numpy as np
 
-__all__ = ["Side", "Kind", "SIDES", "Mesh", "bay_mesh", "DofMap", "rail_dof", "dof_map"]
+__all__ = ["Side", "Kind", "SIDES", "KINDS", "Mesh", "bay_mesh", "DofMap", "rail_dof", "dof_map"]
 
 #: An end of the model.
 Side = Literal["left", "right"]
 #: A rail DOF at a node: vertical displacement (m) or clockwise rotation (rad).
 Kind = Literal["w", "psi"]
+KINDS: tuple[Kind, Kind] = ("w", "psi")
 SIDES: tuple[Side, Side] = ("left", "right")
 
 

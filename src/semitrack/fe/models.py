@@ -24,19 +24,20 @@ import scipy.sparse as sp
 from numpy.typing import ArrayLike
 from scipy.sparse.linalg import splu
 
-from ..base.checks import as_frequencies, check_int_at_least, check_real
+from ..base.checks import as_frequencies, check_choice, check_int_at_least, check_real
 from ..equivalent.systems import EquivalentSystem
 from ..methods.transfer import end_stiffness
 from ..model.tracks import Track, require_track
 from .assembly import TrackMatrices, assemble
 from .damping import reference_frequencies
 from .element import shear_parameter, timoshenko_shape_functions
-from .mesh import SIDES, DofMap, Kind, Mesh, bay_mesh, dof_map, rail_dof
+from .mesh import KINDS, SIDES, DofMap, Kind, Mesh, bay_mesh, dof_map, rail_dof
 
 __all__ = [
     "ENDS",
     "End",
     "FarEnd",
+    "FAR_ENDS",
     "FETrack",
     "TruncatedTrack",
     "fe_semi_infinite_receptance",
@@ -48,19 +49,7 @@ ENDS = ("pinned", "free", "equivalent", "exact")
 End = Literal["pinned", "free", "equivalent", "exact"]
 #: End conditions of the far end of a long track.
 FarEnd = Literal["pinned", "free", "exact"]
-_FAR_ENDS = ("pinned", "free", "exact")
-
-
-def _check_end(name: str, value, allowed=ENDS) -> str:
-    if not isinstance(value, str) or value not in allowed:
-        raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
-    return value
-
-
-def _check_kind(kind) -> Kind:
-    if kind not in ("w", "psi"):
-        raise ValueError(f"kind must be 'w' or 'psi', got {kind!r}")
-    return kind
+FAR_ENDS = ("pinned", "free", "exact")
 
 
 def _check_system(left: str, right: str, system, n_bays: int) -> None:
@@ -131,8 +120,8 @@ class FETrack:
         self.track = require_track(track)
         self.n_left = check_int_at_least("n_left", n_left, 0)
         self.n_right = check_int_at_least("n_right", n_right, 0)
-        self.left = _check_end("left", left)
-        self.right = _check_end("right", right)
+        self.left = check_choice("left", left, ENDS)
+        self.right = check_choice("right", right, ENDS)
         ne = check_int_at_least("elements_per_bay", elements_per_bay, 2)
         if ne % 2:
             raise ValueError(f"elements_per_bay must be even (mid-spans are nodes), got {ne}")
@@ -216,7 +205,7 @@ class FETrack:
         (0.0, 4, 5)
         """
         x = check_real("x", x)
-        kind = _check_kind(kind)
+        kind = check_choice("kind", kind, KINDS)
         j = int(np.argmin(np.abs(self.x - x)))
         if abs(self.x[j] - x) > 1e-9 * self.track.spacing:
             raise ValueError(
@@ -253,7 +242,7 @@ class FETrack:
         """
         if not (np.isfinite(x) and self.x[0] - 1e-12 <= x <= self.x[-1] + 1e-12):
             raise ValueError(f"{name} must lie on the rail, {self.x[0]:.6g} <= x <= {self.x[-1]:.6g} m, got {x!r}")
-        kind = _check_kind(kind)
+        kind = check_choice("kind", kind, KINDS)
         e, xi = self.mesh.locate(x)
         h, tr = self.element_length, self.track
         n_w, n_psi = timoshenko_shape_functions(xi, h, shear_parameter(tr.E * tr.I, tr.kappa * tr.A * tr.G, h))
@@ -282,7 +271,7 @@ class FETrack:
         >>> model.output_matrix([0.0, 0.1]).shape == (2, model.n_dof)
         True
         """
-        kind = _check_kind(kind)
+        kind = check_choice("kind", kind, KINDS)
         xs = np.atleast_1d(np.asarray(positions, dtype=float))
         rows, cols, vals = [], [], []
         for r, xp in enumerate(xs):
@@ -483,7 +472,7 @@ class TruncatedTrack(FETrack):
     def __init__(self, track: Track, n_bays: int, ends: End = "pinned", system: EquivalentSystem | None = None,
                  elements_per_bay: int = 12):
         n = check_int_at_least("n_bays", n_bays, 0)
-        _check_end("ends", ends)
+        check_choice("ends", ends, ENDS)
         if n == 0 and ends not in ("equivalent", "exact"):
             raise ValueError(f"n_bays must be >= 1 with ends={ends!r}, got 0")
         self.n_bays = n
@@ -533,7 +522,7 @@ def fe_semi_infinite_receptance(track: Track, f: ArrayLike, n_bays: int = 200, e
     >>> bool(abs(a[0, 0] / st.semi_infinite_receptance(st.slab_track(), 100.0)[0, 0] - 1) < 0.01)
     True
     """
-    _check_end("far_end", far_end, _FAR_ENDS)
+    check_choice("far_end", far_end, FAR_ENDS)
     n = check_int_at_least("n_bays", n_bays, 1)
     return FETrack(track, 0, n, "free", far_end, elements_per_bay=elements_per_bay).receptance(f, 0.0)
 
@@ -570,6 +559,6 @@ def fe_central_receptance(track: Track, f: ArrayLike, n_bays: int = 200, element
     >>> bool(abs(h[0, 0] / st.central_response(st.slab_track(), 100.0).w1 - 1) < 0.01)
     True
     """
-    _check_end("far_end", far_end, _FAR_ENDS)
+    check_choice("far_end", far_end, FAR_ENDS)
     n = check_int_at_least("n_bays", n_bays, 1)
     return TruncatedTrack(track, n, far_end, elements_per_bay=elements_per_bay).central_receptance(f)

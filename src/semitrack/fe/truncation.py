@@ -24,7 +24,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike
 
-from ..base.checks import as_frequencies
+from ..base.checks import as_frequencies, check_choice
 from ..equivalent.systems import EquivalentSystem
 from ..methods.receptance import central_response
 from ..model.tracks import Track
@@ -226,8 +226,7 @@ def truncation_errors(track: Track, system: EquivalentSystem, n_bays: int = 10, 
         ``{"reference": TimeHistory, e: TimeHistory, ..., "errors": {e: ndarray per output}}``
         (errors as fractions).
     """
-    if excitation not in ("pulse", "moving"):
-        raise ValueError(f"excitation must be 'pulse' or 'moving', got {excitation!r}")
+    check_choice("excitation", excitation, ("pulse", "moving"))
     run = pulse_response if excitation == "pulse" else moving_load_response
     ref_model = TruncatedTrack(track, reference_bays, "pinned", elements_per_bay=elements_per_bay)
     out = {"reference": run(ref_model, **kwargs), "errors": {}}
