@@ -201,3 +201,34 @@ def test_track_must_be_a_track():
 def test_symmetric_columns_helper():
     m = symmetric_from_columns(np.array([[1.0, 2.0, 3.0]]))
     assert np.array_equal(m[0], [[1.0, 2.0], [2.0, 3.0]])
+
+
+# Made-up tracks beyond the paper's: soft pads on a slab, a lighter rail at another spacing on
+# softer ballast.
+OTHER_TRACKS = {
+    "soft-pad slab": lambda: st.slab_track(kv=2.0e7, kphi=1.0e5, eta_pad=0.15, name="soft-pad slab"),
+    "54E1 ballasted": lambda: st.ballasted_track(A=6.977e-3, I=23.41e-6, spacing=0.65, kv=1.2e8,
+                                                 sleeper_mass=140.0, kb=6e7, name="54E1 ballasted"),
+}
+
+
+@pytest.mark.parametrize("make", [st.slab_track, st.ballasted_track, *OTHER_TRACKS.values()],
+                         ids=["slab", "ballasted", *OTHER_TRACKS])
+def test_causal_damping_makes_the_boundary_near_exact(make):
+    """With viscous (causal) damping a rational model can be exact; measured 0.1-0.16 % median,
+    0.28-0.37 % max over 3-3000 Hz."""
+    bnd = st.fit_boundary(make().replace(damping="viscous"), band=BAND)
+    assert bnd.is_passive()
+    assert bnd.median_error <= 0.002 and bnd.max_error <= 0.005
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", list(OTHER_TRACKS))
+def test_hysteretic_other_tracks_within_the_causality_bound(name):
+    """Passive, and within 0.9 times the largest support loss factor: the best a causal model
+    with K(0) pinned can do for one constant loss factor over three decades is ~0.87 eta
+    (measured: soft-pad slab 10.0 %, eta 0.15; 54E1 ballasted 13.6 %, eta 0.3)."""
+    track = OTHER_TRACKS[name]()
+    bnd = st.fit_boundary(track, band=BAND)
+    assert bnd.is_passive()
+    assert bnd.max_error <= 0.9 * max(track.eta_pad, track.eta_ballast)

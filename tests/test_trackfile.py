@@ -11,12 +11,15 @@ from semitrack.model.tracks import FIELD_RULES
 BAD_VALUES = {"positive": [0.0, -1.0, float("inf")], "non-negative": [-0.1, float("nan")], "number": ["x", True]}
 
 
+TOP_LEVEL = {"name", "damping"}  # keys of the file's top level, not of a section
+
+
 def test_sections_hold_every_numeric_field_once():
     keys = [key for section in SECTIONS.values() for key in section]
-    assert sorted(keys) == sorted(set(FIELD_RULES) - {"name"})
+    assert sorted(keys) == sorted(set(FIELD_RULES) - TOP_LEVEL)
 
 
-@pytest.mark.parametrize("key", sorted(set(FIELD_RULES) - {"name"}))
+@pytest.mark.parametrize("key", sorted(set(FIELD_RULES) - TOP_LEVEL))
 def test_a_file_refuses_what_a_track_refuses(tmp_path, key):
     """For every field and bad value: the file's message is the Track's, with file and line."""
     text = example_path("ballasted").read_text()
@@ -48,3 +51,16 @@ def test_examples_equal_the_presets():
     """The shipped example files are user-facing copies of the presets' (paper's) numbers."""
     assert load_track_toml(example_path("slab")) == st.slab_track(name="paper slab track")
     assert load_track_toml(example_path("ballasted")) == st.ballasted_track(name="paper ballasted track")
+
+
+def test_damping_model_round_trips_and_is_checked(tmp_path):
+    from semitrack.model.trackfile import track_to_toml
+
+    viscous = st.ballasted_track(damping="viscous")
+    path = tmp_path / "viscous.toml"
+    path.write_text(track_to_toml(viscous))
+    assert load_track_toml(path) == viscous
+    assert "damping" not in track_to_toml(st.ballasted_track())  # the paper's files stay as they are
+    path.write_text(track_to_toml(viscous).replace('"viscous"', '"coulomb"'))
+    with pytest.raises(TrackFileError, match=r"line 3.*damping must be one of \('hysteretic', 'viscous'\)"):
+        load_track_toml(path)

@@ -211,7 +211,7 @@ def _choose(results: dict) -> int:
 
 
 def fit_boundary(track: Track, band: tuple[float, float] = (3.0, 3000.0), n_poles: int | None = None,
-                 seed: int = 0, *, tol: tuple[float, float] = (0.02, 0.06), df: float = 3.0,
+                 seed: int = 0, *, tol: tuple[float, float] = (0.002, 0.005), df: float = 3.0,
                  n_starts: int = 1, n_iter: int = 20) -> BroadbandBoundary:
     """Fit a passive rational model of the end dynamic stiffness of the semi-infinite ``track``.
 

@@ -56,7 +56,7 @@ def continuous_foundation_receptance(track: Track, f: ArrayLike, k_f: complex, k
                              f"non-negative imaginary part (a passive foundation), got {value!r}")
     check_nonnegative("x", x)
     omega2 = (2 * np.pi * f.ravel()) ** 2
-    kag, ei = track.kAG, track.EI
+    ei, kag = track.rail_moduli(f.ravel())
     a0 = k_f - omega2 * track.mass_per_length
     b0 = kag + k_r - omega2 * track.rotary_inertia
     c2, c1, c0 = kag * ei, kag * b0 + ei * a0 - kag**2, a0 * b0

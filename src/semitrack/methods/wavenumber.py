@@ -210,10 +210,10 @@ def central_quantities(cell: PeriodicCell, omega: ArrayLike, settings: Wavenumbe
     q = displacement_fields(cell, omega, x, settings)
     n = steps.size
     y1, y2 = q[:, 1 : 1 + n], q[:, 1 + n :]
-    rail = cell.track
+    ei, kag = cell.track.rail_moduli(np.asarray(omega, dtype=float)[:, None] / (2 * np.pi))
     w1, psi2 = q[:, 0, 0, 0], q[:, 0, 1, 1]
-    m1 = -rail.EI * odd_slope(y1[..., 1, 0], y2[..., 1, 0], steps)  # Eq. (15): M1 = -EI dpsi1/dx
-    q2 = -rail.kAG * (odd_slope(y1[..., 0, 1], y2[..., 0, 1], steps) - psi2[:, None])  # Eq. (16)
+    m1 = -ei * odd_slope(y1[..., 1, 0], y2[..., 1, 0], steps)  # Eq. (15): M1 = -EI dpsi1/dx
+    q2 = -kag * (odd_slope(y1[..., 0, 1], y2[..., 0, 1], steps) - psi2[:, None])  # Eq. (16)
     if dxs is None:
         return w1, psi2, q2[:, 0], m1[:, 0]
     return (np.repeat(w1[:, None], n, 1), np.repeat(psi2[:, None], n, 1), q2, m1)

@@ -31,7 +31,7 @@ def operator_inverse(track: Track, omega: ArrayLike, beta: ArrayLike) -> tuple[n
     Parameters
     ----------
     track : Track
-        Rail properties (complex moduli include the rail loss factor).
+        Rail properties (complex moduli include the rail damping, see ``Track.rail_moduli``).
     omega, beta : array_like
         Circular frequency (rad/s) and wavenumber (rad/m), broadcast together.
 
@@ -40,7 +40,7 @@ def operator_inverse(track: Track, omega: ArrayLike, beta: ArrayLike) -> tuple[n
     d11, d12, d21, d22 : ndarray of complex
         Entries of D^{-1} (d11 in m/N, d22 in rad/(N m), d12, d21 in 1/N), broadcast shape.
     """
-    kag, ei = track.kAG, track.EI
+    ei, kag = track.rail_moduli(np.abs(np.asarray(omega)) / (2 * np.pi))
     omega2 = np.asarray(omega) ** 2
     beta = np.asarray(beta)
     beta2 = beta * beta
@@ -63,10 +63,11 @@ def state_matrix(track: Track, omega: ArrayLike) -> np.ndarray:
         M'   = omega^2 rho I psi - Q
     """
     omega = np.atleast_1d(np.asarray(omega, dtype=float))
+    ei, kag = track.rail_moduli(omega / (2 * np.pi))
     a = np.zeros((omega.size, 4, 4), dtype=complex)
     a[:, 0, 1] = 1.0
-    a[:, 0, 2] = -1.0 / track.kAG
-    a[:, 1, 3] = -1.0 / track.EI
+    a[:, 0, 2] = -1.0 / kag
+    a[:, 1, 3] = -1.0 / ei
     a[:, 2, 0] = omega**2 * track.mass_per_length
     a[:, 3, 1] = omega**2 * track.rotary_inertia
     a[:, 3, 2] = -1.0

@@ -4,6 +4,7 @@ The format mirrors :class:`semitrack.Track` (examples ship in ``semitrack/exampl
 
     type = "slab"            # or "ballasted"
     name = "my track"        # optional
+    damping = "hysteretic"   # optional; or "viscous" (causal, see semitrack.Track)
     [rail]    rho, E, G, A, I, kappa, eta_rail
     [pad]     kv, kphi, eta_pad, spacing
     [ballast] sleeper_mass, kb, eta_ballast      (ballasted only)
@@ -137,10 +138,11 @@ def _parse_track_dict(data: dict, where: _Locator) -> dict[str, tuple[str | None
     Returns ``{key: (section, raw value)}`` for every Track field the file gives (``name``
     at the top level), values not yet checked.
     """
-    unknown_top = sorted(set(data) - {"type", "name", *SECTIONS})
+    unknown_top = sorted(set(data) - {"type", "name", "damping", *SECTIONS})
     if unknown_top:
         key = unknown_top[0]
-        where.fail(None, key, f"unknown key {key!r}; allowed at the top level: type, name, [rail], [pad], [ballast]")
+        where.fail(None, key, f"unknown key {key!r}; allowed at the top level: type, name, damping, [rail], [pad], "
+                   "[ballast]")
     kind = data.get("type")
     if kind is None:
         where.fail(None, "type", f'missing key "type"; it must be one of {TYPES}')
@@ -150,7 +152,8 @@ def _parse_track_dict(data: dict, where: _Locator) -> dict[str, tuple[str | None
         where.fail(None, "type", str(err))
     if kind == "slab" and "ballast" in data:
         where.fail("ballast", "", 'a [ballast] section needs type = "ballasted"; remove it for a slab track')
-    values: dict[str, tuple[str | None, object]] = {"name": (None, data.get("name", kind))}
+    values: dict[str, tuple[str | None, object]] = {"name": (None, data.get("name", kind)),
+                                                    "damping": (None, data.get("damping", "hysteretic"))}
     for section in ("rail", "pad", "ballast") if kind == "ballasted" else ("rail", "pad"):
         values.update({key: (section, value) for key, value in _section(data, section, where).items()})
     return values
@@ -198,7 +201,10 @@ def track_to_toml(track: Track) -> str:
     track = require_track(track)
     kind = "ballasted" if track.is_ballasted else "slab"
     # A JSON string is a valid TOML basic string: quotes and backslashes come out escaped.
-    lines = [f'type = "{kind}"', f"name = {json.dumps(track.name)}", ""]
+    lines = [f'type = "{kind}"', f"name = {json.dumps(track.name)}"]
+    if track.damping != "hysteretic":
+        lines.append(f"damping = {json.dumps(track.damping)}")
+    lines.append("")
     for section in ("rail", "pad") + (("ballast",) if track.is_ballasted else ()):
         lines.append(f"[{section}]")
         lines += [f"{key} = {getattr(track, key)!r}" for key in SECTIONS[section]]

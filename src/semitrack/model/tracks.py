@@ -5,6 +5,14 @@ sleeper mass and the ballast stiffness. Damping is by loss factors, entered as c
 ``E(1 + i eta_rail)``, ``G(1 + i eta_rail)``, ``kv(1 + i eta_pad)``, ``kphi(1 + i eta_pad)`` and
 ``kb(1 + i eta_ballast)``; the harmonic time factor is ``exp(i omega t)``.
 
+That hysteretic model (the paper's, ``damping="hysteretic"``) is not causal: no stable
+time-domain system has a loss factor that is constant down to zero frequency. The causal
+alternative ``damping="viscous"`` gives each family a viscous damper that equals its loss factor
+at the family's reference frequency (:meth:`Track.reference_frequencies`), i.e. the loss factor
+``eta f / f_ref`` grows in proportion to frequency: ``E(1 + i eta_rail f / f_rail)`` and so on.
+It is the damping the time-domain finite-element model uses, so frequency- and time-domain
+results of a viscous track agree exactly.
+
 A :class:`PeriodicCell` is the repeating unit that the wavenumber and transfer methods work on:
 one period ``L`` of the track holding ``S`` supports (paper Sec. 2.1, Eq. 3). Both paper tracks
 have ``S = 1``; ``S = 2`` (two identical supports per period) is the same track and serves as a
@@ -21,8 +29,18 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike
 
-from ..base.checks import as_frequencies, check_int_at_least, check_nonnegative, check_positive, check_string
+from ..base.checks import (
+    as_frequencies,
+    check_choice,
+    check_int_at_least,
+    check_nonnegative,
+    check_positive,
+    check_string,
+)
 from ..base.paper_values import TABLE2_SLAB, TABLE5_BALLASTED
+
+#: Damping models of a Track: the paper's loss factors, or their causal viscous equivalents.
+DAMPING_MODELS = ("hysteretic", "viscous")
 
 #: The rule every Track field obeys, one check of :mod:`semitrack.base.checks` per field. The
 #: Track itself and the track file reader (:mod:`semitrack.model.trackfile`) both apply this
@@ -31,6 +49,7 @@ FIELD_RULES: dict[str, Callable] = {
     **dict.fromkeys(("rho", "E", "G", "A", "I", "kappa", "kv", "spacing", "sleeper_mass", "kb"), check_positive),
     **dict.fromkeys(("eta_rail", "kphi", "eta_pad", "eta_ballast"), check_nonnegative),
     "name": check_string,
+    "damping": lambda key, value: check_choice(key, value, DAMPING_MODELS),
 }
 
 
@@ -95,6 +114,10 @@ class Track:
         Loss factor of the ballast (-).
     name : str
         A label used in tables and plots.
+    damping : {"hysteretic", "viscous"}
+        ``"hysteretic"`` (the paper's): constant loss factors. ``"viscous"``: causal viscous
+        dampers, each equal to its loss factor at the family's reference frequency
+        (:meth:`reference_frequencies`); the loss factor then grows as ``eta f / f_ref``.
     """
 
     rho: float
@@ -112,6 +135,7 @@ class Track:
     kb: float | None = None
     eta_ballast: float = 0.0
     name: str = "track"
+    damping: str = "hysteretic"
 
     def __post_init__(self):
         if (self.sleeper_mass is None) != (self.kb is None):
@@ -132,13 +156,75 @@ class Track:
 
     @property
     def EI(self) -> complex:
-        """Complex bending stiffness E(1 + i eta_rail) I (N m^2)."""
+        """Bending stiffness with the hysteretic loss factor, E(1 + i eta_rail) I (N m^2).
+
+        Frequency-domain code uses :meth:`rail_moduli`, which also covers ``damping="viscous"``.
+        """
         return self.E * (1 + 1j * self.eta_rail) * self.I
 
     @property
     def kAG(self) -> complex:
-        """Complex shear stiffness kappa A G(1 + i eta_rail) (N)."""
+        """Shear stiffness with the hysteretic loss factor, kappa A G(1 + i eta_rail) (N)."""
         return self.kappa * self.A * self.G * (1 + 1j * self.eta_rail)
+
+    def reference_frequencies(self) -> dict[str, float]:
+        """Frequencies (Hz) at which each family's viscous damper equals its loss factor.
+
+        Returns
+        -------
+        dict
+            ``{"rail": (pi / d)^2 sqrt(EI / rho A) / 2 pi, "pad": sqrt(kv / (rho A d)) / 2 pi,
+            "ballast": sqrt(kb / (m_s + rho A d)) / 2 pi}`` with real moduli: the Euler
+            pinned-pinned frequency, the rail-on-pad resonance and the sleeper-on-ballast
+            resonance, near which each family's damping controls the response. "ballast" is NaN
+            for a slab track.
+        """
+        d, ra = self.spacing, self.mass_per_length
+        return {
+            "rail": float((np.pi / d) ** 2 * np.sqrt(self.E * self.I / ra) / (2 * np.pi)),
+            "pad": float(np.sqrt(self.kv / (ra * d)) / (2 * np.pi)),
+            "ballast": (float(np.sqrt(self.kb / (self.sleeper_mass + ra * d)) / (2 * np.pi))
+                        if self.is_ballasted else float("nan")),
+        }
+
+    def loss_factor(self, family: str, f: ArrayLike) -> np.ndarray:
+        """Loss factor of a family ("rail", "pad" or "ballast") at frequencies ``f`` (Hz).
+
+        Parameters
+        ----------
+        family : {"rail", "pad", "ballast"}
+            The damped element family.
+        f : array_like
+            Frequencies (Hz), any shape (zero allowed: a viscous damper has no loss there).
+
+        Returns
+        -------
+        ndarray
+            ``eta`` (hysteretic) or ``eta f / f_ref`` (viscous), the shape of ``f``.
+        """
+        eta = {"rail": self.eta_rail, "pad": self.eta_pad, "ballast": self.eta_ballast}[family]
+        f = np.asarray(f, dtype=float)
+        if self.damping == "hysteretic" or eta == 0:
+            return np.full(f.shape, eta)
+        return eta * f / self.reference_frequencies()[family]
+
+    def rail_moduli(self, f: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        """Complex bending and shear stiffness of the rail at frequencies ``f`` (Hz).
+
+        Parameters
+        ----------
+        f : array_like
+            Frequencies (Hz), any shape.
+
+        Returns
+        -------
+        EI : ndarray of complex
+            ``E(1 + i eta) I`` (N m^2), the shape of ``f``.
+        kAG : ndarray of complex
+            ``kappa A G(1 + i eta)`` (N).
+        """
+        c = 1 + 1j * self.loss_factor("rail", f)
+        return self.E * self.I * c, self.kappa * self.A * self.G * c
 
     @property
     def mass_per_length(self) -> float:
@@ -173,9 +259,26 @@ class Track:
         return dataclasses.replace(self, **changes)
 
     # ----------------------------------------------------------------------------------------
-    def pad_stiffness(self) -> tuple[complex, complex]:
-        """Complex pad stiffness (vertical N/m, rotational N m/rad), loss factor included."""
-        c = 1 + 1j * self.eta_pad
+    def pad_stiffness(self, f: ArrayLike | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Complex pad stiffness (vertical N/m, rotational N m/rad), damping included.
+
+        Parameters
+        ----------
+        f : array_like, optional
+            Frequencies (Hz). Required for ``damping="viscous"``; without it the hysteretic
+            values are returned as scalars.
+
+        Returns
+        -------
+        kv, kphi : complex or ndarray of complex
+            The shape of ``f`` (scalars when ``f`` is omitted).
+        """
+        if f is None:
+            if self.damping != "hysteretic":
+                raise ValueError("pad_stiffness needs the frequencies f (Hz) for damping='viscous'")
+            c = 1 + 1j * self.eta_pad
+        else:
+            c = 1 + 1j * self.loss_factor("pad", f)
         return self.kv * c, self.kphi * c
 
     def foundation_receptance(self, f: ArrayLike) -> np.ndarray:
@@ -198,7 +301,7 @@ class Track:
         if not self.is_ballasted:
             return np.zeros(f.shape, dtype=complex)
         omega = 2 * np.pi * f
-        kb = self.kb * (1 + 1j * self.eta_ballast)
+        kb = self.kb * (1 + 1j * self.loss_factor("ballast", f))
         return 1.0 / (kb - omega**2 * self.sleeper_mass)
 
     def support_stiffness(self, f: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
@@ -481,7 +584,8 @@ class PeriodicCell:
         """
         f = np.atleast_1d(as_frequencies(f))
         s = self.n_supports
-        kv, kphi = self.track.pad_stiffness()
+        kv, kphi = self.track.pad_stiffness(f)
+        kv, kphi = kv[:, None, None], kphi[:, None, None]
         hv = self.foundation_matrix(f) + np.eye(s) / kv  # vertical receptance of the supports
         kvv = np.linalg.inv(hv)
         out = np.zeros((f.size, 2 * s, 2 * s), dtype=complex)
