@@ -141,13 +141,15 @@ def cmd_receptance(args: argparse.Namespace) -> int:
 
 
 def cmd_fit(args: argparse.Namespace) -> int:
-    from .equivalent.fitting import fit_equivalent
-
     track = _track(args.track)
     fmin, fmax = checked(check_band, args.band, "--band")
-    checked(check_int_at_least, "--bars", args.bars, 1)
     checked(check_int_at_least, "--seed", args.seed, 0)
     out = _output_path(args.output)
+    if args.boundary:
+        return _fit_boundary(args, track, (fmin, fmax), out)
+    from .equivalent.fitting import fit_equivalent
+
+    checked(check_int_at_least, "--bars", args.bars, 1)
     layout = "ballasted" if track.is_ballasted else "slab"
     progress = Progress("fit", 1, quiet=args.quiet)
     progress.update(0, f"fitting N = {args.bars} bars, {layout} layout")
@@ -158,6 +160,31 @@ def cmd_fit(args: argparse.Namespace) -> int:
     save_system_json(fit.system, out)
     print(f"fitted a {layout} equivalent system with {args.bars} bars to '{track.name}' over {fmin:g}-{fmax:g} Hz")
     print(f"median relative error {fit.median_error:.4f}, maximum {fit.max_error:.4f} ({', '.join(ELEMENTS)})")
+    print(f"written to {out}")
+    return 0
+
+
+def _fit_boundary(args: argparse.Namespace, track: Track, band: tuple[float, float], out: Path) -> int:
+    """``semitrack fit --boundary``: the broadband passive end model, written as JSON or .mat."""
+    from .boundary.fitting import MAX_POLES, fit_boundary
+    from .boundary.io import save_boundary
+
+    if out.suffix.lower() not in (".json", ".mat"):
+        raise InputError(f"-o must name a .json or .mat file for --boundary, got {out.name!r}")
+    if args.poles is not None:
+        checked(check_int_at_least, "--poles", args.poles, 2)
+        if args.poles > MAX_POLES:
+            raise InputError(f"--poles must be <= {MAX_POLES}, got {args.poles}")
+    progress = Progress("fit", 1, quiet=args.quiet)
+    progress.update(0, "fitting a broadband boundary")
+    bnd = fit_boundary(track, band=band, n_poles=args.poles, seed=args.seed)
+    progress.update(1)
+    progress.close()
+    save_boundary(bnd, out)
+    proof = "proven passive" if bnd.passivity else "NOT passive"
+    print(f"fitted a broadband boundary with {bnd.n_poles} poles to '{track.name}' over {band[0]:g}-{band[1]:g} Hz "
+          f"({proof})")
+    print(f"median relative error {bnd.median_error:.4f}, maximum {bnd.max_error:.4f} ({', '.join(ELEMENTS)})")
     print(f"written to {out}")
     return 0
 
@@ -223,16 +250,23 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true", help="no progress line")
     p.set_defaults(func=cmd_receptance)
 
-    p = sub.add_parser("fit", help="fit an equivalent multi-rigid-body system",
+    p = sub.add_parser("fit", help="fit an equivalent multi-rigid-body system or a broadband boundary",
                        formatter_class=argparse.RawDescriptionHelpFormatter,
-                       epilog="example:\n  semitrack fit ballasted.toml --bars 5 --band {:g} {:g} --seed 0 "
-                              "-o system.json".format(*FIT_BANDS["ballasted"]))
+                       epilog="examples:\n  semitrack fit ballasted.toml --bars 5 --band {:g} {:g} --seed 0 "
+                              "-o system.json\n"
+                              "  semitrack fit slab.toml --boundary --band 3 3000 -o boundary.json"
+                              .format(*FIT_BANDS["ballasted"]))
     p.add_argument("track", help="track description file (TOML)")
     p.add_argument("--bars", type=int, default=5, help="number of rigid bars N (default 5)")
     p.add_argument("--band", type=float, nargs=2, metavar=("FMIN", "FMAX"), required=True, help="band to fit, Hz")
     p.add_argument("--seed", type=int, default=0, help="seed of the multi-start (default 0)")
     p.add_argument("--unconstrained", action="store_true", help="drop the paper's frequency constraints")
-    p.add_argument("-o", "--output", required=True, help="JSON file for the fitted system")
+    p.add_argument("--boundary", action="store_true",
+                   help="fit the broadband passive end model instead of a multi-rigid-body system")
+    p.add_argument("--poles", type=int, default=None,
+                   help="with --boundary: number of poles (default: chosen by the fit)")
+    p.add_argument("-o", "--output", required=True,
+                   help="JSON file for the fitted system (with --boundary: .json or .mat)")
     p.add_argument("--quiet", action="store_true", help="no progress line")
     p.set_defaults(func=cmd_fit)
 
