@@ -22,8 +22,6 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-import numpy as np
-
 from ..base.checks import check_positive
 from ..model.tracks import Track, require_track
 
@@ -52,15 +50,7 @@ def viscous_reference_frequencies(track: Track) -> dict[str, float]:
     >>> {k: round(v) for k, v in viscous_reference_frequencies(ballasted_track()).items()}
     {'rail': 1422, 'pad': 495, 'ballast': 117}
     """
-    require_track(track)
-    d, ra = track.spacing, track.mass_per_length
-    out = {
-        "rail": (np.pi / d) ** 2 * np.sqrt(track.E * track.I / ra) / (2 * np.pi),
-        "pad": np.sqrt(track.kv / (ra * d)) / (2 * np.pi),
-        "ballast": (np.sqrt(track.kb / (track.sleeper_mass + ra * d)) / (2 * np.pi)
-                    if track.is_ballasted else float("nan")),
-    }
-    return {k: float(v) for k, v in out.items()}
+    return require_track(track).reference_frequencies()
 
 
 def reference_frequencies(track: Track, f_ref: float | Mapping[str, float] | None = None) -> dict[str, float]:

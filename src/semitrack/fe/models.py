@@ -10,13 +10,24 @@ a complex stiffness, in the time domain a viscous damper (:mod:`semitrack.fe.dam
 Ends
     ``"pinned"`` (w = 0, psi free), ``"free"``, ``"equivalent"`` (an :class:`EquivalentSystem`'s
     ``M, C, K`` attached: as is at the right end, mirrored at the left end; its internal DOFs
-    become extra DOFs of the model) and ``"exact"`` (the frequency-dependent 2x2 dynamic
-    stiffness of the missing semi-infinite track from
+    become extra DOFs of the model), ``"boundary"`` (a :class:`~semitrack.BroadbandBoundary`:
+    its rational end stiffness in the frequency domain; in the time domain its static stiffness
+    and dashpot join ``K`` and ``C`` at the end DOFs and its first-order states are integrated
+    alongside, see :meth:`FETrack.boundary_states`) and ``"exact"`` (the frequency-dependent 2x2
+    dynamic stiffness of the missing semi-infinite track from
     :func:`semitrack.methods.transfer.end_stiffness`; frequency domain only).
+
+A left end sees the mirror image of the right one: with ``P = diag(1, -1)`` (the mirror turns
+the clockwise rotation round), its end stiffness is ``P K P``.
+
+Damping follows the track: loss factors as complex stiffness (``damping="hysteretic"``), or
+their viscous equivalents (``damping="viscous"``), which are exactly the dampers of
+:meth:`FETrack.matrices`, so that the frequency and time domains then describe one system.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
@@ -25,6 +36,7 @@ from numpy.typing import ArrayLike
 from scipy.sparse.linalg import splu
 
 from ..base.checks import as_frequencies, check_choice, check_int_at_least, check_real
+from ..boundary.fitting import BroadbandBoundary
 from ..equivalent.systems import EquivalentSystem
 from ..methods.transfer import end_stiffness
 from ..model.tracks import Track, require_track
@@ -36,6 +48,7 @@ from .mesh import KINDS, SIDES, DofMap, Kind, Mesh, bay_mesh, dof_map, rail_dof
 __all__ = [
     "ENDS",
     "End",
+    "BoundaryAttachment",
     "FarEnd",
     "FAR_ENDS",
     "FETrack",
@@ -45,8 +58,10 @@ __all__ = [
 ]
 
 #: End conditions of a finite track model.
-ENDS = ("pinned", "free", "equivalent", "exact")
-End = Literal["pinned", "free", "equivalent", "exact"]
+ENDS = ("pinned", "free", "equivalent", "boundary", "exact")
+End = Literal["pinned", "free", "equivalent", "boundary", "exact"]
+#: The mirror of an end: w unchanged, the clockwise rotation reversed.
+MIRROR = np.diag([1.0, -1.0])
 #: End conditions of the far end of a long track.
 FarEnd = Literal["pinned", "free", "exact"]
 FAR_ENDS = ("pinned", "free", "exact")
@@ -54,13 +69,39 @@ FAR_ENDS = ("pinned", "free", "exact")
 
 def _check_system(left: str, right: str, system, n_bays: int) -> None:
     """The rules that tie the ends to the system and to the number of bays."""
-    uses_system = "equivalent" in (left, right)
-    if uses_system and not isinstance(system, EquivalentSystem):
-        raise TypeError(f"system must be an EquivalentSystem for an 'equivalent' end, got {type(system).__name__}")
-    if system is not None and not uses_system:
-        raise ValueError(f"system is only used with an 'equivalent' end, got ends ({left!r}, {right!r})")
-    if n_bays == 0 and not ({left, right} <= {"equivalent", "exact"}):
-        raise ValueError(f"a model with zero bays needs 'equivalent' or 'exact' ends, got ends ({left!r}, {right!r})")
+    ends = {left, right}
+    if {"equivalent", "boundary"} <= ends:
+        raise ValueError("one model takes one system: 'equivalent' and 'boundary' ends cannot be mixed")
+    for end, kind, article in (("equivalent", EquivalentSystem, "an"), ("boundary", BroadbandBoundary, "a")):
+        if end in ends and not isinstance(system, kind):
+            raise TypeError(f"system must be {article} {kind.__name__} for {article} {end!r} end, "
+                            f"got {type(system).__name__}")
+    if system is not None and not ends & {"equivalent", "boundary"}:
+        raise ValueError(f"system is only used with an 'equivalent' or 'boundary' end, got ends ({left!r}, {right!r})")
+    if n_bays == 0 and not (ends <= {"equivalent", "exact", "boundary"}):
+        raise ValueError(f"a model with zero bays needs 'equivalent', 'boundary' or 'exact' ends, got ends "
+                         f"({left!r}, {right!r})")
+
+
+@dataclass(frozen=True)
+class BoundaryAttachment:
+    """The states of a broadband boundary at one end of an FE model (for time integration).
+
+    Attributes
+    ----------
+    dofs : ndarray of int, shape (2,)
+        The model DOFs (w, psi) of the end.
+    mirror : ndarray, shape (2, 2)
+        ``diag(1, -1)`` at a left end, the identity at a right end.
+    A, B, C : ndarray
+        The boundary's state space (:class:`semitrack.boundary.rational.BoundaryStateSpace`).
+    """
+
+    dofs: np.ndarray
+    mirror: np.ndarray
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
 
 
 def _symmetric_lu(z: sp.csc_matrix):
@@ -88,10 +129,11 @@ class FETrack:
     n_left, n_right : int
         Number of bays left and right of x = 0 (>= 0, at least one bay in all unless both ends
         are "equivalent" or "exact").
-    left, right : {"pinned", "free", "equivalent", "exact"}
+    left, right : {"pinned", "free", "equivalent", "boundary", "exact"}
         End conditions, see the module docstring.
-    system : EquivalentSystem, optional
-        The equivalent system attached at an ``"equivalent"`` end (required then).
+    system : EquivalentSystem or BroadbandBoundary, optional
+        The equivalent system attached at an ``"equivalent"`` end, or the broadband boundary
+        at a ``"boundary"`` end (required then).
     elements_per_bay : int
         Number of elements per support spacing; even (>= 2), so that mid-spans are nodes. The
         FE error is second order in the element length; with 12 (the default) the discretisation
@@ -116,7 +158,7 @@ class FETrack:
     """
 
     def __init__(self, track: Track, n_left: int, n_right: int, left: End = "pinned", right: End = "pinned",
-                 system: EquivalentSystem | None = None, elements_per_bay: int = 12):
+                 system: EquivalentSystem | BroadbandBoundary | None = None, elements_per_bay: int = 12):
         self.track = require_track(track)
         self.n_left = check_int_at_least("n_left", n_left, 0)
         self.n_right = check_int_at_least("n_right", n_right, 0)
@@ -130,9 +172,9 @@ class FETrack:
         self.system = system
         self.mesh: Mesh = bay_mesh(track.spacing, self.n_left, self.n_right, ne)
         self.dofs: DofMap = self._dof_map()
-        self._parts: TrackMatrices = assemble(track, self.mesh, self.dofs,
-                                              system.matrices() if system is not None else None,
-                                              self._sides("exact"))
+        equivalent = system.matrices() if isinstance(system, EquivalentSystem) else None
+        self._parts: TrackMatrices = assemble(track, self.mesh, self.dofs, equivalent,
+                                              self._sides("exact") + self._sides("boundary"))
 
     def _sides(self, end: str) -> list[str]:
         return [side for side in SIDES if getattr(self, side) == end]
@@ -283,30 +325,47 @@ class FETrack:
         return sp.csr_matrix((vals, (rows, cols)), shape=(xs.size, self.n_dof))
 
     # --------------------------------------------------------------------------------------------
-    def complex_stiffness(self) -> sp.csc_matrix:
-        """Frequency-independent complex stiffness (N/m...): loss factors as complex moduli.
+    def complex_stiffness(self, f: float | None = None) -> sp.csc_matrix:
+        """Complex stiffness (N/m...): the damping of each family as a complex modulus.
 
         ``(1 + i eta_rail) K_rail + (1 + i eta_pad) K_pad + (1 + i eta_ballast) K_ballast + K_end``
         where ``K_end`` holds the springs of attached equivalent systems (their dampers are
-        viscous and enter as ``i omega C`` in :meth:`dynamic_stiffness`).
-        """
-        return self._csc(self._complex_k_data())
+        viscous and enter as ``i omega C`` in :meth:`dynamic_stiffness`). The loss factors are
+        the track's at ``f`` (:meth:`semitrack.Track.loss_factor`): constant for hysteretic
+        damping, ``eta f / f_ref`` for viscous damping.
 
-    def _complex_k_data(self) -> np.ndarray:
+        Parameters
+        ----------
+        f : float, optional
+            Frequency (Hz); required for a viscously damped track.
+        """
+        return self._csc(self._complex_k_data(f))
+
+    def _complex_k_data(self, f: float | None = None) -> np.ndarray:
+        """Data of ``K*`` at frequency ``f`` (Hz); ``f`` may be omitted for hysteretic damping."""
         tr, d = self.track, self._parts.data
-        return ((1 + 1j * tr.eta_rail) * d["K_rail"] + (1 + 1j * tr.eta_pad) * d["K_pad"]
-                + (1 + 1j * tr.eta_ballast) * d["K_ballast"] + d["K_end"])
+        if tr.damping != "hysteretic" and f is None:
+            raise ValueError("a viscously damped track has a frequency-dependent K*: give f (Hz)")
+        eta = {family: float(tr.loss_factor(family, f if f is not None else 1.0))
+               for family in ("rail", "pad", "ballast")}
+        return ((1 + 1j * eta["rail"]) * d["K_rail"] + (1 + 1j * eta["pad"]) * d["K_pad"]
+                + (1 + 1j * eta["ballast"]) * d["K_ballast"] + d["K_end"])
 
     def mass(self) -> sp.csc_matrix:
         """Mass matrix (kg, kg m, kg m^2): rail (consistent), sleepers, attached systems."""
         return self._csc(self._parts.data["M"].copy())
 
     def _exact_blocks(self, omega: np.ndarray) -> dict:
-        if not self._parts.exact:
-            return {}
-        cell = self.track.cell()
-        k_right, k_left = end_stiffness(cell, omega, cell.mid_span)
-        return {side: (k_right if side == "right" else k_left) for side in self._parts.exact}
+        """``{side: (n_f, 2, 2)}`` end stiffness of each "exact" or "boundary" end."""
+        out = {}
+        if "exact" in (self.left, self.right):
+            cell = self.track.cell()
+            k_right, k_left = end_stiffness(cell, omega, cell.mid_span)
+            out.update({side: (k_right if side == "right" else k_left) for side in self._sides("exact")})
+        if "boundary" in (self.left, self.right):
+            k = self.system.dynamic_stiffness(omega / (2 * np.pi))
+            out.update({side: (k if side == "right" else MIRROR @ k @ MIRROR) for side in self._sides("boundary")})
+        return out
 
     def _z_data(self, k0: np.ndarray, omega: float, exact: dict, i: int) -> np.ndarray:
         """Data of ``Z = K* + i omega C_end - omega^2 M`` (+ the exact blocks at frequency i)."""
@@ -331,7 +390,7 @@ class FETrack:
         """
         f = float(as_frequencies(f))
         omega = 2 * np.pi * f
-        return self._csc(self._z_data(self._complex_k_data(), omega, self._exact_blocks(np.array([omega])), 0))
+        return self._csc(self._z_data(self._complex_k_data(f), omega, self._exact_blocks(np.array([omega])), 0))
 
     def solve(self, f: ArrayLike, rhs: ArrayLike) -> np.ndarray:
         """Solve ``Z(f) u = rhs`` frequency by frequency with a sparse LU factorisation.
@@ -355,12 +414,14 @@ class FETrack:
         if rhs.ndim != 2 or rhs.shape[0] != self.n_dof:
             raise ValueError(f"rhs must have shape ({self.n_dof}, n_rhs), got {rhs.shape}")
         omega = 2 * np.pi * f
-        k0 = self._complex_k_data()
+        hysteretic = self.track.damping == "hysteretic"
+        k0 = self._complex_k_data() if hysteretic else None
         exact = self._exact_blocks(omega)
         out = np.empty((f.size, self.n_dof, rhs.shape[1]), dtype=complex)
         rhs_c = np.ascontiguousarray(rhs, dtype=complex)
         for i, w in enumerate(omega):
-            out[i] = _symmetric_lu(self._csc(self._z_data(k0, w, exact, i))).solve(rhs_c)
+            k = k0 if hysteretic else self._complex_k_data(f[i])
+            out[i] = _symmetric_lu(self._csc(self._z_data(k, w, exact, i))).solve(rhs_c)
         return out
 
     def receptance(self, f: ArrayLike, x: float = 0.0) -> np.ndarray:
@@ -412,23 +473,50 @@ class FETrack:
             Reference frequencies (Hz) at which the viscous damping of the rail, the pads and
             the ballast equals their loss factors: ``C = eta_rail K_rail / (2 pi f_rail) +
             eta_pad K_pad / (2 pi f_pad) + eta_ballast K_ballast / (2 pi f_ballast) + C_end``.
-            ``None``: :func:`semitrack.fe.damping.viscous_reference_frequencies`; a float: the
-            same for all three; a dict: overrides for some of the keys "rail", "pad", "ballast".
+            ``None``: the track's own (:meth:`semitrack.Track.reference_frequencies`, the same
+            as a ``damping="viscous"`` track uses in the frequency domain); a float: the same
+            for all three; a dict: overrides for some of the keys "rail", "pad", "ballast".
 
         Returns
         -------
         M, C, K : scipy.sparse.csc_matrix
-            Mass (kg...), damping (N s/m...) and stiffness (N/m...).
+            Mass (kg...), damping (N s/m...) and stiffness (N/m...). With ``"boundary"`` ends
+            ``K`` and ``C`` include the boundary's static stiffness and dashpot at the end DOFs;
+            its states come from :meth:`boundary_states`.
         """
         if "exact" in (self.left, self.right):
             raise ValueError("ends='exact' is frequency dependent and has no time-domain matrices; "
-                             "use 'equivalent', 'pinned' or 'free'")
+                             "use 'boundary', 'equivalent', 'pinned' or 'free'")
         fr = reference_frequencies(self.track, f_ref)
         tr, d = self.track, self._parts.data
         K = d["K_rail"] + d["K_pad"] + d["K_ballast"] + d["K_end"]
         C = (tr.eta_rail * d["K_rail"] / (2 * np.pi * fr["rail"]) + tr.eta_pad * d["K_pad"] / (2 * np.pi * fr["pad"])
              + tr.eta_ballast * d["K_ballast"] / (2 * np.pi * fr["ballast"]) + d["C_end"])
+        for side in self._sides("boundary"):
+            mirror = MIRROR if side == "left" else np.eye(2)
+            np.add.at(K, self._parts.exact[side], (mirror @ self.system.model.K0 @ mirror).ravel())
+            np.add.at(C, self._parts.exact[side], (mirror @ self.system.model.D @ mirror).ravel())
         return self._csc(d["M"].copy()), self._csc(C), self._csc(K)
+
+    def boundary_states(self) -> list[BoundaryAttachment]:
+        """The first-order states of the ``"boundary"`` ends, for :func:`semitrack.fe.timedomain.newmark`.
+
+        Returns
+        -------
+        list of BoundaryAttachment
+            One per boundary end (empty without such ends): the end's two model DOFs, the
+            mirror (identity at the right end) and the boundary's state space. The end loads
+            on the rail are ``-P (K0 P u + D P du/dt + C x)`` with ``dx/dt = A x + B P du/dt``;
+            :meth:`matrices` already holds the ``K0`` and ``D`` parts.
+        """
+        out = []
+        for side in self._sides("boundary"):
+            ss = self.system.state_space()
+            node = self.mesh.end_node(side)
+            dofs = self.dofs.index[[rail_dof(node, "w"), rail_dof(node, "psi")]]
+            out.append(BoundaryAttachment(dofs=dofs, mirror=MIRROR if side == "left" else np.eye(2),
+                                          A=ss.A, B=ss.B, C=ss.C))
+        return out
 
     def __repr__(self):
         return (f"{type(self).__name__}({self.track.name!r}, bays {self.n_left}+{self.n_right}, ends "
@@ -449,9 +537,10 @@ class TruncatedTrack(FETrack):
         then reduces to the paper's Sec. 5.3 pair of mirrored systems).
     ends : {"pinned", "free", "equivalent", "exact"}
         End condition at both ends (see :mod:`semitrack.fe.models`).
-    system : EquivalentSystem, optional
+    system : EquivalentSystem or BroadbandBoundary, optional
         Required with ``ends="equivalent"`` (e.g. ``paper_table4()`` for the slab track,
-        ``paper_table7()`` for the ballasted one, or a fitted system).
+        ``paper_table7()`` for the ballasted one, or a fitted system) and with
+        ``ends="boundary"`` (from :func:`semitrack.fit_boundary`).
     elements_per_bay : int
         Elements per support spacing, even.
 
@@ -469,11 +558,11 @@ class TruncatedTrack(FETrack):
     True
     """
 
-    def __init__(self, track: Track, n_bays: int, ends: End = "pinned", system: EquivalentSystem | None = None,
-                 elements_per_bay: int = 12):
+    def __init__(self, track: Track, n_bays: int, ends: End = "pinned",
+                 system: EquivalentSystem | BroadbandBoundary | None = None, elements_per_bay: int = 12):
         n = check_int_at_least("n_bays", n_bays, 0)
         check_choice("ends", ends, ENDS)
-        if n == 0 and ends not in ("equivalent", "exact"):
+        if n == 0 and ends not in ("equivalent", "boundary", "exact"):
             raise ValueError(f"n_bays must be >= 1 with ends={ends!r}, got 0")
         self.n_bays = n
         self.ends = ends

@@ -40,7 +40,7 @@ from numpy.typing import ArrayLike
 from scipy.sparse.linalg import splu
 
 from ..base.checks import check_int_at_least, check_positive, check_real
-from .models import FETrack
+from .models import BoundaryAttachment, FETrack
 
 __all__ = [
     "TimeHistory",
@@ -95,7 +95,8 @@ def newmark(M: ArrayLike | sp.spmatrix, C: ArrayLike | sp.spmatrix, K: ArrayLike
             load: Callable | tuple, dt: float, n_steps: int,
             outputs: Sequence[int] | ArrayLike | sp.spmatrix | Callable | None = None,
             u0: ArrayLike | None = None, v0: ArrayLike | None = None,
-            gamma: float = 0.5, beta: float = 0.25) -> TimeHistory:
+            gamma: float = 0.5, beta: float = 0.25,
+            attachments: Sequence[BoundaryAttachment] = ()) -> TimeHistory:
     """Integrate ``M a + C v + K u = F(t)`` with Newmark's method (default: average acceleration).
 
     Parameters
@@ -122,6 +123,11 @@ def newmark(M: ArrayLike | sp.spmatrix, C: ArrayLike | sp.spmatrix, K: ArrayLike
     gamma, beta : float
         Newmark parameters; 1/2 and 1/4 (average acceleration, unconditionally stable, no
         numerical damping). Require gamma >= 1/2 and beta >= (gamma + 1/2)^2 / 4.
+    attachments : sequence of BoundaryAttachment
+        First-order boundary states coupled at end DOFs (:meth:`FETrack.boundary_states`),
+        integrated with the trapezoidal rule, which is the same discretisation as average
+        acceleration (so these need ``gamma = 1/2, beta = 1/4``). Each adds only a 2x2 block
+        to the effective stiffness at its end DOFs; see :class:`_StateCoupling`.
 
     Returns
     -------
@@ -149,6 +155,10 @@ def newmark(M: ArrayLike | sp.spmatrix, C: ArrayLike | sp.spmatrix, K: ArrayLike
             "gamma and beta must satisfy gamma >= 1/2 and beta >= (gamma + 1/2)^2 / 4 (unconditional "
             f"stability), got gamma={gamma!r}, beta={beta!r}"
         )
+    if attachments and (gamma != 0.5 or beta != 0.25):
+        raise ValueError("boundary attachments need the average-acceleration rule (gamma=1/2, beta=1/4), "
+                         f"got gamma={gamma!r}, beta={beta!r}")
+    couplings = [_StateCoupling(att, dt, n) for att in attachments]
     t = dt * np.arange(n_steps + 1)
     force = _load_function(load, n, n_steps, t)
     record, n_out, labels = _recorder(outputs, n)
@@ -168,19 +178,59 @@ def newmark(M: ArrayLike | sp.spmatrix, C: ArrayLike | sp.spmatrix, K: ArrayLike
     a0, a1 = 1.0 / (beta * dt * dt), gamma / (beta * dt)
     a2, a3 = 1.0 / (beta * dt), 1.0 / (2 * beta) - 1.0
     a4, a5 = gamma / beta - 1.0, dt * (gamma / (2 * beta) - 1.0)
-    lu = splu(sp.csc_matrix(K + a1 * C + a0 * M))
+    lu = splu(sp.csc_matrix(K + a1 * C + a0 * M + sum((c.stiffness for c in couplings), sp.csc_matrix((n, n)))))
     M, C = M.tocsr(), C.tocsr()
 
     out = np.empty((n_steps + 1, n_out))
     out[0] = record(t[0], u)
     for k in range(1, n_steps + 1):
         rhs = force(k, t[k]) + M @ (a0 * u + a2 * v + a3 * a) + C @ (a1 * u + a4 * v + a5 * a)
+        for c in couplings:
+            c.add_history(rhs, u)
         u_new = lu.solve(rhs)
+        for c in couplings:
+            c.advance(u, u_new)
         a_new = a0 * (u_new - u) - a2 * v - a3 * a
         v = v + dt * ((1 - gamma) * a + gamma * a_new)
         u, a = u_new, a_new
         out[k] = record(t[k], u)
     return TimeHistory(t=t, u=out, labels=labels)
+
+
+class _StateCoupling:
+    """Trapezoidal integration of a boundary's states, eliminated into the Newmark step.
+
+    With ``y = P L u`` the end motion (``L`` picks the end DOFs, ``P`` the mirror), the states
+    obey ``dx/dt = A x + B dy/dt`` and load the rail by ``-L^T P C x``. The trapezoidal rule with
+    average acceleration's ``dt/2 (v_n + v_n+1) = u_n+1 - u_n`` gives
+
+        x_n+1 = E x_n + Phi (y_n+1 - y_n),   E = (I - dt/2 A)^-1 (I + dt/2 A),  Phi = (I - dt/2 A)^-1 B,
+
+    so ``-L^T P C x_n+1`` splits into a constant 2x2 stiffness ``L^T P C Phi P L`` at the end
+    DOFs (added to the effective stiffness once) and a history load from ``x_n`` and ``u_n``.
+    """
+
+    def __init__(self, att, dt: float, n: int):
+        m = att.A.shape[0]
+        lhs = np.eye(m) - 0.5 * dt * att.A
+        self.E = np.linalg.solve(lhs, np.eye(m) + 0.5 * dt * att.A)
+        self.Phi = np.linalg.solve(lhs, att.B)
+        self.C, self.P, self.dofs = att.C, att.mirror, np.asarray(att.dofs)
+        block = self.P @ self.C @ self.Phi @ self.P
+        rows, cols = np.meshgrid(self.dofs, self.dofs, indexing="ij")
+        self.stiffness = sp.csc_matrix((block.ravel(), (rows.ravel(), cols.ravel())), shape=(n, n))
+        self.x = np.zeros(m)
+
+    def _y(self, u: np.ndarray) -> np.ndarray:
+        return self.P @ u[self.dofs]
+
+    def add_history(self, rhs: np.ndarray, u: np.ndarray) -> None:
+        """Move the known part of ``-L^T P C x_n+1`` to the right-hand side."""
+        rhs[self.dofs] -= self.P @ (self.C @ (self.E @ self.x - self.Phi @ self._y(u)))
+
+    def advance(self, u: np.ndarray, u_new: np.ndarray) -> None:
+        """The states at the new step."""
+        self.x = self.E @ self.x + self.Phi @ (self._y(u_new) - self._y(u))
 
 
 def _vector(name, x, n):
@@ -302,7 +352,8 @@ def pulse_response(model: FETrack, positions: ArrayLike = (0.0, 1.95), *, amplit
     b = np.zeros((model.n_dof, 1))
     b[model.dof(0.0, "w"), 0] = amplitude
     g = hann_pulse(dt * np.arange(n_steps + 1), duration)[:, None]
-    hist = newmark(M, C, K, (b, g), dt, n_steps, outputs=model.output_matrix(positions))
+    hist = newmark(M, C, K, (b, g), dt, n_steps, outputs=model.output_matrix(positions),
+                   attachments=model.boundary_states())
     return TimeHistory(hist.t, hist.u, tuple(f"w(x={x:g} m)" for x in positions))
 
 
@@ -377,7 +428,7 @@ def moving_load_response(model: FETrack, positions: ArrayLike = (0.0,), *, load:
             return np.array([under])
         return np.concatenate(([under], fixed @ u))
 
-    hist = newmark(M, C, K, force, dt, n_steps, outputs=record)
+    hist = newmark(M, C, K, force, dt, n_steps, outputs=record, attachments=model.boundary_states())
     labels = ("w under the load",) + tuple(f"w(x={x:g} m)" for x in positions)
     return TimeHistory(hist.t, hist.u, labels)
 

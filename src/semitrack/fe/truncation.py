@@ -25,6 +25,7 @@ import pandas as pd
 from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies, check_choice
+from ..boundary.fitting import BroadbandBoundary
 from ..equivalent.systems import EquivalentSystem
 from ..methods.receptance import central_response
 from ..model.tracks import Track
@@ -192,9 +193,9 @@ def truncated_w1(track: Track, f: ArrayLike, n_bays: int, ends: EndsSpec,
 # ------------------------------------------------------------------------------------------------
 # Time domain
 # ------------------------------------------------------------------------------------------------
-def truncation_errors(track: Track, system: EquivalentSystem, n_bays: int = 10, reference_bays: int = 200,
+def truncation_errors(track: Track, system: EquivalentSystem | None, n_bays: int = 10, reference_bays: int = 200,
                       excitation: Literal["pulse", "moving"] = "pulse", ends: Sequence[End] = ("pinned", "equivalent"),
-                      elements_per_bay: int = 8, **kwargs) -> dict:
+                      elements_per_bay: int = 8, boundary: BroadbandBoundary | None = None, **kwargs) -> dict:
     """Time-domain error of truncated models against a long reference track.
 
     Builds ``TruncatedTrack(track, n_bays, ends=e, system=...)`` for each end condition in
@@ -206,7 +207,7 @@ def truncation_errors(track: Track, system: EquivalentSystem, n_bays: int = 10, 
     ----------
     track : Track
         The track.
-    system : EquivalentSystem
+    system : EquivalentSystem or None
         The equivalent system of ``"equivalent"`` ends.
     n_bays, reference_bays : int
         Bays on each side of the centre of the truncated models and of the reference.
@@ -214,9 +215,12 @@ def truncation_errors(track: Track, system: EquivalentSystem, n_bays: int = 10, 
         :func:`~semitrack.fe.timedomain.pulse_response` or
         :func:`~semitrack.fe.timedomain.moving_load_response`.
     ends : sequence of str
-        End conditions of the truncated models ("pinned", "free", "equivalent").
+        End conditions of the truncated models ("pinned", "free", "equivalent", "boundary").
     elements_per_bay : int
         Mesh of all models.
+    boundary : BroadbandBoundary, optional
+        The broadband boundary of ``"boundary"`` ends (fit it to the track with
+        ``damping="viscous"``: the time-domain rail is viscously damped).
     **kwargs
         Passed on to the excitation's function (positions, times, load...).
 
@@ -231,7 +235,7 @@ def truncation_errors(track: Track, system: EquivalentSystem, n_bays: int = 10, 
     ref_model = TruncatedTrack(track, reference_bays, "pinned", elements_per_bay=elements_per_bay)
     out = {"reference": run(ref_model, **kwargs), "errors": {}}
     for e in ends:
-        m = TruncatedTrack(track, n_bays, e, system=system if e == "equivalent" else None,
+        m = TruncatedTrack(track, n_bays, e, system={"equivalent": system, "boundary": boundary}.get(e),
                            elements_per_bay=elements_per_bay)
         out[e] = run(m, **kwargs)
         out["errors"][e] = relative_l2_error(out[e].u, out["reference"].u)
