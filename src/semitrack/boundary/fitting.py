@@ -203,11 +203,13 @@ def _search_orders(orders, fit_order, tol) -> dict:
 
 
 def _choose(results: dict) -> int:
-    """The smallest order whose maximum error is within 5 % of the best passive one's (fewer
-    states make a cheaper time-domain model)."""
+    """The smallest order whose median and maximum errors are both within 5 % of the best
+    passive ones (fewer states make a cheaper time-domain model)."""
     passive = {n: r for n, r in results.items() if passivity_report(r[0])} or results
+    best_median = min(r[1].median for r in passive.values())
     best_max = min(r[1].max for r in passive.values())
-    return min(n for n, r in passive.items() if r[1].max <= 1.05 * best_max)
+    good = [n for n, r in passive.items() if r[1].max <= 1.05 * best_max and r[1].median <= 1.05 * best_median]
+    return min(good) if good else min(passive, key=lambda n: passive[n][1].max)
 
 
 def fit_boundary(track: Track, band: tuple[float, float] = (3.0, 3000.0), n_poles: int | None = None,
@@ -224,8 +226,8 @@ def fit_boundary(track: Track, band: tuple[float, float] = (3.0, 3000.0), n_pole
     n_poles : int, optional
         Number of poles (complex pairs counted twice; ``2 n_poles`` states). ``None`` tries
         :data:`ORDERS` in turn until one meets ``tol`` or a larger order lowers the maximum
-        error by less than 10 %, then keeps the smallest order within 5 % of the best maximum
-        error (a hysteretic track is limited by causality, not by the order).
+        error by less than 10 %, then keeps the smallest order within 5 % of the best median
+        and maximum errors (a hysteretic track is limited by causality, not by the order).
     seed : int
         Seed of the starting-pole jitter of the extra starts (``n_starts > 1``); the first start
         is deterministic and uses no random numbers.
