@@ -172,6 +172,8 @@ def test_export_round_trip(fitted, tmp_path, fmt):
     f = np.geomspace(0.1, 1e5, 50)
     assert np.allclose(back.dynamic_stiffness(f), bnd.dynamic_stiffness(f), rtol=1e-12)
     assert back.is_passive() and back.band == bnd.band
+    assert (back.median_error, back.max_error) == pytest.approx((bnd.median_error, bnd.max_error))
+    assert back.enforcement_rounds == bnd.enforcement_rounds
 
 
 def test_load_refuses_a_mismatched_state_space(fitted, tmp_path):
@@ -325,3 +327,30 @@ def test_time_domain_pulse_against_a_long_reference(viscous_fits, name):
                             f_max=6000.0, dt=1e-5, t_end=0.03)
     assert np.all(out["errors"]["boundary"] < 0.015)
     assert np.all(out["errors"]["pinned"] > 10 * out["errors"]["boundary"])
+
+
+@pytest.mark.parametrize("bad, match", [
+    (dict(D=np.diag([1.0, -1.0])), "positive definite"),
+    (dict(D=np.array([[1.0, 0.5], [0.0, 1.0]])), "symmetric"),
+    (dict(poles=np.array([-1.0 - 5.0j])), "Im > 0"),
+    (dict(poles=np.array([]), coefficients=np.zeros((0, 3))), "at least one pole"),
+])
+def test_rational_model_refuses_what_it_cannot_represent(bad, match):
+    args = dict(poles=np.array([-1.0 + 5.0j]), coefficients=np.zeros((2, 3)), K0=np.eye(2), D=np.eye(2))
+    with pytest.raises(ValueError, match=match):
+        RationalEndStiffness(**{**args, **bad})
+
+
+def test_rational_model_does_not_alias_its_inputs():
+    coef = np.zeros((2, 3))
+    model = RationalEndStiffness(np.array([-1.0 + 5.0j]), coef, np.eye(2), np.eye(2))
+    coef[0, 0] = 1.0
+    assert model.coefficients[0, 0] == 0.0
+
+
+def test_viscous_slab_ignores_a_ballast_loss_factor():
+    """A slab track has no ballast: its eta_ballast (kept when the ballast is removed) damps nothing."""
+    track = st.ballasted_track(damping="viscous").replace(sleeper_mass=None, kb=None)
+    assert np.all(track.loss_factor("ballast", [10.0, 100.0]) == 0)
+    h = st.TruncatedTrack(track, 2, elements_per_bay=4).central_receptance([100.0])
+    assert np.all(np.isfinite(h))

@@ -17,7 +17,8 @@ The pipeline of :func:`fit_boundary`, for a track and a band (default 3-3000 Hz)
 
 The paper's hysteretic (loss-factor) damping is not causal: a stable rational model can match it
 only approximately, and the more so the larger the loss factor. Tracks with causal (viscous)
-damping are matched to round-off level by the same pipeline.
+damping are matched to a few tenths of a percent by the same pipeline (their end stiffness is
+not rational either, but smooth and causal).
 """
 
 from __future__ import annotations

@@ -1,8 +1,9 @@
 """Export and import of a broadband boundary: JSON (exact round trip) and MATLAB .mat.
 
 Both formats carry the full model (poles, coefficients, ``K0``, ``D``), its real state space
-(``A, B, C, D, K0``: what a user's own time-domain code needs), the fit band and errors, and the
-units. Loading rebuilds the model from poles and coefficients and checks that the stored state
+(``A, B, C, D, K0``: what a user's own time-domain code needs), the fit band, the median and
+maximum errors, the passivity-enforcement rounds, and the units (the per-element errors, the
+orders tried and the fit time are not kept). Loading rebuilds the model from poles and coefficients and checks that the stored state
 space agrees with it, so a hand-edited or mismatched file is refused rather than trusted.
 """
 
@@ -52,7 +53,7 @@ def boundary_to_dict(boundary: BroadbandBoundary) -> dict:
     ss = b.state_space()
     return {
         "format": FORMAT, "version": VERSION, "track": b.track_name, "band_hz": list(b.band),
-        "median_error": b.median_error, "max_error": b.max_error,
+        "median_error": b.median_error, "max_error": b.max_error, "enforcement_rounds": b.enforcement_rounds,
         "poles": [[p.real, p.imag] for p in b.model.poles],
         "coefficients": b.model.coefficients.tolist(), "K0": b.model.K0.tolist(), "D": b.model.D.tolist(),
         "state_space": {"A": ss.A.tolist(), "B": ss.B.tolist(), "C": ss.C.tolist(), "D": ss.D.tolist(),
@@ -103,7 +104,8 @@ def boundary_from_dict(data: dict, source: str = "data") -> BroadbandBoundary:
     errors = ErrorSummary(median=float(data.get("median_error", np.nan)), max=float(data.get("max_error", np.nan)),
                           per_element={})
     return BroadbandBoundary(model=model, band=band, errors=errors, passivity=passivity_report(model),
-                             track_name=str(data.get("track", "")))
+                             track_name=str(data.get("track", "")),
+                             enforcement_rounds=int(data.get("enforcement_rounds", 0)))
 
 
 def save_boundary(boundary: BroadbandBoundary, path) -> Path:
@@ -125,6 +127,8 @@ def save_boundary(boundary: BroadbandBoundary, path) -> Path:
         mat = {"A": np.array(ss["A"]), "B": np.array(ss["B"]), "C": np.array(ss["C"]), "D": np.array(ss["D"]),
                "K0": np.array(ss["K0"]), "poles": boundary.model.poles[:, None],
                "coefficients": boundary.model.coefficients, "band_hz": np.array(data["band_hz"]),
+               "median_error": data["median_error"], "max_error": data["max_error"],
+               "enforcement_rounds": data["enforcement_rounds"],
                "format": FORMAT, "units": json.dumps(UNITS), "track": data["track"]}
         return atomic_write(path, lambda fh: scipy.io.savemat(fh, mat), binary=True)
     raise ValueError(f"path must end in .json or .mat, got {str(path)!r}")
@@ -147,6 +151,7 @@ def load_boundary(path) -> BroadbandBoundary:
         poles = np.asarray(m["poles"]).ravel()
         data = {"format": str(np.asarray(m["format"]).ravel()[0]), "poles": np.c_[poles.real, poles.imag].tolist(),
                 "coefficients": m["coefficients"], "K0": m["K0"], "D": m["D"], "band_hz": np.ravel(m["band_hz"]),
+                **{key: np.ravel(m[key])[0] for key in ("median_error", "max_error", "enforcement_rounds") if key in m},
                 "track": str(np.asarray(m["track"]).ravel()[0]) if np.asarray(m["track"]).size else "",
                 "state_space": {k: m[k] for k in ("A", "B", "C", "D", "K0")}}
         return boundary_from_dict(data, source=str(path))

@@ -22,12 +22,15 @@ per interval (and ``Re Z(i inf) = D > 0`` beyond the last) decides passivity eve
 eigen-analysis runs on the model scaled by ``D^-1/2`` on both sides (a congruence, which keeps
 definiteness), so that ``w`` and ``psi`` with their different units weigh alike.
 
-Enforcement perturbs the coefficients ``c`` only (never the poles, ``K0`` or ``D``): at the
-frequency of the worst point of each violating interval, with ``v`` the eigenvector of the
-smallest eigenvalue ``lambda``, the constraint ``lambda + v^T Re(dZ) v >= margin`` is linear in
-the perturbation ``dc``. The perturbation minimises a given quadratic form (the linearised growth
-of the fit error), a small quadratic programme solved by SLSQP; constraints accumulate over the
-iterations and the Hamiltonian test is repeated until it passes.
+Enforcement perturbs the coefficients ``c`` only (never the poles, ``K0`` or ``D``). For a fixed
+direction ``v``, ``v^T Re Z(i omega) v`` is affine in ``c``, so ``v^T Re Z v >= margin`` is an
+exact half-space ("cut"); the positive semi-definite cone of 2x2 matrices is the intersection of
+these over all ``v``. Each round adds cuts at a log grid spanning the poles and at points inside
+every violating interval, for a fan of 12 fixed directions and the current eigenvector of the
+smallest eigenvalue, then takes a constrained Gauss-Newton step on the fit residuals: the least
+squares problem with linear inequalities is reduced to a least-distance programme and solved by
+one NNLS (Lawson & Hanson, ch. 23). The cuts accumulate and the exact test is repeated until it
+passes; once passive, rounds continue only while they lower the fit error.
 """
 
 from __future__ import annotations
@@ -61,9 +64,12 @@ class BoundaryPassivityReport:
     crossings_hz : ndarray
         Frequencies (Hz) where an eigenvalue of the scaled ``Re Z(i omega)`` crosses zero.
     violations_hz : list of (float, float)
-        Frequency intervals (Hz) where ``Re Z`` is indefinite (the upper end may be ``inf``).
+        Frequency intervals (Hz) where ``Re Z`` is not positive semi-definite (the upper end may
+        be ``inf``); adjacent intervals are where the two eigenvalues cross zero in turn.
     worst_frequency_hz : float
-        Frequency (Hz) of the smallest eigenvalue found (at a violation, or over a check grid).
+        Frequency (Hz) of the smallest eigenvalue found (at a violation, or, for a passive
+        model, over a log grid that includes the poles' frequencies: a sampled margin, whereas
+        the verdict itself is exact).
     worst_eigenvalue : float
         That smallest eigenvalue of the scaled ``Re Z`` (dimensionless; 1 at high frequency).
     method : str
@@ -151,14 +157,14 @@ def passivity_report(model: RationalEndStiffness) -> BoundaryPassivityReport:
         worst = min(bad, key=lambda b: b[3])
         w_f, w_l = worst[2], worst[3]
     else:  # passive: report the smallest eigenvalue over a log grid as the margin
-        grid = np.concatenate([[0.0], 2 * np.pi * np.geomspace(1e-3, 1e6, 400), crossings])
+        grid = np.concatenate([[0.0], 2 * np.pi * np.geomspace(1e-3, 1e6, 2000), np.abs(model.poles.imag)])
         lam, _ = _min_eig(A, B, C, D, grid)
         k = int(np.argmin(lam))
         w_f, w_l = grid[k], lam[k]
     return BoundaryPassivityReport(
         passive=stable and psd and not bad, stable=stable, static_stiffness_psd=psd,
         crossings_hz=crossings / (2 * np.pi),
-        violations_hz=[(lo / (2 * np.pi), hi / (2 * np.pi)) for lo, hi, *_ in bad],
+        violations_hz=[(float(lo / (2 * np.pi)), float(hi / (2 * np.pi))) for lo, hi, *_ in bad],
         worst_frequency_hz=float(w_f / (2 * np.pi)), worst_eigenvalue=float(w_l))
 
 

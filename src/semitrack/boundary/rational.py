@@ -110,18 +110,29 @@ class RationalEndStiffness:
     D: np.ndarray
 
     def __post_init__(self):
-        poles = np.asarray(self.poles, dtype=complex)
-        coef = np.asarray(self.coefficients, dtype=float)
+        poles = np.array(self.poles, dtype=complex).ravel()  # copies: the model is immutable
+        coef = np.array(self.coefficients, dtype=float)
+        K0 = np.array(self.K0, dtype=float)
+        D = np.array(self.D, dtype=float)
+        for name, value in (("poles", poles), ("coefficients", coef), ("K0", K0), ("D", D)):
+            if not np.all(np.isfinite(value)):
+                raise ValueError(f"{name} must be finite")
+        if poles.size == 0:
+            raise ValueError("poles must hold at least one pole")
+        if np.any(poles.imag < 0):
+            raise ValueError("poles must list one member of each complex pair, the one with Im > 0, "
+                             f"got {poles[poles.imag < 0][0]!r}")
         if coef.shape != (n_real_coefficients(poles), 3):
             raise ValueError(f"coefficients must have shape ({n_real_coefficients(poles)}, 3) for "
                              f"{poles.size} poles, got {coef.shape}")
-        for name, value in (("poles", poles), ("coefficients", coef), ("K0", self.K0), ("D", self.D)):
-            if not np.all(np.isfinite(value)):
-                raise ValueError(f"{name} must be finite")
-        object.__setattr__(self, "poles", poles)
-        object.__setattr__(self, "coefficients", coef)
-        object.__setattr__(self, "K0", np.asarray(self.K0, dtype=float).reshape(2, 2))
-        object.__setattr__(self, "D", np.asarray(self.D, dtype=float).reshape(2, 2))
+        for name, value in (("K0", K0), ("D", D)):
+            if value.shape != (2, 2) or not np.allclose(value, value.T, rtol=1e-12, atol=0):
+                raise ValueError(f"{name} must be a symmetric 2x2 matrix, got {value.tolist()}")
+        if np.linalg.eigvalsh(D)[0] <= 0:
+            raise ValueError(f"D (the high-frequency dashpot) must be positive definite, got {D.tolist()}")
+        for name, value in (("poles", poles), ("coefficients", coef), ("K0", K0), ("D", D)):
+            value.setflags(write=False)
+            object.__setattr__(self, name, value)
 
     @property
     def n_poles(self) -> int:

@@ -30,7 +30,8 @@ def continuous_foundation_receptance(track: Track, f: ArrayLike, k_f: complex, k
     Parameters
     ----------
     track : Track
-        Supplies the rail properties only (rho, E, G, A, I, kappa, eta_rail).
+        Supplies the rail properties only (rho, E, G, A, I, kappa, eta_rail); with
+        ``damping="viscous"`` also the rail's reference frequency, which depends on ``spacing``.
     f : array_like
         Frequencies (Hz).
     k_f : float or complex

@@ -204,6 +204,8 @@ class Track:
         """
         eta = {"rail": self.eta_rail, "pad": self.eta_pad, "ballast": self.eta_ballast}[family]
         f = np.asarray(f, dtype=float)
+        if family == "ballast" and not self.is_ballasted:
+            return np.zeros(f.shape)  # no ballast: its loss factor damps nothing
         if self.damping == "hysteretic" or eta == 0:
             return np.full(f.shape, eta)
         return eta * f / self.reference_frequencies()[family]
