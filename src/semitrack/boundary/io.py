@@ -3,8 +3,9 @@
 Both formats carry the full model (poles, coefficients, ``K0``, ``D``), its real state space
 (``A, B, C, D, K0``: what a user's own time-domain code needs), the fit band, the median and
 maximum errors, the passivity-enforcement rounds, and the units (the per-element errors, the
-orders tried and the fit time are not kept). Loading rebuilds the model from poles and coefficients and checks that the stored state
-space agrees with it, so a hand-edited or mismatched file is refused rather than trusted.
+orders tried and the fit time are not kept). Loading rebuilds the model from poles and
+coefficients and checks that the stored state space agrees with it, so a hand-edited or
+mismatched file is refused rather than trusted.
 """
 
 from __future__ import annotations
