@@ -525,3 +525,221 @@ def pulse_figure(results: Mapping[str, dict], n_bays: int, reference_bays: int):
         axes[-1, col].set_xlabel("time (ms)")
     axes[0, 0].legend(fontsize=8)
     return fig, axes
+
+
+# ------------------------------------------------------------------------------------------------
+# The broadband boundary (book chapter "beyond the pinned-pinned frequency")
+# ------------------------------------------------------------------------------------------------
+#: Line styles of the boundary chapter: the house styles plus the broadband boundary and the
+#: N = 5 systems (drawn like "our system") under the chapter's labels.
+BOUNDARY_STYLE = {
+    **METHOD_STYLE,
+    "broadband boundary": dict(color="tab:purple", lw=1.2, ls="--"),
+    "broadband boundary (viscous track)": dict(color="tab:purple", lw=1.0, ls=(0, (1, 1))),
+    "N = 5 system": METHOD_STYLE["our system"] | dict(ls=":"),
+}
+
+
+def _shade_above(ax, f_from: float, f_to: float) -> None:
+    """Shade the frequencies above a fit band (where the N = 5 systems were not fitted)."""
+    ax.axvspan(f_from, f_to, color="0.92", zorder=-1)
+
+
+def band_error_figure(curves: Mapping[str, pd.DataFrame], bands: Mapping[str, tuple[float, float]], title: str = ""):
+    """Largest element error of alpha against frequency, one panel per track, a line per model.
+
+    Parameters
+    ----------
+    curves : dict
+        Track name to the table of :func:`semitrack.paper.boundary_study.error_curves`
+        (indexed by frequency in Hz, one column per model, errors as fractions).
+    bands : dict
+        Track name to the N = 5 systems' fit band (Hz); frequencies above it are shaded.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    fig, axes
+    """
+    fig, axes = _panels(len(curves), figsize=(10.5, 3.6), sharey=True)
+    for ax, (name, table) in zip(axes, curves.items()):
+        f = table.index.to_numpy()
+        for label, err in table.items():
+            ax.loglog(f, err.to_numpy(), label=label, **BOUNDARY_STYLE.get(label, {}))
+        _shade_above(ax, bands[name][1], f[-1])
+        ax.set_title(f"{name} track")
+        ax.set_xlabel("Frequency (Hz)")
+    axes[0].set_ylabel(r"largest error of $\alpha_{11}, \alpha_{12}, \alpha_{22}$ (-)")
+    axes[0].legend(fontsize=8)
+    if title:
+        fig.suptitle(title)
+    return fig, axes
+
+
+def boundary_receptance_figure(f, curves: Mapping[str, Mapping[str, np.ndarray]], title: str = ""):
+    """|alpha11|, |alpha12|, |alpha22| on log-log axes: one row per track, one line per model.
+
+    Parameters
+    ----------
+    f : array_like
+        Frequencies (Hz).
+    curves : dict
+        Track name to ``{label: alpha}`` (arrays of shape ``(n_f, 2, 2)``, m/N, 1/N,
+        rad/(N m)), e.g. from :func:`semitrack.paper.boundary_study.receptance_curves`.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    fig, axes
+        ``axes`` of shape (n_tracks, 3).
+    """
+    fig, axes = new_figure(len(curves), 3, figsize=(10.5, 3.2 * len(curves)), sharex=True, squeeze=False)
+    for row, (name, alphas) in enumerate(curves.items()):
+        for ax, (element, (i, k)) in zip(axes[row], ELEMENTS.items()):
+            for label, alpha in alphas.items():
+                plot_magnitude(ax, f, np.asarray(alpha)[:, i, k], label, **BOUNDARY_STYLE.get(label, {}))
+            magnitude_axes(ax, _magnitude_label(element), logx=True)
+            ax.set_title(f"{name} track", fontsize=9)
+    axes[0, 0].legend(fontsize=8)
+    if title:
+        fig.suptitle(title)
+    return fig, axes
+
+
+def order_error_figure(tables: Mapping[str, pd.DataFrame], title: str = ""):
+    """Median (left) and maximum (right) error of the boundary against its number of poles.
+
+    Parameters
+    ----------
+    tables : dict
+        Label (track and damping) to the table of
+        :func:`semitrack.paper.boundary_study.order_study` (errors in per cent).
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    fig, axes
+    """
+    fig, axes = _panels(2, figsize=(10.0, 3.4), sharex=True)
+    for label, table in tables.items():
+        for ax, column in zip(axes, ("median error (%)", "max error (%)")):
+            ax.semilogy(table["n_poles"], table[column], marker="o", ms=3, label=label,
+                        ls=":" if "viscous" in label else "-")
+    for ax, what in zip(axes, ("median", "maximum")):
+        ax.set_xlabel("number of poles (complex pairs count twice)")
+        ax.set_ylabel(f"{what} error of alpha (%)")
+    axes[0].legend(fontsize=8)
+    if title:
+        fig.suptitle(title)
+    return fig, axes
+
+
+def passivity_margin_figure(f, margins: Mapping[str, np.ndarray], band: tuple[float, float], title: str = ""):
+    """Smallest eigenvalue of the scaled damping of boundaries over a wide frequency range.
+
+    Parameters
+    ----------
+    f : array_like
+        Frequencies (Hz), positive.
+    margins : dict
+        Label to the eigenvalues of :func:`semitrack.paper.boundary_study.passivity_margin` (-).
+    band : tuple of float
+        The fit band (Hz), shaded.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    fig, ax
+    """
+    fig, ax = new_figure(figsize=(7.5, 3.6))
+    for label, lam in margins.items():
+        ax.loglog(f, lam, label=label)
+    ax.axvspan(band[0], band[1], color="0.92", zorder=-1, label=f"fit band {band[0]:g}-{band[1]:g} Hz")
+    ax.set_xlabel("Frequency (Hz)")
+    ax.set_ylabel(r"smallest eigenvalue of $D^{-1/2}\,\mathrm{Re}\,Z\,D^{-1/2}$ (-)")
+    ax.legend(fontsize=8)
+    if title:
+        ax.set_title(title)
+    return fig, ax
+
+
+def boundary_w1_figure(curves: Mapping[str, pd.DataFrame], bands: Mapping[str, tuple[float, float]],
+                       n_bays: int, title: str = ""):
+    """|w1| of the infinite track and of truncated tracks with several ends, log frequency axis.
+
+    Parameters
+    ----------
+    curves : dict
+        Track name to the table of :func:`semitrack.fe.truncation.truncated_w1` (indexed by
+        frequency in Hz; ``"infinite track (exact)"`` and one column per kind of end, m/N).
+    bands : dict
+        Track name to the N = 5 systems' fit band (Hz); frequencies above it are shaded.
+    n_bays : int
+        Bays on each side of the truncated models (for the legend).
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    fig, axes
+    """
+    fig, axes = _panels(len(curves), figsize=(10.5, 3.8), sharey=True)
+    for ax, (name, table) in zip(axes, curves.items()):
+        f = table.index.to_numpy()
+        for label, w1 in table.items():
+            if label == "infinite track (exact)":
+                plot_magnitude(ax, f, w1, label, **METHOD_STYLE["exact"])
+            else:
+                plot_magnitude(ax, f, w1, f"{n_bays} bays, {label} ends", **BOUNDARY_STYLE.get(label, {}))
+        magnitude_axes(ax, r"$|\tilde w_1|$ (m/N)", logx=True)
+        _shade_above(ax, bands[name][1], f[-1])
+        ax.set_title(f"{name} track")
+    axes[0].legend(fontsize=8)
+    if title:
+        fig.suptitle(title)
+    return fig, axes
+
+
+def boundary_pulse_figure(results: Mapping[str, dict], n_bays: int, reference_bays: int, title: str = ""):
+    """Rail displacement after a pulse: long reference, pinned ends and broadband-boundary ends.
+
+    One column per track, one row per recorded position.
+
+    Parameters
+    ----------
+    results : dict
+        Track name to the result of :func:`semitrack.paper.boundary_study.pulse_study`
+        (``"reference"``, ``"pinned"`` and ``"boundary"`` TimeHistory, ``t`` in s, ``u`` in m
+        per N of peak force).
+    n_bays, reference_bays : int
+        Bays on each side of the truncated models and of the reference (for the legend).
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    fig, axes
+        ``axes`` of shape (n_positions, n_tracks).
+    """
+    n_rows = next(iter(results.values()))["reference"].u.shape[1]
+    fig, axes = new_figure(n_rows, len(results), figsize=(10.5, 3.0 * n_rows), sharex=True, squeeze=False)
+    lines = (("reference", METHOD_STYLE["exact"], f"{reference_bays}-bay reference"),
+             ("pinned", dict(color="tab:red", lw=0.9, ls=":"), f"{n_bays} bays, pinned ends"),
+             ("boundary", BOUNDARY_STYLE["broadband boundary"], f"{n_bays} bays, broadband-boundary ends"))
+    for col, (name, res) in enumerate(results.items()):
+        t_ms = 1e3 * res["reference"].t
+        for row in range(n_rows):
+            ax = axes[row, col]
+            for key, style, label in lines:
+                ax.plot(t_ms, 1e9 * res[key].u[:, row], label=label, **style)
+            ax.set_ylabel(f"w at {res['reference'].labels[row][2:-1]} (nm per N)")
+        axes[0, col].set_title(f"{name} track (viscous damping)")
+        axes[-1, col].set_xlabel("time (ms)")
+    axes[0, 0].legend(fontsize=8)
+    if title:
+        fig.suptitle(title)
+    return fig, axes
