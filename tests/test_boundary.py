@@ -191,6 +191,9 @@ def test_load_refuses_a_mismatched_state_space(fitted, tmp_path):
     (dict(n_poles=1000), ValueError, "n_poles"),
     (dict(n_poles=2.5), TypeError, "n_poles"),
     (dict(df=0.0), ValueError, "df"),
+    (dict(band=(3.0, 1e8)), ValueError, "at most 100000 frequencies"),
+    (dict(seed=-1), ValueError, "seed"),
+    (dict(seed=1.5), TypeError, "seed"),
 ])
 def test_bad_arguments_are_named(bad, exc, match):
     with pytest.raises(exc, match=match):

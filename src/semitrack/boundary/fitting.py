@@ -47,6 +47,8 @@ ORDERS = (24, 36, 48, 60)
 MAX_POLES = 120
 #: Frequency (Hz) at which the static stiffness K0 = Re K(f -> 0) is evaluated.
 STATIC_FREQUENCY = 1e-3
+#: Largest error grid accepted (band / df), a guard against a mistyped band or step.
+MAX_GRID = 100_000
 
 
 def track_end_limits(track: Track) -> tuple[np.ndarray, np.ndarray]:
@@ -223,7 +225,7 @@ def fit_boundary(track: Track, band: tuple[float, float] = (3.0, 3000.0), n_pole
     track : Track
         The track (hysteretic loss factors as in the paper, or any other).
     band : tuple of float
-        Fit band (Hz); the error is judged on its ``df`` grid.
+        Fit band (Hz); the error is judged on its ``df`` grid (at most :data:`MAX_GRID` points).
     n_poles : int, optional
         Number of poles (complex pairs counted twice; ``2 n_poles`` states). ``None`` tries
         :data:`ORDERS` in turn until one meets ``tol`` or a larger order lowers the maximum
@@ -255,6 +257,9 @@ def fit_boundary(track: Track, band: tuple[float, float] = (3.0, 3000.0), n_pole
     require_track(track)
     band = check_band(band)
     df = check_positive("df", df)
+    if (band[1] - band[0]) / df > MAX_GRID:
+        raise ValueError(f"band / df must give at most {MAX_GRID} frequencies, got band={band} Hz with df={df} Hz")
+    check_int_at_least("seed", seed, 0)
     n_starts = check_int_at_least("n_starts", n_starts, 1)
     n_iter = check_int_at_least("n_iter", n_iter, 1)
     orders = ORDERS if n_poles is None else (check_int_at_least("n_poles", n_poles, 2),)
