@@ -475,16 +475,22 @@ def truncated_w1_figure(curves: Mapping[str, pd.DataFrame], bands: Mapping[str, 
     -------
     fig, axes
     """
-    fig, axes = _panels(len(curves), figsize=(10.5, 3.6), sharey=True)
+    return _w1_panels(curves, bands, n_bays, METHOD_STYLE, logx=False, height=3.6)
+
+
+def _w1_panels(curves: Mapping[str, pd.DataFrame], bands: Mapping[str, tuple[float, float]], n_bays: int,
+               styles: Mapping[str, dict], logx: bool, height: float):
+    """|w1| of the infinite track and of truncated tracks, one panel per track, above-band shaded."""
+    fig, axes = _panels(len(curves), figsize=(10.5, height), sharey=True)
     for ax, (name, table) in zip(axes, curves.items()):
         f = table.index.to_numpy()
         for label, w1 in table.items():
             if label == "infinite track (exact)":
                 plot_magnitude(ax, f, w1, label, **METHOD_STYLE["exact"])
             else:
-                plot_magnitude(ax, f, w1, f"{n_bays} bays, {label} ends", **METHOD_STYLE.get(label, {}))
-        magnitude_axes(ax, r"$|\tilde w_1|$ (m/N)")
-        ax.axvspan(bands[name][1], f[-1], color="0.92", zorder=-1)
+                plot_magnitude(ax, f, w1, f"{n_bays} bays, {label} ends", **styles.get(label, {}))
+        magnitude_axes(ax, r"$|\tilde w_1|$ (m/N)", logx=logx)
+        _shade_above(ax, bands[name][1], f[-1])
         ax.set_title(f"{name} track")
     axes[0].legend(fontsize=8)
     return fig, axes
@@ -509,11 +515,16 @@ def pulse_figure(results: Mapping[str, dict], n_bays: int, reference_bays: int):
     fig, axes
         ``axes`` of shape (n_positions, n_tracks).
     """
+    end = ("equivalent", METHOD_STYLE["our system"], f"{n_bays} bays, our equivalent ends")
+    return _pulse_panels(results, n_bays, reference_bays, end, "track: Hann pulse at the centre")
+
+
+def _pulse_panels(results: Mapping[str, dict], n_bays: int, reference_bays: int, end: tuple, subtitle: str):
+    """Reference, pinned ends and one more end model (``(key, style, label)``), per track and position."""
     n_rows = next(iter(results.values()))["reference"].u.shape[1]
     fig, axes = new_figure(n_rows, len(results), figsize=(10.5, 3.0 * n_rows), sharex=True, squeeze=False)
     lines = (("reference", METHOD_STYLE["exact"], f"{reference_bays}-bay reference"),
-             ("pinned", dict(color="tab:red", lw=0.9, ls=":"), f"{n_bays} bays, pinned ends"),
-             ("equivalent", METHOD_STYLE["our system"], f"{n_bays} bays, our equivalent ends"))
+             ("pinned", dict(color="tab:red", lw=0.9, ls=":"), f"{n_bays} bays, pinned ends"), end)
     for col, (name, res) in enumerate(results.items()):
         t_ms = 1e3 * res["reference"].t
         for row in range(n_rows):
@@ -521,7 +532,7 @@ def pulse_figure(results: Mapping[str, dict], n_bays: int, reference_bays: int):
             for key, style, label in lines:
                 ax.plot(t_ms, 1e9 * res[key].u[:, row], label=label, **style)
             ax.set_ylabel(f"w at {res['reference'].labels[row][2:-1]} (nm per N)")
-        axes[0, col].set_title(f"{name} track: Hann pulse at the centre")
+        axes[0, col].set_title(f"{name} {subtitle}")
         axes[-1, col].set_xlabel("time (ms)")
     axes[0, 0].legend(fontsize=8)
     return fig, axes
@@ -687,18 +698,7 @@ def boundary_w1_figure(curves: Mapping[str, pd.DataFrame], bands: Mapping[str, t
     -------
     fig, axes
     """
-    fig, axes = _panels(len(curves), figsize=(10.5, 3.8), sharey=True)
-    for ax, (name, table) in zip(axes, curves.items()):
-        f = table.index.to_numpy()
-        for label, w1 in table.items():
-            if label == "infinite track (exact)":
-                plot_magnitude(ax, f, w1, label, **METHOD_STYLE["exact"])
-            else:
-                plot_magnitude(ax, f, w1, f"{n_bays} bays, {label} ends", **BOUNDARY_STYLE.get(label, {}))
-        magnitude_axes(ax, r"$|\tilde w_1|$ (m/N)", logx=True)
-        _shade_above(ax, bands[name][1], f[-1])
-        ax.set_title(f"{name} track")
-    axes[0].legend(fontsize=8)
+    fig, axes = _w1_panels(curves, bands, n_bays, BOUNDARY_STYLE, logx=True, height=3.8)
     if title:
         fig.suptitle(title)
     return fig, axes
@@ -725,21 +725,8 @@ def boundary_pulse_figure(results: Mapping[str, dict], n_bays: int, reference_ba
     fig, axes
         ``axes`` of shape (n_positions, n_tracks).
     """
-    n_rows = next(iter(results.values()))["reference"].u.shape[1]
-    fig, axes = new_figure(n_rows, len(results), figsize=(10.5, 3.0 * n_rows), sharex=True, squeeze=False)
-    lines = (("reference", METHOD_STYLE["exact"], f"{reference_bays}-bay reference"),
-             ("pinned", dict(color="tab:red", lw=0.9, ls=":"), f"{n_bays} bays, pinned ends"),
-             ("boundary", BOUNDARY_STYLE["broadband boundary"], f"{n_bays} bays, broadband-boundary ends"))
-    for col, (name, res) in enumerate(results.items()):
-        t_ms = 1e3 * res["reference"].t
-        for row in range(n_rows):
-            ax = axes[row, col]
-            for key, style, label in lines:
-                ax.plot(t_ms, 1e9 * res[key].u[:, row], label=label, **style)
-            ax.set_ylabel(f"w at {res['reference'].labels[row][2:-1]} (nm per N)")
-        axes[0, col].set_title(f"{name} track (viscous damping)")
-        axes[-1, col].set_xlabel("time (ms)")
-    axes[0, 0].legend(fontsize=8)
+    end = ("boundary", BOUNDARY_STYLE["broadband boundary"], f"{n_bays} bays, broadband-boundary ends")
+    fig, axes = _pulse_panels(results, n_bays, reference_bays, end, "track (viscous damping)")
     if title:
         fig.suptitle(title)
     return fig, axes
