@@ -166,15 +166,13 @@ def cmd_fit(args: argparse.Namespace) -> int:
 
 def _fit_boundary(args: argparse.Namespace, track: Track, band: tuple[float, float], out: Path) -> int:
     """``semitrack fit --boundary``: the broadband passive end model, written as JSON or .mat."""
-    from .boundary.fitting import MAX_POLES, fit_boundary
+    from .boundary.fitting import check_n_poles, fit_boundary
     from .boundary.io import save_boundary
 
     if out.suffix.lower() not in (".json", ".mat"):
         raise InputError(f"-o must name a .json or .mat file for --boundary, got {out.name!r}")
     if args.poles is not None:
-        checked(check_int_at_least, "--poles", args.poles, 2)
-        if args.poles > MAX_POLES:
-            raise InputError(f"--poles must be <= {MAX_POLES}, got {args.poles}")
+        checked(check_n_poles, args.poles, "--poles")
     progress = Progress("fit", 1, quiet=args.quiet)
     progress.update(0, "fitting a broadband boundary")
     bnd = fit_boundary(track, band=band, n_poles=args.poles, seed=args.seed)

@@ -39,7 +39,7 @@ from .rational import SYMMETRIC_ELEMENTS, BoundaryStateSpace, RationalEndStiffne
 from .refinement import refine_coefficients, relative_alpha_residuals
 from .vector_fitting import starting_poles, vector_fit
 
-__all__ = ["BroadbandBoundary", "fit_boundary", "track_end_limits", "ORDERS"]
+__all__ = ["BroadbandBoundary", "fit_boundary", "track_end_limits", "check_n_poles", "ORDERS"]
 
 #: Orders (number of poles, pairs counted twice) tried in turn when ``n_poles`` is None.
 ORDERS = (24, 36, 48, 60)
@@ -49,6 +49,22 @@ MAX_POLES = 120
 STATIC_FREQUENCY = 1e-3
 #: Largest error grid accepted (band / df), a guard against a mistyped band or step.
 MAX_GRID = 100_000
+
+
+def check_n_poles(n_poles: object, name: str = "n_poles") -> int:
+    """A number of poles: an integer from 2 to :data:`MAX_POLES`.
+
+    Parameters
+    ----------
+    n_poles : object
+        The value to check.
+    name : str
+        The parameter name to quote in the message (the CLI says ``--poles``).
+    """
+    n = check_int_at_least(name, n_poles, 2)
+    if n > MAX_POLES:
+        raise ValueError(f"{name} must be <= {MAX_POLES} (the fit's cost grows with its square), got {n}")
+    return n
 
 
 def track_end_limits(track: Track) -> tuple[np.ndarray, np.ndarray]:
@@ -262,9 +278,7 @@ def fit_boundary(track: Track, band: tuple[float, float] = (3.0, 3000.0), n_pole
     check_int_at_least("seed", seed, 0)
     n_starts = check_int_at_least("n_starts", n_starts, 1)
     n_iter = check_int_at_least("n_iter", n_iter, 1)
-    orders = ORDERS if n_poles is None else (check_int_at_least("n_poles", n_poles, 2),)
-    if max(orders) > MAX_POLES:
-        raise ValueError(f"n_poles must be <= {MAX_POLES} (fit cost grows with its square), got {n_poles}")
+    orders = ORDERS if n_poles is None else (check_n_poles(n_poles),)
     start = time.perf_counter()
     f, grid, guard = _fit_samples(band, df)
     alpha = semi_infinite_receptance(track, f)
