@@ -22,12 +22,6 @@ def test_viscous_loss_factor_grows_with_frequency_and_matches_at_the_reference(m
     assert np.all(hysteretic.loss_factor("pad", [1.0, 1e3]) == hysteretic.eta_pad)
 
 
-def test_reference_frequencies_are_the_track_resonances():
-    ref = st.ballasted_track().reference_frequencies()
-    assert {k: round(v) for k, v in ref.items()} == {"rail": 1422, "pad": 495, "ballast": 117}
-    assert np.isnan(st.slab_track().reference_frequencies()["ballast"])
-
-
 def test_viscous_and_hysteretic_agree_where_the_one_damper_matches():
     """With the pads the only damping, both models are the same track at the pad's reference
     frequency, so alpha must agree there to round-off and differ elsewhere."""

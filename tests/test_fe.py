@@ -15,7 +15,6 @@ import scipy.sparse as sp
 import semitrack as st
 from semitrack.base.paper_values import FIT_BANDS
 from semitrack.equivalent.metrics import error_band_grid, error_summary
-from semitrack.fe.damping import viscous_reference_frequencies
 from semitrack.fe.element import timoshenko_element, timoshenko_shape_functions
 from semitrack.fe.models import FETrack, TruncatedTrack, fe_central_receptance, fe_semi_infinite_receptance
 from semitrack.fe.timedomain import hann_pulse, moving_load_response, newmark, pulse_response, relative_l2_error
@@ -164,11 +163,11 @@ def test_viscous_matrices_equal_complex_stiffness_at_reference(track):
 
 
 def test_default_reference_frequencies():
-    fr = viscous_reference_frequencies(st.ballasted_track())
+    fr = st.ballasted_track().reference_frequencies()
     assert fr["pad"] == pytest.approx(494.7, abs=0.1)
     assert fr["ballast"] == pytest.approx(116.6, abs=0.1)  # the paper's f_n1 = 117 Hz
     assert fr["rail"] == pytest.approx(1422.4, abs=0.1)
-    assert np.isnan(viscous_reference_frequencies(st.slab_track())["ballast"])
+    assert np.isnan(st.slab_track().reference_frequencies()["ballast"])
 
 
 def test_zero_bays_is_the_papers_mirrored_pair():

@@ -6,7 +6,7 @@ that equals its loss factor at its own reference frequency,
 omega_ballast`` (stiffness-proportional for the rail, a dashpot ``eta kv / omega_pad`` per pad,
 ``eta_ballast kb / omega_ballast`` per ballast spring). A viscous damper can match the
 hysteretic one at one frequency only; it is chosen where that family's damping controls the
-response (:func:`viscous_reference_frequencies`): the pads at the rail-on-pad resonance
+response (:meth:`semitrack.Track.reference_frequencies`): the pads at the rail-on-pad resonance
 ``sqrt(kv / (rho A d)) / 2 pi`` (slab 187 Hz, ballasted 495 Hz), the ballast at the
 sleeper-on-ballast resonance ``sqrt(kb / (m_s + rho A d)) / 2 pi`` (117 Hz, the paper's f_n1),
 the rail at the Euler estimate of the pinned-pinned frequency ``(pi / d)^2 sqrt(EI / rho A) /
@@ -25,32 +25,7 @@ from collections.abc import Mapping
 from ..base.checks import check_positive
 from ..model.tracks import Track, require_track
 
-__all__ = ["viscous_reference_frequencies", "reference_frequencies"]
-
-
-def viscous_reference_frequencies(track: Track) -> dict[str, float]:
-    """Reference frequencies (Hz) of the viscous damping model of the time domain.
-
-    Parameters
-    ----------
-    track : Track
-        The track (real moduli are used).
-
-    Returns
-    -------
-    dict
-        ``{"rail": (pi / d)^2 sqrt(EI / rho A) / 2 pi, "pad": sqrt(kv / (rho A d)) / 2 pi,
-        "ballast": sqrt(kb / (m_s + rho A d)) / 2 pi}``: the Euler pinned-pinned frequency, the
-        rail-on-pad resonance and the sleeper-on-ballast resonance, near which the damping of
-        each family controls the response. "ballast" is NaN for a slab track.
-
-    Examples
-    --------
-    >>> from semitrack.model.tracks import ballasted_track
-    >>> {k: round(v) for k, v in viscous_reference_frequencies(ballasted_track()).items()}
-    {'rail': 1422, 'pad': 495, 'ballast': 117}
-    """
-    return require_track(track).reference_frequencies()
+__all__ = ["reference_frequencies"]
 
 
 def reference_frequencies(track: Track, f_ref: float | Mapping[str, float] | None = None) -> dict[str, float]:
@@ -61,7 +36,7 @@ def reference_frequencies(track: Track, f_ref: float | Mapping[str, float] | Non
     track : Track
         The track.
     f_ref : None, float or dict
-        ``None``: :func:`viscous_reference_frequencies`; a float: the same for all three
+        ``None``: the track's own (:meth:`semitrack.Track.reference_frequencies`); a float: the same for all three
         families; a dict: overrides (Hz) for some of the keys "rail", "pad", "ballast".
 
     Returns
@@ -77,7 +52,7 @@ def reference_frequencies(track: Track, f_ref: float | Mapping[str, float] | Non
     >>> fr["rail"], fr["ballast"]
     (1000.0, 1.0)
     """
-    fr = viscous_reference_frequencies(track)
+    fr = require_track(track).reference_frequencies()
     if not track.is_ballasted:
         fr["ballast"] = 1.0  # unused: no ballast springs
     if f_ref is None:

@@ -7,7 +7,7 @@ Its period error is about ``(omega dt)^2 / 12``: 0.3 % at 1.5 kHz with the defau
 
 The matrices come from :meth:`semitrack.fe.models.FETrack.matrices`: rail, pads and ballast
 with viscous damping equal to their loss factors at reference frequencies (by default
-:func:`semitrack.fe.damping.viscous_reference_frequencies`), the equivalent systems with their
+:meth:`semitrack.Track.reference_frequencies`), the equivalent systems with their
 own viscous dampers. The paper fitted those systems to the hysteretically damped track; in the
 time domain only viscous damping is available, so the truncated model with equivalent ends and
 the long reference track (same viscous model) differ slightly in damping from the hysteretic
