@@ -129,12 +129,14 @@ def _violations(A, B, C, D, crossings: np.ndarray):
     edges = np.concatenate([[0.0], crossings, [np.inf]])
     out = []
     for lo, hi in zip(edges[:-1], edges[1:]):
+        # No eigenvalue changes sign inside an interval, so its interior points decide it; the
+        # 39 of them also locate its worst point for the enforcement.
         top = hi if np.isfinite(hi) else max(10 * lo, lo + 1.0)
-        grid = np.linspace(lo, top, 41) if lo > 0 or np.isfinite(hi) else np.linspace(0, top, 41)
-        lam, _ = _min_eig(A, B, C, D, grid[1:-1] if grid.size > 2 else grid)
+        inside = np.linspace(lo, top, 41)[1:-1]
+        lam, _ = _min_eig(A, B, C, D, inside)
         k = int(np.argmin(lam))
         if lam[k] < 0:
-            out.append((lo, hi, (grid[1:-1] if grid.size > 2 else grid)[k], lam[k]))
+            out.append((lo, hi, inside[k], lam[k]))
     return out
 
 
