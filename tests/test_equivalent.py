@@ -24,7 +24,7 @@ from semitrack.equivalent.constraints import (
     unit_cell_frequencies,
 )
 from semitrack.equivalent.metrics import error_band_grid, error_summary, receptance_errors
-from semitrack.equivalent.systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent
+from semitrack.equivalent.systems import PARAMETER_UNITS, BallastedEquivalent, EquivalentSystem, SlabEquivalent
 from semitrack.paper.systems import paper_consistency_report, paper_table4, paper_table7
 
 TWO_PI = 2 * np.pi
@@ -493,3 +493,66 @@ def test_pickle_round_trip_keeps_arrays_read_only(system):
     assert not back.m.flags.writeable and not back._mck[0].flags.writeable
     with pytest.raises(ValueError):
         back.k[0] = 1.0
+
+
+# --- natural frequencies, bar motion, repr ----------------------------------------------------------
+def test_highest_natural_frequency_of_a_single_mass_spring():
+    # A ballasted bar without mass and upper springs leaves each support mass mu on its spring s:
+    # two single mass-springs at sqrt(s / mu) / (2 pi); the massless bar is condensed out.
+    mu, s = 40.0, 3e7
+    oscillator = BallastedEquivalent(m=0.0, J=0.0, L=0.5, k=0.0, c_l=0.0, c_r=0.0, k_phi=[], c_phi=[],
+                                     mu=mu, s=s, d_l=0.0, d_r=0.0)
+    f_closed = np.sqrt(s / mu) / TWO_PI
+    np.testing.assert_allclose(oscillator.natural_frequencies(), [f_closed, f_closed], rtol=1e-12)
+    assert oscillator.highest_natural_frequency() == pytest.approx(f_closed, rel=1e-12)
+    assert oscillator.central_difference_time_step() == pytest.approx(2 / (TWO_PI * f_closed), rel=1e-12)
+
+
+def test_highest_natural_frequency_of_a_single_bar_bounce_and_pitch():
+    m, L, k = 12.0, 0.6, 3e7
+    J = m * L**2 / 12  # a slender bar: pitch sqrt(k L^2 / (2 J)) above bounce sqrt(2 k / m)
+    bar = SlabEquivalent(m=m, J=J, L=L, k=k, c_l=0.0, c_r=0.0, k_phi=[], c_phi=[])
+    # Bounce and pitch about the centre of mass (taken at mid-length) decouple.
+    expected = np.sort([np.sqrt(2 * k / m), np.sqrt(k * L**2 / (2 * J))]) / TWO_PI
+    np.testing.assert_allclose(bar.natural_frequencies(), expected, rtol=1e-12)
+    assert bar.highest_natural_frequency() == pytest.approx(expected[-1], rel=1e-12)
+
+
+def test_massless_bars_are_condensed_not_infinite():
+    one = SlabEquivalent(m=12.0, J=0.3, L=0.6, k=3e7, c_l=0.0, c_r=0.0, k_phi=[], c_phi=[])
+    # The same bar with a massless, springless second bar on a hinge: it follows statically.
+    two = SlabEquivalent(m=[12.0, 0.0], J=[0.3, 0.0], L=[0.6, 0.4], k=[3e7, 0.0], c_l=[0.0, 0.0],
+                         c_r=[0.0, 0.0], k_phi=[1e6], c_phi=[0.0])
+    np.testing.assert_allclose(two.natural_frequencies(), one.natural_frequencies(), rtol=1e-10)
+    # The paper's Table 4 (bars 2 and 4 massless): finite, above the fitted band.
+    assert 900.0 < paper_table4().highest_natural_frequency() < 1e5
+    # A light (not massless) bar keeps its own, higher frequency.
+    light = two.replace(m=[12.0, 1e-3], J=[0.3, 1e-5])
+    assert light.highest_natural_frequency() > 10 * one.highest_natural_frequency()
+    # No inertia at all: no natural frequency and no step limit.
+    empty = one.replace(m=0.0, J=0.0)
+    assert empty.natural_frequencies().size == 0 and empty.highest_natural_frequency() == 0.0
+    assert empty.central_difference_time_step() == np.inf
+
+
+def test_bar_centre_motion_single_bar_closed_form():
+    bar = SlabEquivalent(m=10.0, J=0.2, L=0.6, k=1e7, c_l=500.0, c_r=500.0, k_phi=[], c_phi=[])
+    f = np.array([50.0, 300.0])
+    a = bar.receptance(f)
+    # Under an end force: w1 = a11, phi_1 = a21, so the centre moves w1 + (L/2) phi_1.
+    np.testing.assert_allclose(bar.bar_centre_motion(f)[:, 0], 1 + 0.3 * a[:, 1, 0] / a[:, 0, 0], rtol=1e-12)
+    ratios = np.abs(paper_table7().bar_centre_motion(f))
+    assert ratios.shape == (2, 5) and np.all(ratios[:, -1] < ratios[:, 0])
+
+
+@pytest.mark.parametrize("system", [paper_table4(), paper_table7()], ids=["table4", "table7"])
+def test_repr_lists_each_parameter_with_its_unit(system):
+    text = repr(system)
+    lines = text.splitlines()
+    assert lines[0].startswith(f"{type(system).__name__}: N = 5 bars, {system.n_dof} DOFs")
+    for name in system.parameter_names():
+        unit = f"({PARAMETER_UNITS[name]})"
+        assert any(line.split()[0] == name and line.split(unit)[0].strip() == name for line in lines), name
+    assert f"highest natural frequency {system.highest_natural_frequency():.4g} Hz" in lines[-1]
+    assert "array(" not in text and "nan" not in text
+    assert max(len(line) for line in lines) <= 90

@@ -33,7 +33,7 @@ from semitrack.equivalent.fitting import (
     fit_characteristic_frequencies,
     fit_equivalent,
 )
-from semitrack.equivalent.metrics import error_band_grid, error_summary
+from semitrack.equivalent.metrics import ELEMENT_ERROR, ELEMENT_ERROR_DEFINITION, error_band_grid, error_summary
 from semitrack.equivalent.parametrisation import FitParametrisation, references
 from semitrack.equivalent.residuals import Residuals
 from semitrack.equivalent.systems import BallastedEquivalent, SlabEquivalent
@@ -340,7 +340,27 @@ def test_fit_result_is_frozen_and_complete(paper_fits):
     d = fit.diagnostics()
     assert {"status", "message", "cost", "nfev", "optimality", "n_starts"} <= set(d)
     assert np.all(np.isin(fit.characteristic_frequencies["f_n"], fit.fit_freqs))
-    assert "median_error" in repr(fit)
+
+
+@pytest.mark.parametrize("layout", ["slab", "ballasted"])
+def test_fit_result_prints_as_a_readable_summary(paper_fits, layout):
+    fit = paper_fits[layout]
+    text = str(fit)
+    assert text == repr(fit)
+    lines = text.splitlines()
+    assert lines[0] == f"FitResult: {layout} layout, N = 5 bars"
+    band = f"{fit.band[0]:g}-{fit.band[1]:g} Hz"
+    assert any(band in line for line in lines)
+    # The errors are quoted in per cent with their metric named and defined.
+    errors = next(line for line in lines if line.strip().startswith(ELEMENT_ERROR))
+    assert f"median {100 * fit.median_error:.2f} %, max {100 * fit.max_error:.2f} %" in errors
+    assert ELEMENT_ERROR_DEFINITION in text
+    assert f"{fit.cost:.4g}" in text
+    for name, value in fit.characteristic_frequencies.items():
+        assert f"{name} = {value:.2f} Hz" in text
+    assert text.endswith(repr(fit.system))  # the parameters, one per line with units
+    assert "highest natural frequency" in lines[-1]
+    assert max(len(line) for line in lines) <= 100 and "array(" not in text
 
 
 def test_fit_leaves_blas_threading_as_it_found_it():

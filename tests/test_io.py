@@ -116,3 +116,34 @@ def test_corrupt_files(tmp_path):
     bad_csv.write_text("m,1,2\n")
     with pytest.raises(ValueError, match="before the first"):
         sio.load_system_csv(bad_csv)
+
+
+@pytest.mark.parametrize("system", SYSTEMS, ids=IDS)
+def test_files_state_the_highest_natural_frequency(system, tmp_path):
+    f_max, dt = system.highest_natural_frequency(), system.central_difference_time_step()
+    assert f_max > 0 and dt == pytest.approx(2 / (2 * np.pi * f_max), rel=1e-12)
+    meta = json.loads(sio.save_system_json(system, tmp_path / "sys.json").read_text())["metadata"]
+    assert meta["highest_natural_frequency"] == {**meta["highest_natural_frequency"], "unit": "Hz", "value": f_max}
+    assert meta["central_difference_time_step"]["unit"] == "s"
+    assert meta["central_difference_time_step"]["value"] == pytest.approx(dt, rel=1e-15)
+    csv_text = sio.save_system_csv(system, tmp_path / "sys.csv").read_text()
+    assert f"highest_natural_frequency_Hz,{f_max!r}" in csv_text
+    raw = scipy.io.loadmat(sio.save_system_mat(system, tmp_path / "sys.mat"), simplify_cells=True)
+    assert raw["highest_natural_frequency_Hz"] == pytest.approx(f_max, rel=1e-15)
+
+
+def test_json_without_metadata_still_loads(tmp_path):
+    """Files written before the metadata existed load as before (the reader ignores it)."""
+    data = sio.system_to_dict(paper_table7())
+    del data["metadata"]
+    path = tmp_path / "old.json"
+    path.write_text(json.dumps(data))
+    assert sio.load_system_json(path) == paper_table7()
+
+
+def test_json_metadata_of_a_system_without_inertia_is_valid_json(tmp_path):
+    massless = SlabEquivalent(m=0.0, J=0.0, L=0.3, k=1e7, c_l=10.0, c_r=20.0, k_phi=[], c_phi=[])
+    text = sio.save_system_json(massless, tmp_path / "sys.json").read_text()
+    meta = json.loads(text, parse_constant=lambda name: pytest.fail(f"non-standard JSON {name}"))["metadata"]
+    assert meta["highest_natural_frequency"]["value"] == 0.0
+    assert meta["central_difference_time_step"]["value"] is None

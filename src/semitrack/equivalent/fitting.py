@@ -44,7 +44,7 @@ from ..base.checks import check_band, check_int_at_least
 from ..base.paper_values import FIT_BANDS
 from ..model.tracks import Track, require_track
 from .assembly import LAYOUTS, Layout, check_layout
-from .metrics import ErrorSummary, error_summary
+from .metrics import ELEMENT_ERROR, ELEMENT_ERROR_DEFINITION, ErrorSummary, error_summary
 from .multistart import MultiStartOutcome, run_multistart, start_points
 from .parametrisation import FitParametrisation, references
 from .residuals import Residuals
@@ -74,6 +74,10 @@ __all__ = [
 #: A fit whose median error exceeds this is reported as poor (RuntimeWarning): the paper's own
 #: Tables 4 and 7 reach about 0.15-0.17 on the dense grid of their bands.
 POOR_MEDIAN_ERROR = 0.25
+
+# The paper's constraint equations of each layout, as :class:`FitResult` names them.
+_CONSTRAINT_EQUATIONS = {"slab": "the paper's Eq. (19)-(20) tie k, J to f_n",
+                         "ballasted": "the paper's Eq. (23), (28)-(30) tie k, J, s, mu to f_n1, f_n2, f_anti"}
 
 
 @dataclass(frozen=True, eq=False)
@@ -167,6 +171,30 @@ class FitResult:
 
     def __setstate__(self, state: dict) -> None:
         readonly_state(self, state)
+
+    def __repr__(self) -> str:
+        """Several lines: the fit's settings, errors (the metric named), solver outcome and system."""
+        constraints = _CONSTRAINT_EQUATIONS[self.layout] if self.constrained else "none (all parameters fitted)"
+        grid = self.error_frequencies
+        char = ", ".join(f"{name} = {value:.2f} Hz" for name, value in self.characteristic_frequencies.items())
+        outcome = "converged" if self.success else "NOT converged"
+        lines = [
+            f"FitResult: {self.layout} layout, N = {self.n_bars} bars",
+            f"  constraints     {constraints}",
+            f"  band            {self.band[0]:g}-{self.band[1]:g} Hz; errors on {grid.size} frequencies "
+            f"(spacing {grid[1] - grid[0]:.3g} Hz)",
+            f"  {ELEMENT_ERROR:<15} median {100 * self.median_error:.2f} %, max {100 * self.max_error:.2f} %",
+            f"                  ({ELEMENT_ERROR_DEFINITION})",
+            f"  cost            {self.cost:.4g} at {self.fit_freqs.size} fit frequencies "
+            f"(optimality {self.optimality:.2g})",
+            f"  solver          {outcome} (status {self.status}), best of {self.n_starts} starts: "
+            f"start {self.best_start}, {self.nfev} evaluations, {self.elapsed:.1f} s, seed {self.seed}",
+            f"  characteristic  {char}",
+            "",
+        ]
+        return "\n".join(lines) + repr(self.system)
+
+    __str__ = __repr__
 
     def diagnostics(self) -> dict:
         """The least-squares diagnostics as a plain dict (for tables and logs)."""

@@ -14,12 +14,20 @@ JSON (:func:`save_system_json`, :func:`load_system_json`)::
      "n_bars": N,
      "parameters": {name: {"unit": "kg", "values": [...]}, ...},
      "dof_names": ["w1 (m)", "phi_1 (rad)", ...],
-     "matrices": {"M": {"values": [[...]], "entry_units": [[...]]}, "C": ..., "K": ...}}
+     "matrices": {"M": {"values": [[...]], "entry_units": [[...]]}, "C": ..., "K": ...},
+     "metadata": {"highest_natural_frequency": {"unit": "Hz", "value": ..., "note": ...},
+                  "central_difference_time_step": {"unit": "s", "value": ..., "note": ...}}}
+
+``metadata`` is written for the reader and ignored when a file is read (files without it, as
+written before it existed, load as before): the highest undamped natural frequency of
+:meth:`~.systems.EquivalentSystem.highest_natural_frequency` sets the time step of an explicit
+integrator, and central differences (undamped) are stable for ``dt < 2 / omega_max``.
 
 CSV (:func:`save_system_csv`, :func:`load_system_csv`): one file of sections, each started by
 a line ``[name]``::
 
-    [meta]        rows "key,value": format, version, layout, n_bars
+    [meta]        rows "key,value": format, version, layout, n_bars, and (informative, not
+                  read back) highest_natural_frequency_Hz, central_difference_time_step_s
     [parameters]  header "parameter,unit,bar_1,...,bar_N"; one row per parameter; k_phi and
                   c_phi leave the bar_N cell empty (they have N - 1 values)
     [M] [C] [K]   header "dof,<dof names>"; one row per DOF, first cell the DOF name
@@ -28,8 +36,9 @@ Numbers are written with ``repr`` (17 significant digits), so a round trip is ex
 
 MAT (:func:`save_system_mat`, :func:`load_system_mat`), via :func:`scipy.io.savemat`:
 variables ``layout`` (char), ``n_bars``, ``M``, ``C``, ``K`` (double matrices), ``dof_names``
-(cell array of char), ``parameters`` (struct of row vectors) and ``parameter_units`` (struct
-of char).
+(cell array of char), ``parameters`` (struct of row vectors), ``parameter_units`` (struct
+of char), and (informative) ``highest_natural_frequency_Hz`` and
+``central_difference_time_step_s``.
 
 All writes are atomic: the file is written to a temporary file in the target folder and moved
 into place with :func:`os.replace`, so an error never leaves a half-written file.
@@ -53,6 +62,7 @@ import scipy.io
 from .systems import PARAMETER_UNITS, EquivalentSystem
 
 __all__ = [
+    "time_step_metadata",
     "system_to_dict",
     "system_from_dict",
     "save_system_json",
@@ -151,6 +161,32 @@ def _check_matrices(system: EquivalentSystem, stored: dict, source: str) -> None
                           UserWarning, stacklevel=3)
 
 
+def time_step_metadata(system: EquivalentSystem) -> dict[str, dict[str, Any]]:
+    """The ``metadata`` of a JSON file: highest natural frequency and central-difference step.
+
+    Parameters
+    ----------
+    system : SlabEquivalent or BallastedEquivalent
+        The system.
+
+    Returns
+    -------
+    dict
+        ``{"highest_natural_frequency": {"unit": "Hz", ...}, "central_difference_time_step":
+        {"unit": "s", ...}}``, each with ``value`` and a ``note`` on its meaning; the step is
+        None (JSON null) for a system without inertia.
+    """
+    dt = system.central_difference_time_step()
+    return {
+        "highest_natural_frequency": {
+            "unit": "Hz", "value": system.highest_natural_frequency(),
+            "note": "undamped, K v = omega^2 M v; massless directions condensed statically"},
+        "central_difference_time_step": {  # JSON has no inf: null for a system without inertia
+            "unit": "s", "value": dt if np.isfinite(dt) else None,
+            "note": "stability limit 2 / omega_max of the undamped central-difference scheme"},
+    }
+
+
 # --- dict / JSON ----------------------------------------------------------------------------------
 def system_to_dict(system: EquivalentSystem) -> dict[str, Any]:
     """Plain-Python description of a system (the JSON layout above).
@@ -178,6 +214,7 @@ def system_to_dict(system: EquivalentSystem) -> dict[str, Any]:
             "C": {"values": C.tolist(), "entry_units": _entry_units(names, " s")},
             "K": {"values": K.tolist(), "entry_units": _entry_units(names, "")},
         },
+        "metadata": time_step_metadata(system),
     }
 
 
@@ -285,7 +322,9 @@ def save_system_csv(system: EquivalentSystem, path: str | os.PathLike) -> Path:
     w.writerow(["[meta]"])
     w.writerow(["key", "value"])
     for key, value in (("format", FORMAT_NAME), ("version", FORMAT_VERSION),
-                       ("layout", system.layout), ("n_bars", N)):
+                       ("layout", system.layout), ("n_bars", N),
+                       ("highest_natural_frequency_Hz", _fmt(system.highest_natural_frequency())),
+                       ("central_difference_time_step_s", _fmt(system.central_difference_time_step()))):
         w.writerow([key, value])
     w.writerow(["[parameters]"])
     w.writerow(["parameter", "unit"] + [f"bar_{j}" for j in range(1, N + 1)])
@@ -381,6 +420,8 @@ def save_system_mat(system: EquivalentSystem, path: str | os.PathLike) -> Path:
         "dof_names": np.array(system.dof_names(), dtype=object),
         "parameters": {name: values.reshape(1, -1) for name, values in system.parameters().items()},
         "parameter_units": {name: PARAMETER_UNITS[name] for name in system.parameter_names()},
+        "highest_natural_frequency_Hz": system.highest_natural_frequency(),
+        "central_difference_time_step_s": system.central_difference_time_step(),
     }
     return atomic_write(path, lambda fh: scipy.io.savemat(fh, content, oned_as="row"), binary=True)
 

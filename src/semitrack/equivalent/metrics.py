@@ -19,7 +19,16 @@ from ..base.conventions import ELEMENTS
 
 # ELEMENTS (the compared elements and their (row, column) index) is re-exported from
 # base.conventions, where every layer reads it.
-__all__ = ["ELEMENTS", "ErrorSummary", "receptance_errors", "error_summary", "error_band_grid"]
+__all__ = ["ELEMENTS", "ELEMENT_ERROR", "ELEMENT_ERROR_DEFINITION", "ErrorSummary", "receptance_errors",
+           "error_summary", "error_band_grid"]
+
+#: Name of the measure of :func:`error_summary`, as the book and the printed fits quote it. The
+#: book defines it, beside the "worst-element error" of the derivation chapter (at each
+#: frequency the largest of the element errors), in the derivation chapter.
+ELEMENT_ERROR = "element error"
+
+#: One-line definition of :data:`ELEMENT_ERROR`.
+ELEMENT_ERROR_DEFINITION = "|alpha_E - alpha|/|alpha| of alpha11, alpha12, alpha22, pooled over the grid"
 
 
 @dataclass(frozen=True)

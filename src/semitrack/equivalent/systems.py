@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import math
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -63,6 +64,11 @@ PARAMETER_UNITS: dict[str, str] = {
 # A dynamic stiffness matrix whose condition number, after symmetric diagonal scaling, exceeds
 # this is treated as singular: about 1e4 * machine epsilon of relative accuracy is left at most.
 _COND_LIMIT = 1e12
+
+# A mass-matrix eigenvalue below this fraction of the largest counts as zero: that direction
+# carries no inertia (a massless bar, as in the paper's Table 4) and follows the others statically.
+# Rounding of the assembly leaves ~1e-16 of the largest; a genuinely light part is kept.
+_MASSLESS_RTOL = 1e-12
 
 # Relative asymmetry tolerated in an assembled matrix before it counts as an assembly bug: the
 # P^T diag(v) P products are symmetric up to a few roundings of the largest entry.
@@ -136,6 +142,48 @@ def _symmetrised(name: str, X: np.ndarray) -> np.ndarray:
     S = 0.5 * (X + X.T)
     S.setflags(write=False)
     return S
+
+
+def _format_value(x: float) -> str:
+    """A parameter value in a short form: 4 significant digits, 0 as 0."""
+    return "0" if x == 0 else f"{x:.4g}"
+
+
+def undamped_natural_frequencies(M: np.ndarray, K: np.ndarray, massless_rtol: float = _MASSLESS_RTOL) -> np.ndarray:
+    """Natural frequencies (Hz) of ``K v = omega^2 M v`` for symmetric ``M`` >= 0 and ``K`` >= 0.
+
+    Directions of M without inertia (eigenvalues of M below ``massless_rtol`` of its largest)
+    are condensed statically, ``K_c = K_aa - K_an K_nn^+ K_na`` (pseudo-inverse: a massless part
+    that is also free, e.g. a bar with zero mass and zero springs, adds nothing). They are
+    the infinite eigenvalues of the pencil: an explicit integrator must condense them too, as
+    they cannot be stepped, so they set no time step.
+
+    Parameters
+    ----------
+    M, K : ndarray, shape (n, n)
+        Symmetric mass and stiffness matrices (SI units, consistent DOFs).
+    massless_rtol : float
+        Relative threshold of a zero mass eigenvalue (-).
+
+    Returns
+    -------
+    ndarray
+        Ascending natural frequencies (Hz) of the directions with inertia; rigid-body modes
+        give 0. Empty when M is zero.
+    """
+    lam, V = np.linalg.eigh(M)
+    big = np.max(np.abs(lam)) if lam.size else 0.0
+    massive = lam > massless_rtol * big
+    if big <= 0 or not np.any(massive):
+        return np.zeros(0)
+    Kt = V.T @ K @ V
+    a, n = massive, ~massive
+    K_c = Kt[np.ix_(a, a)]
+    if np.any(n):
+        K_c = K_c - Kt[np.ix_(a, n)] @ np.linalg.pinv(Kt[np.ix_(n, n)], hermitian=True) @ Kt[np.ix_(n, a)]
+    scale = 1.0 / np.sqrt(lam[a])
+    omega2 = np.linalg.eigvalsh(0.5 * (K_c + K_c.T) * scale[:, None] * scale[None, :])
+    return np.sqrt(np.clip(omega2, 0.0, None)) / (2 * np.pi)
 
 
 @dataclass(frozen=True)
@@ -434,6 +482,28 @@ class EquivalentSystem:
         alpha = self._solve(f_arr, end_loads(self.n_dof))[:, :2, :]
         return alpha[0] if np.ndim(f) == 0 else alpha
 
+    def bar_centre_motion(self, f: ArrayLike) -> np.ndarray:
+        """Vertical displacement of each bar's centre relative to ``w1`` under an end force.
+
+        Shows how far into the chain the end's motion reaches: a bar with a small ratio is
+        barely moved by the rail it is attached to, whatever its mass.
+
+        Parameters
+        ----------
+        f : float or array_like
+            Frequencies (Hz), positive and finite; scalar or 1-D.
+
+        Returns
+        -------
+        ndarray of complex, shape (n_f, N)
+            ``w_centre_j / w1`` (-) for a vertical force at the left end of bar 1.
+        """
+        f_arr = self._frequencies(f)
+        q = self._solve(f_arr, end_loads(self.n_dof))[:, :, 0]
+        phi = q[:, 1 : self.n_bars + 1]
+        left_end = q[:, :1] + np.cumsum(phi * self.L, axis=1) - phi * self.L
+        return (left_end + 0.5 * self.L * phi) / q[:, :1]
+
     def end_stiffness(self, f: ArrayLike) -> np.ndarray:
         """Dynamic stiffness condensed to ``(w1, phi_1)``: the inverse of :meth:`receptance`.
 
@@ -514,7 +584,64 @@ class EquivalentSystem:
         )
 
 
-@dataclass(frozen=True, eq=False)
+    # --- natural frequencies -----------------------------------------------------------------------
+    def natural_frequencies(self) -> np.ndarray:
+        """Undamped natural frequencies (Hz) of the free system, ``K v = omega^2 M v``, ascending.
+
+        The system is unconstrained at its attachment DOFs. Massless directions (bars with
+        zero mass and inertia, as in the paper's Table 4) are condensed statically and give no
+        frequency: see :func:`undamped_natural_frequencies`. A light but not massless part keeps
+        its (high) frequency.
+
+        Returns
+        -------
+        ndarray
+            At most :attr:`n_dof` frequencies (Hz).
+        """
+        M, _, K = self._mck
+        return undamped_natural_frequencies(M, K)
+
+    def highest_natural_frequency(self) -> float:
+        """The highest undamped natural frequency (Hz) of :meth:`natural_frequencies` (0 if none).
+
+        It sets the time step of an explicit integrator: see :meth:`central_difference_time_step`.
+
+        Examples
+        --------
+        A single bar with ``J = m L^2 / 4`` bounces and pitches at ``sqrt(2 k / m) / (2 pi)``:
+
+        >>> import math
+        >>> import semitrack as st
+        >>> bar = st.SlabEquivalent(m=10.0, J=0.9, L=0.6, k=1e7, c_l=0.0, c_r=0.0, k_phi=[], c_phi=[])
+        >>> round(bar.highest_natural_frequency(), 6) == round(math.sqrt(2 * 1e7 / 10.0) / (2 * math.pi), 6)
+        True
+        """
+        f = self.natural_frequencies()
+        return float(f[-1]) if f.size else 0.0
+
+    def central_difference_time_step(self) -> float:
+        """Largest stable step (s) of the undamped central-difference scheme, ``2 / omega_max``.
+
+        ``omega_max = 2 pi`` :meth:`highest_natural_frequency`; damping lowers the limit a
+        little. ``inf`` for a system without inertia.
+        """
+        f_max = self.highest_natural_frequency()
+        return 2.0 / (2 * np.pi * f_max) if f_max > 0 else math.inf
+
+    def __repr__(self) -> str:
+        """The layout, size, each parameter on a line with its unit, and the highest natural frequency."""
+        lines = [f"{type(self).__name__}: N = {self.n_bars} bars, {self.n_dof} DOFs "
+                 f"({', '.join(self.dof_names()[:2])} at the attachment)"]
+        for name, values in self.parameters().items():
+            cells = "".join(f"{_format_value(v):>11}" for v in values)
+            lines.append(f"  {name:<6} {'(' + PARAMETER_UNITS[name] + ')':<12}{cells}")
+        f_max = self.highest_natural_frequency()
+        lines.append(f"  highest natural frequency {f_max:.4g} Hz (central differences stable for "
+                     f"dt < {1e6 * self.central_difference_time_step():.3g} µs)")
+        return "\n".join(lines)
+
+
+@dataclass(frozen=True, eq=False, repr=False)
 class SlabEquivalent(EquivalentSystem):
     """Equivalent system of a semi-infinite slab track (paper Fig. 7, Appendix A).
 
@@ -552,7 +679,7 @@ class SlabEquivalent(EquivalentSystem):
     layout: ClassVar[Layout] = "slab"
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class BallastedEquivalent(EquivalentSystem):
     """Equivalent system of a semi-infinite ballasted track (paper Fig. 12, Appendix B).
 
