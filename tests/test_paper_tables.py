@@ -15,12 +15,18 @@ from semitrack.paper.convergence import (
 from semitrack.paper.systems import paper_table7_s1_transposed
 from semitrack.paper.tables import (
     FIT_ERROR_TARGETS,
+    MISSING,
     fit_error_table,
+    fixed,
     inversion_error_table,
     mirrored_pair,
     mirrored_pair_table,
     parameter_comparison,
+    readable_number,
+    styled,
     system_comparison,
+    table4_consistency_table,
+    table7_consistency_table,
 )
 
 
@@ -47,8 +53,9 @@ def test_fit_error_table_matches_error_summary():
     assert list(table["against"]) == list(FIT_ERROR_TARGETS)
     grid = st.error_band_grid(band, df=60.0)
     e = st.error_summary(st.paper_table4().receptance(grid), st.semi_infinite_receptance(track, grid))
-    assert table.loc[0, "median error (%)"] == pytest.approx(100 * e.median)
-    assert table.loc[0, "max error (%)"] == pytest.approx(100 * e.max)
+    assert table.loc[0, "median element error (%)"] == pytest.approx(100 * e.median)
+    assert table.loc[0, "max element error (%)"] == pytest.approx(100 * e.max)
+    assert table.attrs["caption"].startswith("Element error: |α_E − α|/|α| of α11, α12 and α22")
 
 
 def test_mirrored_pair_and_its_table():
@@ -61,13 +68,25 @@ def test_mirrored_pair_and_its_table():
     table = mirrored_pair_table({"ballasted": pair})
     inside = f <= band[1]
     assert table.loc[0, "band (Hz)"] == "3-750"
-    assert table.loc[0, "max error (%)"] == pytest.approx(100 * (np.abs(w - w1) / np.abs(w1))[inside].max())
+    assert table.loc[0, "max junction error (%)"] == pytest.approx(100 * (np.abs(w - w1) / np.abs(w1))[inside].max())
 
 
 def test_inversion_amplifies_errors():
-    table = inversion_error_table(st.slab_track(), {"paper": st.paper_table4()}, FIT_BANDS["slab"], df=30.0)
-    assert table.loc[0, "median |a11 a22|/|det a|"] > 1.0
-    assert table.loc[0, "median error of K11 (%)"] > 0.0
+    track, band = st.ballasted_track(), FIT_BANDS["ballasted"]
+    table = inversion_error_table(track, {"paper": st.paper_table7()}, band, df=30.0)
+    row = table.loc[0]
+    assert 1.0 < row["median |α11 α22|/|det α| (-)"] < row["max |α11 α22|/|det α| (-)"]
+    grid = st.error_band_grid(band, df=30.0)
+    alpha = st.semi_infinite_receptance(track, grid)
+    amplification = np.abs(alpha[:, 0, 0] * alpha[:, 1, 1] / np.linalg.det(alpha))
+    assert row["max |α11 α22|/|det α| (-)"] == pytest.approx(amplification.max())
+    # The two measures of alpha's error, side by side: pooled elements, and the worst element.
+    errors = st.error_summary(st.paper_table7().receptance(grid), alpha)
+    assert row["median element error of α (%)"] == pytest.approx(100 * errors.median)
+    worst = np.max(list(errors.per_element.values()), axis=0)
+    assert row["median worst-element error of α (%)"] == pytest.approx(100 * np.median(worst))
+    assert row["median worst-element error of α (%)"] > row["median element error of α (%)"]
+    assert row["median error of K11 (%)"] > 0.0
 
 
 def test_audit_tables_of_the_derivation_chapter():
@@ -81,3 +100,73 @@ def test_audit_tables_of_the_derivation_chapter():
     assert gains.loc[0, "paper's settings (%)"] == pytest.approx(100 * paper)
     limit = continuous_limit_study(st.slab_track(), [183.0], refinements=(4, 16))
     assert isinstance(limit, pd.DataFrame) and limit["183 Hz"].iloc[1] < limit["183 Hz"].iloc[0] / 10
+
+
+# --- display: what a reader sees -----------------------------------------------------------------
+def _shown(styler) -> str:
+    """The HTML a notebook shows for a Styler."""
+    return styler.to_html()
+
+
+def _assert_readable(html: str) -> None:
+    for raw in ("e+0", "e+1", "e-0", "e-1", "nan", "NaN", "inf"):
+        assert raw not in html, raw
+
+
+def test_readable_number_and_fixed():
+    assert [readable_number(v) for v in (7850.0, 2.1e11, 0.25, 0.01, 5.44e7, 3.055e-5)] == [
+        "7850", "2.1×10¹¹", "0.25", "0.01", "5.44×10⁷", "3.055×10⁻⁵"]
+    assert [readable_number(v) for v in (0.0, -283000.0, 12345.0, float("nan"), float("inf"))] == [
+        "0", "-2.83×10⁵", "12345", MISSING, "∞"]
+    assert readable_number(2 / 3, digits=2) == "0.67"
+    assert fixed(2)(-0.0004) == "0.00" and fixed(2)(-0.006) == "-0.01" and fixed(1)(15.43) == "15.4"
+
+
+def test_styled_table2_has_readable_numbers_and_no_index(track):
+    html = _shown(styled(parameter_comparison(track)))
+    _assert_readable(html)
+    assert "row_heading" not in html  # no 0..N index column
+    assert ">7850<" in html and ">2.1×10¹¹<" in html and ">0.00769<" in html
+    assert ">0.00<" in html  # the deviations, two decimals
+    assert parameter_comparison(track)["value"].dtype == float  # the values stay numbers
+
+
+def test_styled_system_comparison_shows_missing_hinges_as_a_dash():
+    table = system_comparison(st.paper_table4(), st.paper_table4(), "paper (Table 4)")
+    html = _shown(styled(table, index=True))
+    _assert_readable(html)
+    assert f">{MISSING}<" in html and "k_phi (N m/rad)" in html and "no hinge after the last bar" in html
+    assert ">1.029×10⁵<" in html  # c_r of bar 5
+
+
+def test_styled_error_tables_name_their_measure():
+    fit = fit_error_table(st.slab_track(), {"paper (Table 4)": st.paper_table4()}, FIT_BANDS["slab"], df=60.0)
+    html = _shown(styled(fit))
+    _assert_readable(html)
+    assert "row_heading" not in html and "median element error (%)" in html and "Element error:" in html
+    assert f">{fit.loc[0, 'median element error (%)']:.1f}<" in html
+
+
+def test_table4_consistency_table_is_readable():
+    table = table4_consistency_table()
+    assert list(table["bar"]) == [1, 2, 3, 4, 5]
+    assert all("(" in label for label in table.columns[1:])  # every quantity with its unit
+    # Eq. (19)-(20) hold within what rounding explains, and the massless bars have nothing to check.
+    massive = table["m (kg)"] > 0
+    assert (table["k deviation (%)"].abs()[massive] <= table["k rounding bound (%)"][massive]).all()
+    assert table.loc[~massive, "k rounding bound (%)"].isna().all()
+    html = _shown(styled(table))
+    _assert_readable(html)
+    assert f">{MISSING}<" in html and "row_heading" not in html and "massless bar" in html
+
+
+def test_table7_consistency_table_is_readable():
+    table = table7_consistency_table()
+    assert list(table.columns) == [f"bar {j}" for j in range(1, 6)]
+    implied = table.loc["f_n2 implied by k, Eq. (29) (Hz)"]
+    np.testing.assert_allclose(implied, 471.0, atol=0.05)  # the book's reading of Table 7
+    assert table.loc["μ deviation (%)", "bar 1"] == pytest.approx(-16.26, abs=0.01)
+    assert table.loc["s making Eq. (23) exact (N/m)", "bar 1"] == pytest.approx(TABLE7_S1_TRANSPOSED, rel=1e-3)
+    html = _shown(styled(table, index=True))
+    _assert_readable(html)
+    assert ">471.00<" in html and ">1.801×10⁷<" in html and ">-16.26<" in html and ">-0.00<" not in html
