@@ -94,6 +94,8 @@ def test_audit_tables_of_the_derivation_chapter():
     errors = element_error_table([st.slab_track()], f)
     assert list(errors.columns) == ["alpha11 error (%)", "alpha12 error (%)", "alpha22 error (%)"]
     assert errors.index.names == ["track", "f (Hz)"]
+    html = styled(errors, index=True).to_html()
+    assert ">183<" in html and "183.0" not in html  # a float index level, written for a reader
     study = convergence_study(st.slab_track(), f, beta_factors=(1, 2), dxs=(0.04, 0.01))
     gains = settings_gain_table({"slab": study}, refined_factor=2, refined_dx=0.01)
     paper = study[(study["beta factor"] == 1) & (study["dx (m)"] == 0.04)]["error"].item()

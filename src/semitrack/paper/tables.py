@@ -113,7 +113,8 @@ def styled(table: pd.DataFrame, formats: Mapping | None = None, *, index: bool =
         a callable. Float columns without one: two decimals when the label ends in ``(%)`` or
         ``(Hz)``, else :func:`readable_number`.
     index : bool
-        Show the index (for a meaningful one, e.g. parameter names); default hidden.
+        Show the index (for a meaningful one, e.g. parameter names); default hidden. Float
+        levels of a shown index are written by :func:`readable_number`.
     caption : str, optional
         A caption, e.g. the definition of the error measure.
     by_row : bool
@@ -136,6 +137,9 @@ def styled(table: pd.DataFrame, formats: Mapping | None = None, *, index: bool =
             style = style.format(fmt, subset=subset, na_rep=MISSING)
     if not index:
         style = style.hide(axis="index")
+    for level in range(table.index.nlevels) if index else ():
+        if pd.api.types.is_float_dtype(table.index.get_level_values(level)):
+            style = style.format_index(readable_number, axis="index", level=level)
     caption = caption if caption is not None else table.attrs.get("caption")
     return style.set_caption(caption) if caption else style
 
