@@ -16,7 +16,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 
-from .base.conventions import ELEMENT_TEX, ELEMENT_UNITS, ELEMENTS
+from .base.conventions import ALL_ELEMENTS, ELEMENT_TEX, ELEMENT_UNITS, ELEMENTS
+from .equivalent.systems import PARAMETER_UNITS
 
 #: Line styles per method, used in every figure so that a method always looks the same.
 METHOD_STYLE = {
@@ -170,6 +171,59 @@ def _magnitude_label(element: str) -> str:
     return f"$|{ELEMENT_TEX[element].strip('$')}|$ ({ELEMENT_UNITS[element]})"
 
 
+def _phase_label(element: str) -> str:
+    """Axis label ``arg alpha_ij (rad)`` of a receptance element, with the symbol of its magnitude."""
+    return rf"$\arg\,{ELEMENT_TEX[element].strip('$')}$ (rad)"
+
+
+#: Axis labels of the central responses (paper Eq. 14-18): the receptances' units come from the
+#: conventions (w1 per force is alpha11's, psi2 per moment alpha22's).
+CENTRAL_LABELS = {
+    "w1": rf"$|\tilde w_1|$ ({ELEMENT_UNITS['alpha11']})",
+    "psi2": rf"$|\tilde\psi_2|$ ({ELEMENT_UNITS['alpha22']})",
+    "Q2": r"$|\tilde Q_2|$ (N/(N m))",
+    "M1": r"$|\tilde M_1|$ (N m/N)",
+    "det": r"$|\det\alpha^{-1}|$ (N$^2$)",
+}
+
+
+def _show_lowest_tick_labels(axes) -> None:
+    """Frequency tick labels on every panel with no panel shown below it in its column.
+
+    A shared x-axis hides the tick labels of all but the bottom row, also above a panel that is
+    hidden or turned off; the x label is kept only where the tick labels are.
+    """
+    for column in np.atleast_2d(axes).T:
+        shown = [ax for ax in column if ax.get_visible() and ax.axison]
+        for ax in shown[:-1]:
+            ax.xaxis.set_tick_params(which="both", labelbottom=False)
+            ax.set_xlabel("")
+        if shown:
+            shown[-1].xaxis.set_tick_params(which="both", labelbottom=True)
+            shown[-1].xaxis.offsetText.set_visible(True)
+
+
+def _legend_below(fig, ax, **kwargs):
+    """One legend for the figure, below its panels (where it covers no data), from ``ax``'s lines.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure (with a constrained layout).
+    ax : matplotlib.axes.Axes
+        The panel whose labelled artists make the legend.
+    **kwargs
+        Passed to :meth:`matplotlib.figure.Figure.legend`.
+
+    Returns
+    -------
+    matplotlib.legend.Legend
+    """
+    handles, labels = ax.get_legend_handles_labels()
+    kwargs.setdefault("ncols", min(len(labels), 4))
+    return fig.legend(handles, labels, loc="outside lower center", **kwargs)
+
+
 def receptance_figure(f, receptances: dict, title: str = "", logx: bool = False):
     """Magnitudes of alpha11, alpha12, alpha22, one panel each, one line per method.
 
@@ -189,12 +243,13 @@ def receptance_figure(f, receptances: dict, title: str = "", logx: bool = False)
     -------
     fig, axes
     """
-    fig, axes = new_figure(1, 3, figsize=(10.0, 3.4), sharex=True)
+    fig, axes = new_figure(1, 3, figsize=(10.0, 3.8), sharex=True)
     for ax, (name, (i, k)) in zip(axes, ELEMENTS.items()):
         for label, alpha in receptances.items():
             plot_magnitude(ax, f, np.asarray(alpha)[:, i, k], label, **METHOD_STYLE.get(label, {}))
         magnitude_axes(ax, _magnitude_label(name), logx=logx)
-    axes[0].legend()
+        ax.set_title(ELEMENT_TEX[name])
+    _legend_below(fig, axes[0])
     if title:
         fig.suptitle(title)
     return fig, axes
@@ -217,18 +272,17 @@ def fields_figure(x, q, title: str = ""):
     fig, axes
     """
     fig, axes = new_figure(2, 2, figsize=(9.0, 5.5), sharex=True)
-    labels = [[r"$w_1$ (m/N)", r"$w_2$ (1/N)"], [r"$\psi_1$ (1/N)", r"$\psi_2$ (rad/(N m))"]]
-    for i in range(2):
-        for k in range(2):
-            ax = axes[i, k]
-            ax.plot(x, q[:, i, k].real, "k-", lw=1.2, label="real part")
-            ax.plot(x, q[:, i, k].imag, color="tab:blue", ls="--", lw=1.0, label="imaginary part")
-            ax.set_ylabel(labels[i][k])
-    axes[0, 0].set_title("unit vertical force at x' = 0")
-    axes[0, 1].set_title("unit moment at x' = 0")
+    symbols = [["w_1", "w_2"], [r"\psi_1", r"\psi_2"]]  # response (row) to load (column), as alpha_ij
+    for element, (i, k) in ALL_ELEMENTS.items():
+        ax = axes[i, k]
+        ax.plot(x, q[:, i, k].real, "k-", lw=1.2, label="real part")
+        ax.plot(x, q[:, i, k].imag, color="tab:blue", ls="--", lw=1.0, label="imaginary part")
+        ax.set_ylabel(f"${symbols[i][k]}$ ({ELEMENT_UNITS[element]})")
+    axes[0, 0].set_title("unit vertical force at $x' = 0$")
+    axes[0, 1].set_title("unit moment at $x' = 0$")
     for ax in axes[1]:
-        ax.set_xlabel("x' = x - x0 (m)")
-    axes[0, 0].legend()
+        ax.set_xlabel("$x' = x - x_0$ (m)")
+    _legend_below(fig, axes[0, 0])
     if title:
         fig.suptitle(title)
     return fig, axes
@@ -261,7 +315,7 @@ def convergence_figure(study, title: str = ""):
         ax.set_title(f"{fr:g} Hz")
         ax.set_xlabel("dx (m)")
     axes[0].set_ylabel(r"max relative error of $\alpha_{ij}$ (-)")
-    axes[-1].legend(fontsize=8)
+    _legend_below(fig, axes[-1], fontsize=8)
     if title:
         fig.suptitle(title)
     return fig, axes
@@ -284,15 +338,14 @@ def central_response_figure(f, responses: dict, title: str = ""):
     fig, axes
     """
     fig, axes = new_figure(2, 3, figsize=(10.5, 6.0), sharex=True)
-    spec = [("w1", r"$|\tilde w_1|$ (m/N)"), ("psi2", r"$|\tilde\psi_2|$ (rad/(N m))"),
-            ("Q2", r"$|\tilde Q_2|$ (N/(N m))"), ("M1", r"$|\tilde M_1|$ (N m/N)"),
-            ("det", r"$|\det\alpha^{-1}|$ (N$^2$)")]
-    for ax, (attr, label) in zip(axes.flat, spec):
+    for ax, (attr, label) in zip(axes.flat, CENTRAL_LABELS.items()):
         for name, r in responses.items():
             plot_magnitude(ax, f, getattr(r, attr), name, **METHOD_STYLE.get(name, {}))
         magnitude_axes(ax, label)
-    axes.flat[-1].set_visible(False)
-    axes.flat[0].legend()
+    spare = axes.flat[-1]  # the sixth panel holds the legend, clear of every curve
+    spare.axis("off")
+    spare.legend(*axes.flat[0].get_legend_handles_labels(), loc="center")
+    _show_lowest_tick_labels(axes)
     if title:
         fig.suptitle(title)
     return fig, axes
@@ -300,6 +353,9 @@ def central_response_figure(f, responses: dict, title: str = ""):
 
 def phase_figure(f, receptances: dict, title: str = ""):
     """Phases of alpha11, alpha12, alpha22 (paper Fig. 6/9/15), one panel each.
+
+    Panels are titled and labelled with the same symbols as the magnitudes of
+    :func:`receptance_figure` (:data:`semitrack.base.conventions.ELEMENT_TEX`).
 
     Parameters
     ----------
@@ -314,23 +370,231 @@ def phase_figure(f, receptances: dict, title: str = ""):
     -------
     fig, axes
     """
-    fig, axes = new_figure(1, 3, figsize=(10.0, 3.2), sharex=True, sharey=True)
+    fig, axes = new_figure(1, 3, figsize=(10.0, 3.6), sharex=True, sharey=True)
     for ax, (name, (i, k)) in zip(axes, ELEMENTS.items()):
         for label, alpha in receptances.items():
             plot_phase(ax, f, np.asarray(alpha)[:, i, k], label, **METHOD_STYLE.get(label, {}))
         ax.set_title(ELEMENT_TEX[name])
+        ax.set_ylabel(_phase_label(name))
         ax.set_xlabel("Frequency (Hz)")
-    axes[0].legend()
+    _legend_below(fig, axes[0])
     if title:
         fig.suptitle(title)
     return fig, axes
 
 
+#: Bars lighter than this fraction of the heaviest bar carry no mass worth drawing: they are drawn
+#: as a dashed outline and labelled "massless" (fits drive unneeded masses to ~1e-7 kg).
+MASSLESS_FRACTION = 1e-6
+
+#: Symbols of the equivalent systems' parameters in the schematic's labels (paper Fig. 7 / 12).
+PARAMETER_TEX = {"m": "$m$", "k": "$k$", "c_l": r"$c_\mathrm{l}$", "c_r": r"$c_\mathrm{r}$",
+                 "k_phi": r"$k_\varphi$", "c_phi": r"$c_\varphi$", "mu": r"$\mu$", "s": "$s$",
+                 "d_l": r"$d_\mathrm{l}$", "d_r": r"$d_\mathrm{r}$"}
+
+# Heights in the schematic (data units): bars at 0, ground at -1, the ballasted layout's support
+# masses between _MASS_TOP and _MASS_BOTTOM.
+_GROUND, _MASS_TOP, _MASS_BOTTOM = -1.0, -0.42, -0.58
+_LABEL_BOX = dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.85)
+_LABEL_FONTSIZE = 7.0
+_SUPPORT_PARAMETERS = ("k", "c_l", "c_r", "mu", "s", "d_l", "d_r")
+
+
+def _compact(value: float) -> str:
+    """Three significant digits with a short exponent: ``5.28e6``, ``1.85e-3``, ``589``."""
+    mantissa, _, exponent = f"{value:.3g}".partition("e")
+    return f"{mantissa}e{int(exponent)}" if exponent else mantissa
+
+
+def _quantity(p: Mapping[str, np.ndarray], name: str, j: int) -> str:
+    """``symbol = value unit`` of parameter ``name`` of bar (or hinge) ``j``, or "" when it is zero."""
+    value = p[name][j]
+    return f"{PARAMETER_TEX[name]} = {_compact(value)} {PARAMETER_UNITS[name]}" if value > 0 else ""
+
+
+def _lines(*lines: str) -> str:
+    return "\n".join(line for line in lines if line)
+
+
+def _spring(ax, x0: float, y_top: float, y_bottom: float, half_width: float) -> None:
+    """A vertical zig-zag spring."""
+    ys = np.linspace(y_top, y_bottom, 14)
+    xs = x0 + half_width * np.array([0] + [(-1) ** i for i in range(12)] + [0])
+    ax.plot(xs, ys, color="0.3", lw=0.8, gid="spring")
+
+
+def _dashpot(ax, x0: float, y_top: float, y_bottom: float, half_width: float) -> None:
+    """A vertical dashpot: a rod and piston in an open cylinder on a rod."""
+    h, mid, hw = y_top - y_bottom, 0.5 * (y_top + y_bottom), half_width
+    piston, cup_top, cup_bottom = mid + 0.05 * h, mid + 0.2 * h, mid - 0.15 * h
+    xs = [x0, x0, np.nan, x0 - 0.7 * hw, x0 + 0.7 * hw, np.nan, x0 - hw, x0 - hw, x0 + hw, x0 + hw, np.nan, x0, x0]
+    ys = [y_top, piston, np.nan, piston, piston, np.nan, cup_top, cup_bottom, cup_bottom, cup_top, np.nan,
+          cup_bottom, y_bottom]
+    ax.plot(xs, ys, color="0.3", lw=0.8, gid="damper")
+
+
+def _support(ax, end: float, inward: int, slot: float, heights: tuple[float, float], k: float, c: float) -> None:
+    """Spring ``k`` (if > 0) and dashpot ``c`` (if > 0) in parallel, beside a bar end.
+
+    ``inward`` is +1 at a bar's left end and -1 at its right end; ``slot`` (m) is the room taken
+    beside the end, so that the supports of two bars meeting at a hinge stay apart.
+    """
+    if k > 0:
+        _spring(ax, end + inward * 0.25 * slot, *heights, 0.15 * slot)
+    if c > 0:
+        _dashpot(ax, end + inward * 0.7 * slot, *heights, 0.15 * slot)
+
+
+def _bar(ax, x0: float, x1: float, mass: float, m_max: float, j: int) -> bool:
+    """Bar ``j``, thicker the heavier; a massless one as a dashed outline. Returns whether it is massless."""
+    massless = mass <= MASSLESS_FRACTION * m_max
+    if massless:
+        ax.add_patch(mpl.patches.Rectangle((x0, -0.03), x1 - x0, 0.06, fill=False, ls="--", ec="tab:blue",
+                                           lw=0.9, gid=f"bar {j + 1}"))
+    else:
+        ax.plot([x0, x1], [0, 0], color="tab:blue", lw=1.5 + 6.5 * mass / m_max, solid_capstyle="butt",
+                gid=f"bar {j + 1}")
+    return massless
+
+
+def _draw_bar_and_supports(ax, p: Mapping[str, np.ndarray], x: np.ndarray, j: int) -> bool:
+    """Bar ``j`` with the spring-damper pairs at its two ends (and, ballasted, the support masses)."""
+    massless = _bar(ax, x[j], x[j + 1], p["m"][j], max(p["m"].max(), 1e-300), j)
+    slot = min(0.4 * p["L"][j], 0.06 * x[-1])
+    ballasted = "mu" in p
+    for end, inward, c, d in ((x[j], 1, "c_l", "d_l"), (x[j + 1], -1, "c_r", "d_r")):
+        if not ballasted:
+            _support(ax, end, inward, slot, (0.0, _GROUND), p["k"][j], p[c][j])
+            continue
+        _support(ax, end, inward, slot, (0.0, _MASS_TOP), p["k"][j], p[c][j])
+        left = end + inward * 0.05 * slot if inward > 0 else end - 0.95 * slot
+        ax.add_patch(mpl.patches.Rectangle((left, _MASS_BOTTOM), 0.9 * slot, _MASS_TOP - _MASS_BOTTOM,
+                                           color="tab:orange", gid="support mass"))
+        _support(ax, end, inward, slot, (_MASS_BOTTOM, _GROUND), p["s"][j], p[d][j])
+    return massless
+
+
+def _isotonic(values: np.ndarray) -> np.ndarray:
+    """Least-squares non-decreasing fit of ``values`` (pool adjacent violators)."""
+    means: list[float] = []
+    counts: list[int] = []
+    for v in values:
+        means.append(float(v))
+        counts.append(1)
+        while len(means) > 1 and means[-2] > means[-1]:
+            v2, c2 = means.pop(), counts.pop()
+            means[-1] = (means[-1] * counts[-1] + v2 * c2) / (counts[-1] + c2)
+            counts[-1] += c2
+    return np.repeat(means, counts)
+
+
+def _spread(anchors, widths, lo: float, hi: float) -> np.ndarray:
+    """Centres of labels in a row, as near their anchors as possible, none overlapping, all in [lo, hi].
+
+    Packed side by side in the anchors' order, the labels' common start is the least-squares
+    non-decreasing fit of where each one wants it; clipping keeps them inside the bounds (which
+    needs ``sum(widths) <= hi - lo``).
+
+    Parameters
+    ----------
+    anchors, widths : array_like
+        Preferred centres and widths of the labels (any one unit, e.g. pixels).
+    lo, hi : float
+        Bounds of the row (same unit).
+
+    Returns
+    -------
+    ndarray
+        The centres, in the order of ``anchors``.
+    """
+    anchors, widths = np.asarray(anchors, dtype=float), np.asarray(widths, dtype=float)
+    order = np.argsort(anchors, kind="stable")
+    a, w = anchors[order], widths[order]
+    before = np.concatenate([[0.0], np.cumsum(w)[:-1]])  # width packed before each label
+    start = np.clip(_isotonic(a - w / 2 - before), lo, hi - w.sum())
+    centres = np.empty_like(a)
+    centres[order] = start + before + w / 2
+    return centres
+
+
+def _label_row(ax, renderer, items, y: float, va: str = "center", zorder: float = 4.0) -> list:
+    """Labels at height ``y``, each as near its anchor as the others allow, none overlapping.
+
+    ``items`` are ``((x, y) anchor, text, arrowstyle)``; a label with an arrowstyle, or moved off
+    its anchor, gets a leader line to it. The font shrinks when the row would not fit the axes.
+    """
+    items = [item for item in items if item[1]]
+    if not items:
+        return []
+    box = ax.get_window_extent(renderer)
+    fontsize, gap = _LABEL_FONTSIZE, 6.0 * ax.figure.dpi / 72
+    widths = _text_sizes(ax, renderer, [text for _, text, _ in items], fontsize)[0] + gap
+    if widths.sum() > box.width:
+        fontsize *= box.width / widths.sum()
+        widths = _text_sizes(ax, renderer, [text for _, text, _ in items], fontsize)[0] + gap
+    y_px = ax.transData.transform((0.0, y))[1]
+    anchors = ax.transData.transform([anchor for anchor, _, _ in items])[:, 0]
+    centres = _spread(anchors, widths, box.x0, box.x1)
+    xs = ax.transData.inverted().transform(np.column_stack([centres, np.full_like(centres, y_px)]))[:, 0]
+    texts = []
+    for (anchor, text, style), x_text, a, c, w in zip(items, xs, anchors, centres, widths):
+        leader = style or ("-" if abs(c - a) > 0.3 * w else None)
+        arrow = dict(arrowstyle=leader, lw=0.5, color="0.45", shrinkA=0, shrinkB=1) if leader else None
+        texts.append(ax.annotate(text, anchor, xytext=(x_text, y), ha="center", va=va, fontsize=fontsize,
+                                 color="0.2", bbox=_LABEL_BOX, arrowprops=arrow, zorder=zorder))
+    return texts
+
+
+def _text_sizes(ax, renderer, texts, fontsize: float) -> np.ndarray:
+    """Widths and heights (pixels) of texts drawn at ``fontsize``, shape (2, n)."""
+    sizes = []
+    for text in texts:
+        artist = ax.text(0.0, 0.0, text, fontsize=fontsize)
+        extent = artist.get_window_extent(renderer)
+        sizes.append((extent.width, extent.height))
+        artist.remove()
+    return np.array(sizes).T
+
+
+def _room_below_ground(ax, depth_px: float) -> None:
+    """Lower the axes' bottom so that ``depth_px`` pixels lie between the ground and the bottom."""
+    top = ax.get_ylim()[1]
+    height = ax.get_window_extent().height
+    # (ground - bottom) / (top - bottom) * height = depth, solved for bottom
+    ax.set_ylim((_GROUND * height - top * depth_px) / (height - depth_px), top)
+
+
+def _schematic_labels(ax, p: Mapping[str, np.ndarray], x: np.ndarray, massless: list[bool]) -> None:
+    """The rows of labels: load and hinges on top, the bars above them, the supports below the ground.
+
+    The supports' labels stay out of the drawing, so that those of short bars hide no spring.
+    """
+    ax.figure.draw_without_rendering()  # the layout fixes the axes' size, in which the labels are placed
+    renderer = ax.figure.canvas.get_renderer()
+    centres, n = 0.5 * (x[:-1] + x[1:]), len(x) - 1
+    supports = [_lines(*(_quantity(p, name, j) for name in _SUPPORT_PARAMETERS if name in p)) for j in range(n)]
+    gap = 0.08  # between the ground and the supports' labels (data units)
+    _room_below_ground(ax, _text_sizes(ax, renderer, supports, _LABEL_FONTSIZE)[1].max() + 12.0 * ax.figure.dpi / 72)
+    _label_row(ax, renderer, [((c, _GROUND), text, None) for c, text in zip(centres, supports)], _GROUND - gap,
+               va="top")
+    hinges = [((x[j + 1], 0.0), _lines(_quantity(p, "k_phi", j), _quantity(p, "c_phi", j)), "-")
+              for j in range(n - 1)]
+    _label_row(ax, renderer, [((0.0, 0.0), "load Q, M", "->"), *hinges], 0.8, zorder=3.0)
+    bars = [_lines(f"bar {j + 1}" + (" (massless)" if massless[j] else ""),
+                   f"$m$ = {_compact(p['m'][j])} {PARAMETER_UNITS['m']}") for j in range(n)]
+    _label_row(ax, renderer, [((c, 0.04), text, None) for c, text in zip(centres, bars)], 0.32)
+
+
 def equivalent_schematic(system, ax=None, title: str = ""):
     """Draw an equivalent system to scale in x (bar lengths in m), as the paper's Fig. 7 / 12.
 
-    Bars are drawn with a thickness that grows with their mass, springs as zig-zags whose
-    labels give the stiffness; support masses (ballasted layout) as boxes labelled with mu.
+    Bars are drawn with a thickness that grows with their mass (a bar lighter than
+    :data:`MASSLESS_FRACTION` of the heaviest as a dashed outline, labelled massless); each bar end
+    rests on a spring and, where its damping coefficient is positive, a dashpot in parallel (on a
+    support mass, drawn as a box, in the ballasted layout). Labels give every non-zero parameter
+    with its unit (:data:`semitrack.equivalent.systems.PARAMETER_UNITS`): the hinges' rotational
+    springs and dampers on top, then the bars, then their supports; labels of short bars move
+    aside, with a leader line, so that none overlaps another.
 
     Parameters
     ----------
@@ -345,46 +609,21 @@ def equivalent_schematic(system, ax=None, title: str = ""):
     -------
     matplotlib.axes.Axes
     """
-    if ax is None:
-        _, ax = new_figure(figsize=(10.0, 3.2))
     p = system.parameters()
-    lengths = p["L"]
-    x = np.concatenate([[0.0], np.cumsum(lengths)])
-    m_max = max(p["m"].max(), 1e-12)
-    ballasted = "mu" in p
-    spring_top, spring_bottom = 0.0, (-1.0 if not ballasted else -0.55)
-
-    def zigzag(x0, y0, y1, label=None, shift=0.0):
-        ys = np.linspace(y0, y1, 14)
-        xs = x0 + 0.012 * np.array([0] + [(-1) ** i for i in range(12)] + [0]) * (x[-1] or 1)
-        ax.plot(xs, ys, color="0.3", lw=0.8)
-        if label:  # labels of neighbouring bars are staggered in height so that short bars stay readable
-            ax.annotate(label, (x0, 0.5 * (y0 + y1) + shift), xytext=(4, 0), textcoords="offset points",
-                        fontsize=7, va="center", color="0.3")
-
-    for j in range(system.n_bars):
-        lw = 1.0 + 7.0 * p["m"][j] / m_max
-        ax.plot([x[j], x[j + 1]], [0, 0], color="tab:blue", lw=lw, solid_capstyle="butt")
-        ax.annotate(f"bar {j + 1}\nm={p['m'][j]:.3g} kg", ((x[j] + x[j + 1]) / 2, 0.12), ha="center", fontsize=7)
-        shift = 0.12 * (j % 2)
-        for end in (x[j], x[j + 1]):
-            first = end == x[j]
-            if p["k"][j] > 0:
-                zigzag(end, spring_top, spring_bottom, f"k={p['k'][j]:.3g}" if first else None, shift)
-            if ballasted and p["mu"][j] > 0:
-                ax.add_patch(mpl.patches.Rectangle((end - 0.01 * x[-1], -0.7), 0.02 * x[-1], 0.15, color="tab:orange"))
-                zigzag(end, -0.7, -1.0, f"s={p['s'][j]:.3g}" if first else None, shift / 3)
-    for j in range(system.n_bars - 1):
-        ax.plot(x[j + 1], 0, "o", mfc="white", mec="k", ms=5)
-    ax.axhline(-1.0, color="0.2", lw=1.2)
-    ax.annotate("load (Q, M) at the left end of bar 1", (0, 0), xytext=(0, 0.45), fontsize=8,
-                arrowprops=dict(arrowstyle="->", lw=0.8))
-    ax.set_ylim(-1.15, 0.6)
+    if ax is None:
+        _, ax = new_figure(figsize=(10.0, 5.0 if "mu" in p else 4.0))
+    x = np.concatenate([[0.0], np.cumsum(p["L"])])
+    massless = [_draw_bar_and_supports(ax, p, x, j) for j in range(system.n_bars)]
+    ax.plot(x[1:-1], np.zeros(system.n_bars - 1), "o", mfc="white", mec="k", ms=5, zorder=5, gid="hinge")
+    ax.axhline(_GROUND, color="0.2", lw=1.2)
+    ax.set_xlim(-0.04 * x[-1], 1.1 * x[-1])
+    ax.set_ylim(_GROUND - 0.1, 1.0)  # the bottom moves down to make room for the supports' labels
     ax.set_yticks([])
     ax.set_xlabel("position along the equivalent system (m)")
     ax.grid(False)
     ax.spines["left"].set_visible(False)
-    ax.set_title(title or f"{system.layout} equivalent system, N = {system.n_bars} (springs labelled in N/m)")
+    ax.set_title(title or f"{system.layout} equivalent system, N = {system.n_bars}")
+    _schematic_labels(ax, p, x, massless)
     return ax
 
 
@@ -416,7 +655,7 @@ def long_track_error_figure(errors: Mapping[str, pd.DataFrame]):
         ax.set_title(f"{name} track: long FE track vs exact")
         ax.set_xlabel("Frequency (Hz)")
     axes[0].set_ylabel("relative error (-)")
-    axes[0].legend()
+    _legend_below(fig, axes[0])
     return fig, axes
 
 
@@ -424,7 +663,8 @@ def truncation_figure(studies: Mapping[str, pd.DataFrame], bands: Mapping[str, t
                       median: float = 0.05, maximum: float = 0.10):
     """Median (top) and maximum (bottom) error of w1 of truncated tracks against their length.
 
-    One column per track, one line per kind of end (styled by :data:`METHOD_STYLE`, solid).
+    One column per track, one line per kind of end (styled by :data:`METHOD_STYLE`, solid); the
+    legend sits below the panels, where it covers no curve.
 
     Parameters
     ----------
@@ -440,20 +680,21 @@ def truncation_figure(studies: Mapping[str, pd.DataFrame], bands: Mapping[str, t
     fig, axes
         ``axes`` of shape (2, n_tracks).
     """
-    fig, axes = new_figure(2, len(studies), figsize=(10.5, 6.5), sharex=True, squeeze=False)
+    fig, axes = new_figure(2, len(studies), figsize=(10.5, 7.0), sharex=True, squeeze=False)
     for col, (name, study) in enumerate(studies.items()):
         for label, grp in study.groupby("ends", sort=False):
             style = {k: v for k, v in METHOD_STYLE.get(label, {}).items() if k != "ls"}
             for row, column in enumerate(("median error", "max error")):
                 axes[row, col].loglog(grp["n_bays"], grp[column], marker="o", ms=3, label=label, **style)
-        axes[0, col].axhline(median, color="0.5", ls=":")
+        target = f"targets: {100 * median:g} % median, {100 * maximum:g} % max"
+        axes[0, col].axhline(median, color="0.5", ls=":", label=target)
         axes[1, col].axhline(maximum, color="0.5", ls=":")
         lo, hi = bands[name]
         axes[0, col].set_title(f"{name} track, {lo:g}-{hi:g} Hz")
         axes[1, col].set_xlabel("bays on each side of the centre")
-    axes[0, 0].set_ylabel("median error of w1 (-)")
-    axes[1, 0].set_ylabel("max error of w1 (-)")
-    axes[0, 0].legend(fontsize=8)
+    axes[0, 0].set_ylabel(r"median error of $\tilde w_1$ (-)")
+    axes[1, 0].set_ylabel(r"max error of $\tilde w_1$ (-)")
+    _legend_below(fig, axes[0, 0], ncols=3)
     return fig, axes
 
 
@@ -489,10 +730,10 @@ def _w1_panels(curves: Mapping[str, pd.DataFrame], bands: Mapping[str, tuple[flo
                 plot_magnitude(ax, f, w1, label, **METHOD_STYLE["exact"])
             else:
                 plot_magnitude(ax, f, w1, f"{n_bays} bays, {label} ends", **styles.get(label, {}))
-        magnitude_axes(ax, r"$|\tilde w_1|$ (m/N)", logx=logx)
+        magnitude_axes(ax, CENTRAL_LABELS["w1"], logx=logx)
         _shade_above(ax, bands[name][1], f[-1])
         ax.set_title(f"{name} track")
-    axes[0].legend(fontsize=8)
+    _legend_below(fig, axes[0], fontsize=8)
     return fig, axes
 
 
@@ -534,7 +775,7 @@ def _pulse_panels(results: Mapping[str, dict], n_bays: int, reference_bays: int,
             ax.set_ylabel(f"w at {res['reference'].labels[row][2:-1]} (nm per N)")
         axes[0, col].set_title(f"{name} {subtitle}")
         axes[-1, col].set_xlabel("time (ms)")
-    axes[0, 0].legend(fontsize=8)
+    _legend_below(fig, axes[0, 0], fontsize=8)
     return fig, axes
 
 
@@ -581,8 +822,8 @@ def band_error_figure(curves: Mapping[str, pd.DataFrame], bands: Mapping[str, tu
         _shade_above(ax, bands[name][1], f[-1])
         ax.set_title(f"{name} track")
         ax.set_xlabel("Frequency (Hz)")
-    axes[0].set_ylabel(r"largest error of $\alpha_{11}, \alpha_{12}, \alpha_{22}$ (-)")
-    axes[0].legend(fontsize=8)
+    axes[0].set_ylabel(f"largest error of {', '.join(ELEMENT_TEX[e] for e in ELEMENTS)} (-)")
+    _legend_below(fig, axes[0], fontsize=8)
     if title:
         fig.suptitle(title)
     return fig, axes
@@ -612,8 +853,9 @@ def boundary_receptance_figure(f, curves: Mapping[str, Mapping[str, np.ndarray]]
             for label, alpha in alphas.items():
                 plot_magnitude(ax, f, np.asarray(alpha)[:, i, k], label, **BOUNDARY_STYLE.get(label, {}))
             magnitude_axes(ax, _magnitude_label(element), logx=True)
-            ax.set_title(f"{name} track", fontsize=9)
-    axes[0, 0].legend(fontsize=8)
+            ax.set_title(f"{name} track: {ELEMENT_TEX[element]}", fontsize=9)
+    _show_lowest_tick_labels(axes)
+    _legend_below(fig, axes[0, 0], fontsize=8)
     if title:
         fig.suptitle(title)
     return fig, axes
@@ -641,8 +883,8 @@ def order_error_figure(tables: Mapping[str, pd.DataFrame], title: str = ""):
                         ls=":" if "viscous" in label else "-")
     for ax, what in zip(axes, ("median", "maximum")):
         ax.set_xlabel("number of poles (complex pairs count twice)")
-        ax.set_ylabel(f"{what} error of alpha (%)")
-    axes[0].legend(fontsize=8)
+        ax.set_ylabel(rf"{what} error of $\alpha$ (%)")
+    _legend_below(fig, axes[0], fontsize=8)
     if title:
         fig.suptitle(title)
     return fig, axes
@@ -672,7 +914,7 @@ def passivity_margin_figure(f, margins: Mapping[str, np.ndarray], band: tuple[fl
     ax.axvspan(band[0], band[1], color="0.92", zorder=-1, label=f"fit band {band[0]:g}-{band[1]:g} Hz")
     ax.set_xlabel("Frequency (Hz)")
     ax.set_ylabel(r"smallest eigenvalue of $D^{-1/2}\,\mathrm{Re}\,Z\,D^{-1/2}$ (-)")
-    ax.legend(fontsize=8)
+    _legend_below(fig, ax, fontsize=8)
     if title:
         ax.set_title(title)
     return fig, ax
