@@ -19,7 +19,7 @@ from semitrack.fe.element import timoshenko_element, timoshenko_shape_functions
 from semitrack.fe.models import FETrack, TruncatedTrack, fe_central_receptance, fe_semi_infinite_receptance
 from semitrack.fe.timedomain import hann_pulse, moving_load_response, newmark, pulse_response, relative_l2_error
 from semitrack.fe.truncation import truncation_errors
-from semitrack.model.timoshenko import field_transfer, point_transfer
+from semitrack.model.timoshenko import field_transfer
 
 PAPER_GRID = np.arange(3.0, 3000.0, 6.0)
 
@@ -240,10 +240,10 @@ def _transfer_chain(track, f, n_bays, ends):
     omega = 2 * np.pi * f
     d = track.spacing
     kv, kphi = track.support_stiffness(f)
-    ks = np.zeros((f.size, 2, 2), dtype=complex)
-    ks[:, 0, 0], ks[:, 1, 1] = kv, kphi
+    point = np.broadcast_to(np.eye(4, dtype=complex), (f.size, 4, 4)).copy()
+    point[:, 2, 0], point[:, 3, 1] = -kv, -kphi  # the support's reaction makes (Q, M) jump
     fh = field_transfer(track, omega, d / 2)
-    half = np.linalg.matrix_power(fh @ point_transfer(ks) @ fh, n_bays)
+    half = np.linalg.matrix_power(fh @ point @ fh, n_bays)
     E, S = np.zeros((4, 2)), np.zeros((2, 4))
     if ends == "pinned":
         E[1, 0] = E[2, 1] = 1.0  # unknown psi, Q at the left end

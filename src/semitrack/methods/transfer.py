@@ -1,20 +1,33 @@
-"""The exact method: periodic-structure (Bloch-wave) theory on the transfer matrix of one period.
+"""The exact method: periodic-structure (Bloch-wave) theory on one period of the track.
 
-Cut the infinite periodic track at a cross-section x_c. The transfer matrix T of one period,
-from x_c to x_c + L, maps the state s = (w, psi, Q, M) across the period. Its four eigenvalues
-come in pairs (lambda, 1/lambda): the two with |lambda| < 1 are the Bloch waves that decay to the
-right (Mead's periodic-structure theory). On the semi-infinite track x > x_c only these exist, so
-with V the matrix of their eigenvectors, split in displacement rows V_u and force rows V_f,
+Cut the infinite periodic track at a cross-section x_c and view it as a chain of identical
+periods. The dynamic stiffness D of one period maps the displacements (w, psi) of its two end
+cross-sections a = x_c + nL and b = x_c + (n+1)L to the loads applied there; it is built from
+exact rail segments between the supports (each wave of the Timoshenko field equation referred to
+the end it decays away from, :func:`semitrack.model.timoshenko.segment_dynamic_stiffness`) with
+the supports condensed out. Equilibrium of the node between two periods gives the Bloch
+recurrence
 
-    (w, psi) = V_u c,  (Q, M) = V_f c   =>   K_R = V_f V_u^{-1}
+    D_ba u_n + (D_aa + D_bb) u_{n+1} + D_ab u_{n+2} = 0.
 
-is the 2x2 dynamic stiffness of the right semi-infinite track at its end, and alpha = K_R^{-1}.
-The growing waves do the same for the left part (K_L = -V_f V_u^{-1}, the sign because the loads
-applied to the left part are -Q, -M). Nothing is truncated: no wavenumber range, no finite
+Its waves u_{n+1} = lambda u_n come in pairs (lambda, 1/lambda) (Mead's periodic-structure
+theory). On the semi-infinite track x > x_c only the two that decay to the right exist:
+u_{n+1} = G u_n with G the solvent of D_ba + (D_aa + D_bb) G + D_ab G^2 = 0 whose eigenvalues
+satisfy |lambda| < 1, which cyclic reduction finds in a few doubling steps. Then
+
+    K_R = D_aa + D_ab G      (end stiffness of the track x > x_c),  alpha = K_R^{-1},
+
+and likewise K_L for the track x < x_c. Nothing is truncated: no wavenumber range, no finite
 differences, no sum over j.
 
-Where damping is zero a pair of eigenvalues lies on the unit circle; the wave travelling to the
-right is then the one that carries power to the right (the limit of vanishing damping).
+Why not the period's transfer matrix T (s(x_c + L) = T s(x_c) for s = (w, psi, Q, M)), whose
+eigenvectors give the same waves? T holds e^{kL} beside e^{-kL}: once the evanescent waves grow
+by ~1e8 over a period (long spacing, very stiff pads or shear, MHz frequencies), the decaying
+waves drown in its rounding error and alpha comes out non-reciprocal. D stays bounded.
+
+Without damping a wave has |lambda| = 1 and the reduction does not converge; the answer is then
+the limit of vanishing damping (the wave that carries power away from the cut), computed with a
+rail loss factor of 1e-9 added, far below any physical one.
 """
 
 from __future__ import annotations
@@ -22,15 +35,32 @@ from __future__ import annotations
 import numpy as np
 
 from ..base.checks import check_real
-from ..model.timoshenko import field_transfer, point_transfer, state_scaling
+from ..model.timoshenko import segment_dynamic_stiffness
 from ..model.tracks import PeriodicCell
 
-# |log|lambda|| below this is treated as a propagating (undamped) wave.
-_UNIT_CIRCLE_TOL = 1e-9
+# Cyclic reduction: doubling steps allowed (a wave with |lambda| = 1 - 1e-12 needs ~46), and the
+# relative size of the last correction at which it has converged.
+_MAX_DOUBLINGS = 64
+_CONVERGED = 1e-15
+# Rail loss factor standing in for "vanishing damping" where the track has none.
+_VANISHING_DAMPING = 1e-9
+# An end stiffness is refused when K12 and K21 differ by more than this (relative), or when it
+# generates power beyond this (relative) rounding level.
+_RECIPROCITY_TOL = 1e-6
+_PASSIVITY_TOL = 1e-9
 
 
-def period_transfer(cell: PeriodicCell, omega: np.ndarray, x_cut: float) -> np.ndarray:
-    """Transfer matrix of one period starting at ``x_cut``: s(x_cut + L) = T s(x_cut).
+def _require_uncoupled(cell: PeriodicCell, f: np.ndarray) -> None:
+    if not cell.has_uncoupled_supports(f):
+        raise NotImplementedError(
+            "the transfer method needs supports that are not coupled through the foundation "
+            "(G_rs diagonal); use method='wavenumber' for a coupled slab"
+        )
+
+
+def period_dynamic_stiffness(cell: PeriodicCell, omega: np.ndarray, x_cut: float,
+                             extra_loss: float = 0.0) -> np.ndarray:
+    """Dynamic stiffness of one period between its end cross-sections x_cut and x_cut + L.
 
     Parameters
     ----------
@@ -39,67 +69,95 @@ def period_transfer(cell: PeriodicCell, omega: np.ndarray, x_cut: float) -> np.n
     omega : ndarray
         Circular frequencies (rad/s), shape ``(n,)``.
     x_cut : float
-        Start of the period (m). A support exactly at ``x_cut`` counts as lying just to its
-        left, i.e. it is the last support of the period.
+        Start of the period (m). A support exactly at ``x_cut`` belongs to the period's right
+        end: it is the period's last support, on the left-hand part of a cut there.
+    extra_loss : float
+        Loss factor added to the rail's (-), as in
+        :func:`semitrack.model.timoshenko.segment_dynamic_stiffness`.
 
     Returns
     -------
     ndarray, shape (n, 4, 4)
+        Maps (w_a, psi_a, w_b, psi_b) at x_cut and x_cut + L (m, rad) to the loads applied to the
+        period there (N, N m); the rail segments are exact and the supports condensed out.
     """
     f = omega / (2 * np.pi)
-    if not cell.has_uncoupled_supports(f):
-        raise NotImplementedError(
-            "the transfer method needs supports that are not coupled through the foundation "
-            "(G_rs diagonal); use method='wavenumber' for a coupled slab"
-        )
-    track, period = cell.track, cell.period
+    _require_uncoupled(cell, f)
+    period = cell.period
+    offsets = sorted((_distance_past(x, x_cut, period), i) for i, x in enumerate(cell.positions))
+    edges = np.array([0.0] + [dist for dist, _ in offsets if dist < period] + [period])
+    segments = segment_dynamic_stiffness(cell.track, omega, np.diff(edges), extra_loss)  # (m, n, 4, 4)
+    n_nodes = edges.size
+    k = np.zeros((omega.size, 2 * n_nodes, 2 * n_nodes), dtype=complex)
+    for j, seg in enumerate(segments):
+        k[:, 2 * j : 2 * j + 4, 2 * j : 2 * j + 4] += seg
     ks = cell.support_stiffness_matrix(f)
-    # Supports met when walking from x_cut (exclusive) to x_cut + L (inclusive).
-    offsets = sorted(((x - x_cut) % period or period, i) for i, x in enumerate(cell.positions))
-    t = np.broadcast_to(np.eye(4, dtype=complex), (omega.size, 4, 4)).copy()
-    here = 0.0
     for dist, i in offsets:
-        t = field_transfer(track, omega, dist - here) @ t
-        t = point_transfer(ks[:, 2 * i : 2 * i + 2, 2 * i : 2 * i + 2]) @ t
-        here = dist
-    return field_transfer(track, omega, period - here) @ t
+        node = int(np.searchsorted(edges, dist))  # the node at this support (the last if at L)
+        k[:, 2 * node : 2 * node + 2, 2 * node : 2 * node + 2] += ks[:, 2 * i : 2 * i + 2, 2 * i : 2 * i + 2]
+    ends = np.r_[0, 1, 2 * n_nodes - 2, 2 * n_nodes - 1]
+    inner = np.arange(2, 2 * n_nodes - 2)
+    d = k[:, ends[:, None], ends]
+    if inner.size:
+        d = d - k[:, ends[:, None], inner] @ np.linalg.solve(k[:, inner[:, None], inner], k[:, inner[:, None], ends])
+    return d
 
 
-def bloch_waves(cell: PeriodicCell, omega: np.ndarray, x_cut: float) -> tuple[np.ndarray, ...]:
-    """Bloch waves of the period starting at ``x_cut``, split into right- and left-decaying.
+def _distance_past(x: float, x_cut: float, period: float) -> float:
+    """Distance (m) from x_cut forward to the next support image of x, in (0, period].
 
-    Returns
-    -------
-    lam_right, vec_right, lam_left, vec_left : ndarray
-        Eigenvalues (shape ``(n, 2)``) and state eigenvectors (shape ``(n, 4, 2)``, rows
-        w, psi, Q, M in SI units) of the two waves that decay towards +x and of the two that
-        decay towards -x.
+    A support within 1e-9 periods of the cut counts as at the cut (distance ``period``): a
+    rail segment of rounding-error length would have an unbounded dynamic stiffness.
     """
-    t = period_transfer(cell, omega, x_cut)
-    scale = state_scaling(cell.track)
-    t_scaled = scale[:, None] * t / scale[None, :]
-    lam, vec = np.linalg.eig(t_scaled)
-    vec = vec / scale[None, :, None]  # back to SI rows
-    order = np.argsort(_decay_key(lam, vec, omega), axis=-1)
-    lam = np.take_along_axis(lam, order, axis=-1)
-    vec = np.take_along_axis(vec, order[:, None, :], axis=-1)
-    return lam[:, :2], vec[:, :, :2], lam[:, 2:], vec[:, :, 2:]
+    dist = (x - x_cut) % period
+    return period if dist < 1e-9 * period or dist > (1 - 1e-9) * period else dist
 
 
-def _decay_key(lam, vec, omega):
-    """Sort key: negative for waves that decay (or carry power) towards +x."""
-    log_mod = np.log(np.abs(lam))
-    # Time-averaged power through the cross-section towards +x: 0.5 Re(Q conj(v) + M conj(dpsi/dt)).
-    w, psi, q, m = vec[:, 0], vec[:, 1], vec[:, 2], vec[:, 3]
-    v_w = 1j * omega[:, None] * w
-    v_psi = 1j * omega[:, None] * psi
-    power = 0.5 * np.real(q * np.conj(v_w) + m * np.conj(v_psi))
-    propagating = np.abs(log_mod) < _UNIT_CIRCLE_TOL
-    return np.where(propagating, -0.5 * _UNIT_CIRCLE_TOL * np.sign(power), log_mod)
+def _cyclic_reduction(d: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Solvents of the Bloch recurrence of a chain of periods with dynamic stiffness ``d``.
+
+    Returns ``g_right`` (u_{n+1} = g_right u_n for the waves decaying towards +x), ``g_left``
+    (u_{n-1} = g_left u_n for those decaying towards -x), both ``(n, 2, 2)``, and a boolean mask
+    of the frequencies where the reduction converged (it cannot where a wave has |lambda| = 1).
+    """
+    d_aa, d_ab, d_ba, d_bb = d[:, :2, :2], d[:, :2, 2:], d[:, 2:, :2], d[:, 2:, 2:]
+    a0, a1, a2 = d_ba, d_aa + d_bb, d_ab  # a0 + a1 G + a2 G^2 = 0 for the right-decaying G
+    hat_right, hat_left = a1.copy(), a1.copy()
+    converged = np.zeros(d.shape[0], dtype=bool)
+    with np.errstate(all="ignore"):  # undamped waves make the iterates grow: reported as not converged
+        for _ in range(_MAX_DOUBLINGS):
+            inv_a1 = np.linalg.inv(a1)
+            t0, t2 = inv_a1 @ a0, inv_a1 @ a2
+            corr_right, corr_left = a2 @ t0, a0 @ t2
+            hat_right, hat_left = hat_right - corr_right, hat_left - corr_left
+            a1 = a1 - corr_right - corr_left
+            a0, a2 = -a0 @ t0, -a2 @ t2
+            size = np.maximum(_norm(corr_right) / _norm(hat_right), _norm(corr_left) / _norm(hat_left))
+            converged = size <= _CONVERGED  # False where NaN
+            if converged.all():
+                break
+        ok = converged & np.isfinite(hat_right).all(axis=(1, 2)) & np.isfinite(hat_left).all(axis=(1, 2))
+        hat_right[~ok], hat_left[~ok] = np.eye(2), np.eye(2)  # placeholders, replaced by the caller
+        g_right = -np.linalg.solve(hat_right, d_ba)
+        g_left = -np.linalg.solve(hat_left, d_ab)
+    return g_right, g_left, ok
+
+
+def _norm(a: np.ndarray) -> np.ndarray:
+    return np.sqrt(np.sum(np.abs(a) ** 2, axis=(-2, -1)))
 
 
 def end_stiffness(cell: PeriodicCell, omega: np.ndarray, x_cut: float) -> tuple[np.ndarray, np.ndarray]:
     """Dynamic stiffness of the two semi-infinite tracks on either side of a cut at ``x_cut``.
+
+    Parameters
+    ----------
+    cell : PeriodicCell
+        The period of the track (supports not coupled through the foundation).
+    omega : ndarray
+        Circular frequencies (rad/s), shape ``(n,)``.
+    x_cut : float
+        Position of the cut (m), in the coordinates of ``cell.positions``.
 
     Returns
     -------
@@ -107,13 +165,51 @@ def end_stiffness(cell: PeriodicCell, omega: np.ndarray, x_cut: float) -> tuple[
         ``k_right`` maps (w, psi) at the end of the track x > x_cut to the loads (Q, M) applied
         to it there; ``k_left`` likewise for the track x < x_cut (loads applied to that part).
         Units: N/m, N/rad, N m/m, N m/rad.
+
+    Raises
+    ------
+    ValueError
+        Where the result cannot be trusted: the doubling did not converge, or the end stiffness
+        is not reciprocal to 1e-6 (lost precision). Neither happens for tracks within a wide
+        margin of physical ones (spacing 0.3-12 m, up to 50 MHz, pads up to 1e25: tested).
     """
     check_real("x_cut", x_cut)
-    _, v_r, _, v_l = bloch_waves(cell, omega, x_cut)
-    k_right = np.linalg.solve(np.swapaxes(v_r[:, :2, :], 1, 2), np.swapaxes(v_r[:, 2:, :], 1, 2))
-    k_left = -np.linalg.solve(np.swapaxes(v_l[:, :2, :], 1, 2), np.swapaxes(v_l[:, 2:, :], 1, 2))
-    # solve(Vu^T, Vf^T) = (Vf Vu^{-1})^T; transpose back.
-    return np.swapaxes(k_right, 1, 2), np.swapaxes(k_left, 1, 2)
+    omega = np.atleast_1d(omega)
+    # Without rail damping a wave may keep |lambda| = 1 (above the shear cut-on, two may) and the
+    # doubling would stall or settle on a wrong solvent: take the limit of vanishing damping.
+    extra_loss = _VANISHING_DAMPING if cell.track.eta_rail < _VANISHING_DAMPING else 0.0
+    d = period_dynamic_stiffness(cell, omega, x_cut, extra_loss)
+    g_right, g_left, converged = _cyclic_reduction(d)
+    k_right = d[:, :2, :2] + d[:, :2, 2:] @ g_right
+    k_left = d[:, 2:, 2:] + d[:, 2:, :2] @ g_left
+    good = converged & _physical(k_right) & _physical(k_left)
+    if not good.all():
+        f_bad = omega[~good] / (2 * np.pi)
+        raise ValueError(
+            f"the exact method cannot resolve {cell.track.name!r} at {f_bad.size} frequencies from "
+            f"{f_bad.min():.6g} Hz: the doubling did not converge or its end stiffness is not reciprocal "
+            "and passive (lost precision); the track's parameters are outside what the method resolves")
+    return k_right, k_left
+
+
+def _physical(k: np.ndarray) -> np.ndarray:
+    """Mask of the 2x2 end stiffnesses that are reciprocal (K12 = K21) and passive (they absorb power).
+
+    A wrong one is the sign of lost precision or of a wrong solvent.
+    """
+    # K12 (N/rad) and K21 (N m/m) share their unit; sqrt(|K11 K22|) is the scale they live on
+    # (K12 alone may vanish, e.g. at a cut on a symmetry plane).
+    scale = np.sqrt(np.abs(k[:, 0, 0] * k[:, 1, 1]))
+    reciprocal = np.abs(k[:, 0, 1] - k[:, 1, 0]) <= _RECIPROCITY_TOL * scale
+    # Power absorbed by the end, (omega/2) u^H [(K - K^H) / 2i] u: that matrix must be >= 0. Its
+    # units differ per entry: judge it after the congruence diag(c, 1) K diag(c, 1) with
+    # c = sqrt(|K22 / K11|), which balances the diagonal and keeps the sign of the quadratic form.
+    c = np.sqrt(np.abs(k[:, 1, 1] / k[:, 0, 0]))[:, None, None]
+    balanced = k * np.array([[1.0, 0.0], [0.0, 0.0]]) * c**2 + k * np.array([[0.0, 1.0], [1.0, 0.0]]) * c
+    balanced[:, 1, 1] = k[:, 1, 1]
+    absorbed = np.linalg.eigvalsh((balanced - np.conj(np.swapaxes(balanced, 1, 2))) / 2j)
+    passive = absorbed[:, 0] >= -_PASSIVITY_TOL * np.abs(balanced).max(axis=(1, 2))
+    return reciprocal & passive
 
 
 def infinite_receptance(cell: PeriodicCell, omega: np.ndarray, x: float) -> np.ndarray:

@@ -1,4 +1,4 @@
-"""The rail as a Timoshenko beam: wavenumber operator, internal forces and field transfer matrix.
+"""The rail as a Timoshenko beam: wavenumber operator, field transfer matrix, segment dynamic stiffness.
 
 Sign convention of the paper: w downward, psi clockwise, time factor exp(i omega t). The internal
 forces at a cross-section x are those that the rail on the left of x exerts on the rail on the
@@ -52,8 +52,11 @@ def operator_inverse(track: Track, omega: ArrayLike, beta: ArrayLike) -> tuple[n
     return b * inv_det, -c * inv_det, c * inv_det, a * inv_det
 
 
-def state_matrix(track: Track, omega: ArrayLike) -> np.ndarray:
+def state_matrix(track: Track, omega: ArrayLike, extra_loss: float = 0.0) -> np.ndarray:
     """Matrix A(omega) of the first-order field equation ds/dx = A s, shape ``(n, 4, 4)``.
+
+    ``extra_loss`` multiplies EI and kappa A G by (1 + i extra_loss) on top of the track's own
+    damping (the exact method's stand-in for vanishing damping on an undamped rail).
 
     The state is s = (w, psi, Q, M). From the homogeneous Eq. (1)-(2) with Eq. (15)-(16):
 
@@ -63,7 +66,7 @@ def state_matrix(track: Track, omega: ArrayLike) -> np.ndarray:
         M'   = omega^2 rho I psi - Q
     """
     omega = np.atleast_1d(np.asarray(omega, dtype=float))
-    ei, kag = track.rail_moduli(omega / (2 * np.pi))
+    ei, kag = (modulus * (1 + 1j * extra_loss) for modulus in track.rail_moduli(omega / (2 * np.pi)))
     a = np.zeros((omega.size, 4, 4), dtype=complex)
     a[:, 0, 1] = 1.0
     a[:, 0, 2] = -1.0 / kag
@@ -85,19 +88,6 @@ def field_transfer(track: Track, omega: ArrayLike, length: float) -> np.ndarray:
     return expm(state_matrix(track, omega) * length)
 
 
-def point_transfer(support_stiffness: np.ndarray) -> np.ndarray:
-    """Transfer matrix across a support with 2x2 dynamic stiffness K_s (rows w, psi).
-
-    The support pushes on the rail with (-K_s (w, psi)), so (Q, M) jump by that amount while
-    (w, psi) are continuous: P = [[I, 0], [-K_s, I]]. ``support_stiffness`` has shape
-    ``(n, 2, 2)``; the result ``(n, 4, 4)``.
-    """
-    ks = np.asarray(support_stiffness)
-    p = np.broadcast_to(np.eye(4, dtype=complex), ks.shape[:-2] + (4, 4)).copy()
-    p[..., 2:, :2] = -ks
-    return p
-
-
 def state_scaling(track: Track) -> np.ndarray:
     """Diagonal scaling that makes the state (w, psi, Q, M) dimensionless, shape ``(4,)``.
 
@@ -106,3 +96,49 @@ def state_scaling(track: Track) -> np.ndarray:
     """
     d, ei = track.spacing, abs(track.EI)
     return np.array([1.0 / d, 1.0, d**2 / ei, d / ei])
+
+
+def segment_dynamic_stiffness(track: Track, omega: ArrayLike, lengths: ArrayLike,
+                              extra_loss: float = 0.0) -> np.ndarray:
+    """Exact dynamic stiffness of free rail segments between their two end cross-sections.
+
+    Unlike :func:`field_transfer`, this stays accurate however long the segment and however high
+    the frequency: each of the four waves of the field equation is referred to the end it decays
+    away from, so no exponential in the formula exceeds 1 in modulus (a transfer matrix holds
+    e^{kL} and e^{-kL} side by side and loses the small one once e^{kL} approaches 1e16).
+
+    Parameters
+    ----------
+    track : Track
+        Rail properties (complex moduli include the rail damping).
+    omega : array_like
+        Circular frequencies (rad/s), shape ``(n,)``, positive.
+    lengths : array_like
+        Segment lengths (m), shape ``(m,)``, positive.
+    extra_loss : float
+        Loss factor added to the rail's (-), see :func:`state_matrix`.
+
+    Returns
+    -------
+    ndarray, shape (m, n, 4, 4)
+        Maps the end displacements (w_a, psi_a, w_b, psi_b) (m, rad) to the loads applied to the
+        segment at its ends (Q_a, M_a, Q_b, M_b) (N, N m); symmetric (reciprocity).
+    """
+    omega = np.atleast_1d(np.asarray(omega, dtype=float))
+    lengths = np.atleast_1d(np.asarray(lengths, dtype=float))
+    scale = state_scaling(track)  # a balanced, dimensionless state
+    kappa, phi = np.linalg.eig(scale[:, None] * state_matrix(track, omega, extra_loss) / scale[None, :])
+    order = np.argsort(kappa.real, axis=-1, kind="stable")  # two decaying towards +x first
+    kappa = np.take_along_axis(kappa, order, axis=-1)
+    phi = np.take_along_axis(phi, order[:, None, :], axis=-1)
+    # s(x) = phi_1 e^{kappa_1 x} a + phi_2 e^{kappa_2 (x - l)} b, with Re kappa_1 <= Re kappa_2.
+    decay = np.exp(np.concatenate([kappa[None, :, :2], -kappa[None, :, 2:]], axis=-1)
+                   * lengths[:, None, None])  # (m, n, 4): e^{kappa_1 l}, e^{-kappa_2 l}
+    start = phi * np.where(np.arange(4) < 2, 1.0 + 0j, decay)[..., None, :]  # s(0) per wave
+    end = phi * np.where(np.arange(4) < 2, decay, 1.0 + 0j)[..., None, :]  # s(l) per wave
+    disp = np.concatenate([start[..., :2, :], end[..., :2, :]], axis=-2)
+    load = np.concatenate([start[..., 2:, :], -end[..., 2:, :]], axis=-2)  # loads ON the segment
+    d_scaled = np.swapaxes(np.linalg.solve(np.swapaxes(disp, -1, -2), np.swapaxes(load, -1, -2)), -1, -2)
+    # Back to SI: the scaled loads are scale[2:] * (Q, M), the scaled displacements scale[:2] * (w, psi).
+    s_u, s_f = np.tile(scale[:2], 2), np.tile(scale[2:], 2)
+    return d_scaled * s_u[None, :] / s_f[:, None]
