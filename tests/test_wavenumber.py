@@ -71,3 +71,12 @@ def test_field_symmetries_table1(track):
 def test_bad_settings(kw, err):
     with pytest.raises(err):
         st.semi_infinite_receptance(st.slab_track(), 100.0, method="wavenumber", **kw)
+
+
+def test_undamped_rail_is_refused_by_the_wavenumber_method():
+    """Eq. (12) runs through the free rail's poles when the rail has no damping; the method must
+    say so instead of returning a non-reciprocal alpha (a11 was > 100 % off at 500 Hz)."""
+    track = st.slab_track(eta_rail=0.0)
+    with pytest.raises(ValueError, match=r"needs a damped rail \(eta_rail > 0\), got eta_rail=0.0"):
+        st.semi_infinite_receptance(track, [500.0], method="wavenumber")
+    st.semi_infinite_receptance(track, [500.0])  # the exact method takes the limit instead

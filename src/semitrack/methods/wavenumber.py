@@ -100,7 +100,20 @@ def displacement_fields(cell: PeriodicCell, omega: ArrayLike, x_rel: ArrayLike,
     ndarray, shape (n, p, 2, 2)
         ``q[..., i, k]``: response i (0: w in m, 1: psi in rad) to load k (0: unit force in N,
         1: unit moment in N m).
+
+    Raises
+    ------
+    ValueError
+        For a track whose rail has no damping (``eta_rail = 0``): the method needs it.
     """
+    if cell.track.eta_rail <= 0:
+        # Without rail damping the free rail's travelling waves are poles of D(beta)^-1 on the
+        # real beta axis that Eq. (12) integrates along: the sum is then meaningless (measured: a11
+        # off by > 100 % at 500 Hz, a12 != a21, not passive). The paper's method needs damping.
+        raise ValueError(
+            f"the wavenumber method needs a damped rail (eta_rail > 0), got eta_rail={cell.track.eta_rail!r} "
+            f"for track {cell.track.name!r}: its integral over real wavenumbers runs through the free "
+            "rail's poles; use method='transfer', which takes the limit of vanishing damping")
     settings = settings or WavenumberSettings()
     omega = np.atleast_1d(np.asarray(omega, dtype=float))
     x_rel = np.atleast_1d(np.asarray(x_rel, dtype=float))
