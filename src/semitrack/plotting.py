@@ -17,6 +17,7 @@ import numpy as np
 import pandas as pd
 
 from .base.conventions import ALL_ELEMENTS, ELEMENT_TEX, ELEMENT_UNITS, ELEMENTS
+from .base.paper_values import PAPER_BETA_MAX, PAPER_DX
 from .equivalent.systems import PARAMETER_UNITS
 
 #: Line styles per method, used in every figure so that a method always looks the same.
@@ -310,8 +311,8 @@ def convergence_figure(study, title: str = ""):
         for factor, grp in sub.groupby("beta factor"):
             grp = grp.sort_values("dx (m)")
             ax.loglog(grp["dx (m)"], grp["error"], marker="o", ms=3,
-                      label=rf"$\beta_{{max}}$ = {factor:g} x 78.5 rad/m")
-        ax.axvline(0.04, color="0.5", ls=":", lw=0.8)
+                      label=rf"$\beta_{{max}}$ = {factor:g} x {PAPER_BETA_MAX:.3g} rad/m")
+        ax.axvline(PAPER_DX, color="0.5", ls=":", lw=0.8, label=f"the paper's dx = {PAPER_DX:g} m")
         ax.set_title(f"{fr:g} Hz")
         ax.set_xlabel("dx (m)")
     axes[0].set_ylabel(r"max relative error of $\alpha_{ij}$ (-)")
@@ -793,8 +794,8 @@ BOUNDARY_STYLE = {
 
 
 def _shade_above(ax, f_from: float, f_to: float) -> None:
-    """Shade the frequencies above a fit band (where the N = 5 systems were not fitted)."""
-    ax.axvspan(f_from, f_to, color="0.92", zorder=-1)
+    """Shade the frequencies above a fit band (where the N = 5 systems were not fitted), with a legend entry."""
+    ax.axvspan(f_from, f_to, color="0.92", zorder=-1, label="above the N = 5 fit band")
 
 
 def band_error_figure(curves: Mapping[str, pd.DataFrame], bands: Mapping[str, tuple[float, float]], title: str = ""):
@@ -913,7 +914,7 @@ def passivity_margin_figure(f, margins: Mapping[str, np.ndarray], band: tuple[fl
         ax.loglog(f, lam, label=label)
     ax.axvspan(band[0], band[1], color="0.92", zorder=-1, label=f"fit band {band[0]:g}-{band[1]:g} Hz")
     ax.set_xlabel("Frequency (Hz)")
-    ax.set_ylabel(r"smallest eigenvalue of $D^{-1/2}\,\mathrm{Re}\,Z\,D^{-1/2}$ (-)")
+    ax.set_ylabel("smallest eigenvalue of\n" r"$D^{-1/2}\,\mathrm{Re}\,Z\,D^{-1/2}$ (-)")
     _legend_below(fig, ax, fontsize=8)
     if title:
         ax.set_title(title)
