@@ -121,6 +121,9 @@ def test_readable_number_and_fixed():
     assert [readable_number(v) for v in (0.0, -283000.0, 12345.0, float("nan"), float("inf"))] == [
         "0", "-2.83×10⁵", "12345", MISSING, "∞"]
     assert readable_number(2 / 3, digits=2) == "0.67"
+    # Trailing zeros are kept where significant: one number of digits per column.
+    assert [readable_number(v) for v in (19.003, 1.9003e7, 1.9e7, 100.0004)] == ["19.00", "1.900×10⁷", "1.9×10⁷",
+                                                                                 "100.0"]
     assert fixed(2)(-0.0004) == "0.00" and fixed(2)(-0.006) == "-0.01" and fixed(1)(15.43) == "15.4"
 
 

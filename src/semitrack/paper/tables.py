@@ -42,7 +42,7 @@ _SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
 # --- display ------------------------------------------------------------------------------------
 def readable_number(x: float, digits: int = 4) -> str:
-    """``x`` with ``digits`` significant digits, trailing zeros dropped, powers of ten written out.
+    """``x`` with ``digits`` significant digits, exact trailing zeros dropped, powers of ten written out.
 
     Parameters
     ----------
@@ -54,13 +54,14 @@ def readable_number(x: float, digits: int = 4) -> str:
     Returns
     -------
     str
-        Plain between 1e-3 and 1e5 (``7850``, ``0.25``), else ``2.1×10¹¹``; ``0`` for zero,
+        Plain between 1e-3 and 1e5 (``7850``, ``0.25``), else ``2.1×10¹¹``; trailing zeros
+        are kept where they are significant (``19.00`` for 19.003); ``0`` for zero,
         :data:`MISSING` for NaN, ``∞`` for infinity.
 
     Examples
     --------
-    >>> [readable_number(v) for v in (7850.0, 2.1e11, 0.25, 3.055e-5, -0.0123456)]
-    ['7850', '2.1×10¹¹', '0.25', '3.055×10⁻⁵', '-0.01235']
+    >>> [readable_number(v) for v in (7850.0, 2.1e11, 0.25, 3.055e-5, -0.0123456, 19.003)]
+    ['7850', '2.1×10¹¹', '0.25', '3.055×10⁻⁵', '-0.01235', '19.00']
     """
     if math.isnan(x):
         return MISSING
@@ -70,11 +71,18 @@ def readable_number(x: float, digits: int = 4) -> str:
         return "0"
     exponent = math.floor(math.log10(abs(x)))
     if -3 <= exponent < 5:
-        text = f"{x:.{max(digits - 1 - exponent, 0)}f}"
-        return text.rstrip("0").rstrip(".") if "." in text else text
+        return _exact_trimmed(f"{x:.{max(digits - 1 - exponent, 0)}f}", x)
     mantissa, power = f"{x:.{digits - 1}e}".split("e")
-    mantissa = mantissa.rstrip("0").rstrip(".")
+    mantissa = _exact_trimmed(mantissa, x / 10 ** int(power))
     return f"{mantissa}×10{str(int(power)).translate(_SUPERSCRIPT)}"
+
+
+def _exact_trimmed(text: str, x: float) -> str:
+    """``text`` without trailing zeros when they are exact (0.2500 of 0.25), else as it is (19.00 of 19.003)."""
+    if "." not in text:
+        return text
+    trimmed = text.rstrip("0").rstrip(".")
+    return trimmed if math.isclose(float(trimmed), x, rel_tol=1e-12) else text
 
 
 def fixed(decimals: int) -> Callable[[float], str]:
@@ -354,9 +362,10 @@ def inversion_error_table(track: Track, systems: Mapping[str, EquivalentSystem],
                                         f"median {ELEMENT_ERROR} of α (%)", "median worst-element error of α (%)",
                                         "median error of K11 (%)"])
     table.attrs["formats"] = dict.fromkeys(table.columns[1:3], "{:.2f}")
-    table.attrs["caption"] = (f"Over {band[0]:g}-{band[1]:g} Hz. Element error: all elements and frequencies "
-                              "pooled; worst-element error: at each frequency the largest element error; "
-                              "error of K11 = (α⁻¹)11: |K_E,11 − K11|/|K11|.")
+    # The caption leaves the band out, so that tables of several bands concatenated keep it.
+    table.attrs["caption"] = (f"Over the band on a {grid[1] - grid[0]:.3g} Hz grid. Element error: all elements "
+                              "and frequencies pooled; worst-element error: at each frequency the largest element "
+                              "error; error of K11 = (α⁻¹)11: |K_E,11 − K11|/|K11|.")
     return table
 
 
