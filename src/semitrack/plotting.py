@@ -3,7 +3,9 @@
 Every ``*_figure`` function takes results computed by the package (arrays, tables, the results
 of a study), draws one figure and returns ``(fig, axes)``; the notebooks call them and compute
 nothing by hand. Methods and kinds of end keep one line style throughout (:data:`METHOD_STYLE`);
-element names, labels and units come from :mod:`semitrack.base.conventions`.
+element names, labels and units come from :mod:`semitrack.base.conventions`. Legends sit outside the
+panels (below them, or in a spare panel), where they cover no curve, and every panel with no panel
+below it shows its x tick labels.
 """
 
 from __future__ import annotations
@@ -189,7 +191,7 @@ CENTRAL_LABELS = {
 
 
 def _show_lowest_tick_labels(axes) -> None:
-    """Frequency tick labels on every panel with no panel shown below it in its column.
+    """x tick labels on every panel with no panel shown below it in its column.
 
     A shared x-axis hides the tick labels of all but the bottom row, also above a panel that is
     hidden or turned off; the x label is kept only where the tick labels are.
@@ -468,7 +470,7 @@ def _draw_bar_and_supports(ax, p: Mapping[str, np.ndarray], x: np.ndarray, j: in
             _support(ax, end, inward, slot, (0.0, _GROUND), p["k"][j], p[c][j])
             continue
         _support(ax, end, inward, slot, (0.0, _MASS_TOP), p["k"][j], p[c][j])
-        left = end + inward * 0.05 * slot if inward > 0 else end - 0.95 * slot
+        left = end + 0.05 * slot if inward > 0 else end - 0.95 * slot
         ax.add_patch(mpl.patches.Rectangle((left, _MASS_BOTTOM), 0.9 * slot, _MASS_TOP - _MASS_BOTTOM,
                                            color="tab:orange", gid="support mass"))
         _support(ax, end, inward, slot, (_MASS_BOTTOM, _GROUND), p["s"][j], p[d][j])
