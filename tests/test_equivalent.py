@@ -553,6 +553,8 @@ def test_repr_lists_each_parameter_with_its_unit(system):
     for name in system.parameter_names():
         unit = f"({PARAMETER_UNITS[name]})"
         assert any(line.split()[0] == name and line.split(unit)[0].strip() == name for line in lines), name
-    assert f"highest natural frequency {system.highest_natural_frequency():.4g} Hz" in lines[-1]
+    assert f"highest natural frequency {system.highest_natural_frequency():.0f} Hz" in lines[-1]
+    dt = f"dt < {1e6 * system.central_difference_time_step():.3g} µs"
+    assert dt in lines[-1]
     assert "array(" not in text and "nan" not in text
     assert max(len(line) for line in lines) <= 90

@@ -636,7 +636,8 @@ class EquivalentSystem:
             cells = "".join(f"{_format_value(v):>11}" for v in values)
             lines.append(f"  {name:<6} {'(' + PARAMETER_UNITS[name] + ')':<12}{cells}")
         f_max = self.highest_natural_frequency()
-        lines.append(f"  highest natural frequency {f_max:.4g} Hz (central differences stable for "
+        f_text = f"{f_max:.0f}" if f_max >= 100 else f"{f_max:.3g}"
+        lines.append(f"  highest natural frequency {f_text} Hz (central differences stable for "
                      f"dt < {1e6 * self.central_difference_time_step():.3g} µs)")
         return "\n".join(lines)
 
