@@ -1,5 +1,6 @@
 """End-to-end tests of the command-line program through a subprocess."""
 
+import io
 import json
 import os
 import subprocess
@@ -12,7 +13,9 @@ import scipy.io
 
 import semitrack as st
 from semitrack.base.conventions import ALL_ELEMENTS, ELEMENT_UNITS
-from semitrack.model.trackfile import example_path, load_track_toml, track_to_toml
+from semitrack.base.paper_values import TABLE3_SLAB_FREQUENCIES
+from semitrack.cli import receptance_csv, receptance_figure
+from semitrack.model.trackfile import EXAMPLES, example_path, load_track_toml, track_to_toml
 
 ENV = {**os.environ, "OPENBLAS_NUM_THREADS": "1"}
 # Line of "kv = ..." in the shipped ballasted example, where the located error must point.
@@ -79,6 +82,41 @@ def test_receptance_csv_matches_package(slab_file, tmp_path):
     assert (tmp_path / "a.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_receptance_units_are_those_of_the_conventions():
+    """CSV header and plot axes write each element's one unit: alpha12 in 1/N, never m/(N m)."""
+    f = np.array([10.0, 100.0])
+    alpha = st.semi_infinite_receptance(st.slab_track(), f)
+    text = receptance_csv(st.slab_track(), f, alpha, "transfer")
+    assert "m/(N m)" not in text and "alpha12 in 1/N, alpha21 in 1/N" in text
+    labels = [ax.get_ylabel() for ax in receptance_figure(st.slab_track(), f, alpha).axes]
+    assert labels == [r"|$\alpha_{11}$| (m/N)", r"|$\alpha_{12}$| (1/N)", r"|$\alpha_{22}$| (rad/(N m))"]
+
+
+@pytest.mark.parametrize("name", ["slab", "ballasted"])
+def test_example_prints_a_track_file_that_loads(tmp_path, name):
+    result = run("example", name)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout == example_path(name).read_text()
+    path = tmp_path / f"{name}.toml"
+    path.write_text(result.stdout)
+    assert load_track_toml(path).replace(name="x") == getattr(st, f"{name}_track")(name="x")
+
+
+def test_example_list_and_bad_names():
+    listed = run("example", "--list")
+    assert listed.returncode == 0 and [line.split()[0] for line in listed.stdout.splitlines()] == list(EXAMPLES)
+    assert_bad_input(run("example", "tram"), "unknown example 'tram'", "slab, ballasted")
+    assert_bad_input(run("example"), "name an example", "slab, ballasted")
+
+
+def test_bare_command_prints_usage_and_commands():
+    result = run()
+    assert result.returncode == 2 and result.stdout == ""
+    assert result.stderr.startswith("usage: semitrack")
+    for sub in ("example", "receptance", "fit", "export", "features"):
+        assert f"\n    {sub} " in result.stderr or f"\n    {sub}\n" in result.stderr
+
+
 def test_receptance_to_stdout_has_no_progress_text(slab_file):
     result = run("receptance", slab_file, "--fmax", 100, "--method", "wavenumber")
     assert result.returncode == 0, result.stderr
@@ -90,13 +128,36 @@ def test_receptance_to_stdout_has_no_progress_text(slab_file):
 def test_features(slab_file):
     result = run("features", slab_file, "--fmax", 1200, "--csv")
     assert result.returncode == 0, result.stderr
-    lines = result.stdout.strip().splitlines()
-    assert lines[0].startswith("quantity,kind")
-    w1_peaks = [float(line.split(",")[3]) for line in lines[1:] if line.startswith("w1,peak")]
+    data = pd.read_csv(io.StringIO(result.stdout), keep_default_na=False)
+    assert list(data.columns) == ["f_Hz", "f_grid_Hz", "quantity", "kind", "magnitude", "unit", "mode"]
+    assert np.all(np.diff(data["f_Hz"]) >= 0)  # rows by frequency
+    # Each quantity's magnitude carries its own unit; alpha12 in 1/N as everywhere.
+    units = dict(zip(data["quantity"], data["unit"]))
+    assert units == {"w1": "m/N", "psi2": "rad/(N m)", "Q2": "N/(N m)", "M1": "N m/N", "det": "N^2",
+                     "alpha11": "m/N", "alpha12": "1/N", "alpha22": "rad/(N m)"}
     # The same peaks as the package computes in-process, to the 6 significant digits printed.
+    w1_peaks = data[(data.quantity == "w1") & (data.kind == "peak")]
     ref = st.characteristic_frequencies(st.slab_track(), band=(3.0, 1200.0))
-    ref = ref[(ref.quantity == "w1") & (ref.kind == "peak")]["f"].to_numpy()
-    np.testing.assert_allclose(w1_peaks, ref, rtol=1e-5)
+    ref = ref[(ref.quantity == "w1") & (ref.kind == "peak")]
+    np.testing.assert_allclose(w1_peaks["f_Hz"], ref["f"], rtol=1e-5)
+    np.testing.assert_allclose(w1_peaks["magnitude"], ref["magnitude"], rtol=1e-5)
+    # The paper's names (Table 3) on the extrema nearest its values, and on no other row.
+    named = dict(zip(w1_peaks["f_Hz"].round(), w1_peaks["mode"]))
+    assert named == {186.0: "rail bouncing on the fastener stiffness (Table 3)",
+                     942.0: "first pinned-pinned mode (Table 3)", 1046.0: ""}
+    assert (data["mode"] != "").sum() == sum(f < 1200 for f, *_ in TABLE3_SLAB_FREQUENCIES)  # one row each
+
+
+def test_features_names_modes_only_for_the_papers_tracks(tmp_path):
+    """One parameter changed: the modes may have moved, so the paper's names are not given."""
+    changed = edited(tmp_path, "kv = 3.5e8", "kv = 3.6e8")
+    result = run("features", changed, "--fmax", 600)
+    assert result.returncode == 0, result.stderr
+    assert "named for the paper's two tracks only" in result.stdout
+    assert result.stdout.splitlines()[2].split() == ["f", "(Hz)", "grid", "f", "(Hz)", "quantity", "kind",
+                                                     "magnitude", "unit"]
+    paper = run("features", example_path("ballasted"), "--fmax", 600)
+    assert "rail and sleeper bouncing together on the ballast (Table 6)" in paper.stdout
 
 
 def test_fit_then_export_in_every_format(tmp_path):
@@ -143,7 +204,7 @@ def test_fit_boundary_writes_a_passive_model_that_loads_back(tmp_path):
     assert bad.returncode == 2 and "json or .mat" in bad.stderr
 
 
-@pytest.mark.parametrize("sub", ["receptance", "fit", "export", "features"])
+@pytest.mark.parametrize("sub", ["example", "receptance", "fit", "export", "features"])
 def test_help_has_an_example(sub):
     result = run(sub, "--help")
     assert result.returncode == 0 and ("example:" in result.stdout or "examples:" in result.stdout)

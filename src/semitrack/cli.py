@@ -1,4 +1,4 @@
-"""The ``semitrack`` command-line program: receptance, fit, export, features.
+"""The ``semitrack`` command-line program: example, receptance, fit, export, features.
 
 Exit codes: 0 success, 2 bad input (a one-line message on stderr, no traceback), 1 unexpected
 failure (with a traceback, so that it can be reported). Results go to files written atomically
@@ -14,6 +14,7 @@ import sys
 import traceback
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -22,13 +23,22 @@ from .base.checks import check_band, check_int_at_least, check_positive
 from .base.conventions import ALL_ELEMENTS, ELEMENT_TEX, ELEMENT_UNITS, ELEMENTS
 from .base.paper_values import FIT_BANDS, PAPER_GRID_BAND, PAPER_GRID_STEP
 from .equivalent.io import atomic_write, export_system, load_system_json, save_system_json
-from .model.trackfile import TrackFileError, load_track_toml
-from .model.tracks import Track
+from .model.trackfile import EXAMPLES, TrackFileError, example_path, load_track_toml
+from .model.tracks import Track, ballasted_track, slab_track
 from .progress import Progress
+
+if TYPE_CHECKING:  # imported when used, so that --help and bad input answer fast
+    import pandas as pd
+    from matplotlib.figure import Figure
 
 #: Largest frequency grid the CLI accepts (a guard against a mistyped --df).
 MAX_FREQUENCIES = 200_000
 BLOCK = 50  # frequencies per progress step
+
+#: Unit of the magnitude of each quantity of ``semitrack features`` (those of
+#: :class:`semitrack.CentralResponse` and :data:`semitrack.base.conventions.ELEMENT_UNITS`).
+QUANTITY_UNITS: dict[str, str] = {"w1": "m/N", "psi2": "rad/(N m)", "Q2": "N/(N m)", "M1": "N m/N", "det": "N^2",
+                                  **ELEMENT_UNITS}
 
 
 class InputError(ValueError):
@@ -89,7 +99,7 @@ def receptance_csv(track: Track, f: np.ndarray, alpha: np.ndarray, method: str) 
     buf.write(f"# semitrack {__version__}: receptance at the end of the semi-infinite track "
               f"'{track.name}' (method={method})\n")
     units = ", ".join(f"{name} in {ELEMENT_UNITS[name]}" for name in ALL_ELEMENTS)
-    buf.write(f"# units: f in Hz; {units} (1/N = m/(N m) = rad/N); phase in rad\n")
+    buf.write(f"# units: f in Hz; {units} (alpha12 = w/M, alpha21 = psi/Q); phase in rad\n")
     buf.write("# sign convention: w downward, psi clockwise; end force Q downward, end moment M clockwise; "
               "time factor exp(i omega t); [[alpha11, alpha12], [alpha21, alpha22]] = (w, psi) per (Q, M)\n")
     cols = ["f_Hz"] + [f"{name}_{part}" for name in ALL_ELEMENTS for part in ("re", "im", "abs", "phase")]
@@ -102,7 +112,23 @@ def receptance_csv(track: Track, f: np.ndarray, alpha: np.ndarray, method: str) 
     return buf.getvalue()
 
 
-def _plot_receptance(path: Path, track: Track, f: np.ndarray, alpha: np.ndarray) -> None:
+def receptance_figure(track: Track, f: np.ndarray, alpha: np.ndarray) -> Figure:
+    """The figure of ``semitrack receptance --plot``: |alpha11|, |alpha12|, |alpha22| against f.
+
+    Parameters
+    ----------
+    track : Track
+        The track (its name goes in the title).
+    f : ndarray
+        Frequencies (Hz).
+    alpha : ndarray
+        Receptance at ``f``, shape ``(n, 2, 2)``, in the units of
+        :data:`semitrack.base.conventions.ELEMENT_UNITS`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     from matplotlib.figure import Figure  # no pyplot: the CLI selects no backend
 
     fig = Figure(figsize=(10, 3.4), layout="constrained")
@@ -113,6 +139,11 @@ def _plot_receptance(path: Path, track: Track, f: np.ndarray, alpha: np.ndarray)
         ax.set_ylabel(f"|{ELEMENT_TEX[name]}| ({ELEMENT_UNITS[name]})")
         ax.grid(alpha=0.3)
     fig.suptitle(f"Semi-infinite track '{track.name}': end receptance")
+    return fig
+
+
+def _plot_receptance(path: Path, track: Track, f: np.ndarray, alpha: np.ndarray) -> None:
+    fig = receptance_figure(track, f, alpha)
     atomic_write(path, lambda fh: fig.savefig(fh, format="png", dpi=110), binary=True)
 
 
@@ -202,20 +233,102 @@ def cmd_export(args: argparse.Namespace) -> int:
     return 0
 
 
-def cmd_features(args: argparse.Namespace) -> int:
-    from .methods.features import characteristic_frequencies
+def paper_mode_names(track: Track, table: pd.DataFrame) -> list[str]:
+    """The paper's name of the mode of each row of a peaks-and-dips table, or "" where it has none.
 
+    The paper names the modes of its two tracks (Tables 3 and 6, Sec. 4-5); a row gets the name
+    of each of the paper's entries of its quantity and kind whose nearest extremum it is (within
+    10 %, as in :func:`semitrack.paper_frequency_table`). Any other track, even one changed
+    parameter away, gets no names: its modes may have moved or changed order.
+
+    Parameters
+    ----------
+    track : Track
+        The track of the table.
+    table : pandas.DataFrame
+        Columns ``quantity, kind, f`` (Hz), as from :func:`semitrack.characteristic_frequencies`.
+
+    Returns
+    -------
+    list of str
+        One name per row, e.g. ``"first pinned-pinned mode (Table 3)"``; several joined by "; ".
+    """
+    from .paper.frequencies import _nearest, paper_frequencies
+
+    preset = ballasted_track() if track.is_ballasted else slab_track()
+    names = [[] for _ in range(len(table))]
+    if track.replace(name=preset.name) == preset:
+        for f_paper, quantity, kind, source, mode in paper_frequencies(track):
+            f = _nearest(table, quantity, kind, f_paper, rel_window=0.1)
+            rows = np.flatnonzero((table["quantity"] == quantity) & (table["kind"] == kind) & (table["f"] == f))
+            for row in rows:
+                names[row].append(f"{mode} ({source})")
+    return ["; ".join(n) for n in names]
+
+
+def features_table(track: Track, f: np.ndarray, df: float) -> pd.DataFrame:
+    """Peaks and dips of a track's response curves by frequency, with units and the paper's mode names.
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+    f : ndarray
+        The search grid (Hz), at least 3 points, step ``df``.
+    df : float
+        Its step (Hz).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``f_Hz`` (refined), ``f_grid_Hz``, ``quantity``, ``kind``, ``magnitude`` (of the
+        quantity at ``f_Hz``), ``unit`` (of the magnitude) and ``mode`` (:func:`paper_mode_names`),
+        sorted by frequency.
+    """
+    from .methods.features import QUANTITIES, characteristic_frequencies
+
+    table = characteristic_frequencies(track, band=(f[0], f[-1]), df=df)
+    table["unit"] = table["quantity"].map(QUANTITY_UNITS)
+    table["mode"] = paper_mode_names(track, table)
+    table["order"] = table["quantity"].map(QUANTITIES.index)  # ties by the order of QUANTITIES
+    table = table.sort_values(["f", "order"], ignore_index=True)
+    table = table.rename(columns={"f": "f_Hz", "f_grid": "f_grid_Hz"})
+    return table[["f_Hz", "f_grid_Hz", "quantity", "kind", "magnitude", "unit", "mode"]]
+
+
+def cmd_features(args: argparse.Namespace) -> int:
     track = _track(args.track)
     f = frequency_grid(args.fmin, args.fmax, args.df)
     if f.size < 3:
         raise InputError("the frequency grid needs at least 3 points to find peaks and dips")
-    table = characteristic_frequencies(track, band=(f[0], f[-1]), df=args.df)
-    table = table.rename(columns={"f": "f (Hz)", "f_grid": "grid f (Hz)"})
+    table = features_table(track, f, args.df)
     if args.csv:
         sys.stdout.write(table.to_csv(index=False, float_format="%.6g"))
+        return 0
+    print(f"peaks and dips of '{track.name}' between {f[0]:g} and {f[-1]:g} Hz (exact method, refined), "
+          "rows by frequency, each magnitude in its unit")
+    if table["mode"].eq("").all():
+        table = table.drop(columns="mode")
+        print("(modes are named for the paper's two tracks only, as the paper names them)")
     else:
-        print(f"peaks and dips of '{track.name}' between {f[0]:g} and {f[-1]:g} Hz (exact method, refined):")
-        print(table.to_string(index=False, float_format=lambda v: f"{v:.6g}"))
+        width = table["mode"].str.len().max()
+        table["mode"] = table["mode"].str.ljust(width)
+    table = table.rename(columns={"f_Hz": "f (Hz)", "f_grid_Hz": "grid f (Hz)"})
+    print(table.to_string(index=False, float_format=lambda v: f"{v:.6g}"))
+    return 0
+
+
+def cmd_example(args: argparse.Namespace) -> int:
+    names = ", ".join(EXAMPLES)
+    if args.list:
+        for name in EXAMPLES:
+            print(f"{name:<10} {load_track_toml(example_path(name)).name}")
+        return 0
+    if args.name is None:
+        raise InputError(f"name an example: {names} (e.g. semitrack example slab > slab.toml)")
+    if args.name not in EXAMPLES:
+        raise InputError(f"unknown example {args.name!r}; the examples are: {names}")
+    sys.stdout.write(example_path(args.name).read_text())
     return 0
 
 
@@ -231,10 +344,18 @@ def _track_and_grid_arguments(p: argparse.ArgumentParser, step: str) -> None:
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="semitrack", description=(
         "Receptance of a semi-infinite periodic railway track and its equivalent multi-rigid-body "
-        "system. Track files are TOML; see the examples shipped in semitrack/examples."),
-        epilog="Exit codes: 0 success, 2 bad input, 1 unexpected failure.")
+        "system. Track files are TOML; 'semitrack example slab > slab.toml' writes one to start from."),
+        epilog="Exit codes: 0 success, 2 bad input, 1 unexpected failure. "
+               "'semitrack COMMAND --help' shows an example of each command.")
     parser.add_argument("--version", action="version", version=f"semitrack {__version__}")
-    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    sub = parser.add_subparsers(dest="command", title="commands", metavar="COMMAND", parser_class=_Parser)
+
+    p = sub.add_parser("example", help="print a shipped example track file (the paper's tracks)",
+                       formatter_class=argparse.RawDescriptionHelpFormatter,
+                       epilog="examples:\n  semitrack example slab > slab.toml\n  semitrack example --list")
+    p.add_argument("name", nargs="?", help=f"which example: {', '.join(EXAMPLES)}")
+    p.add_argument("--list", action="store_true", help="list the examples")
+    p.set_defaults(func=cmd_example)
 
     p = sub.add_parser("receptance", help="receptance of the semi-infinite track to CSV",
                        formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -292,6 +413,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = parser.parse_args(argv)
     except SystemExit as stop:  # --help, --version, usage errors
         return int(stop.code or 0)
+    if args.command is None:  # a usage error: show what there is to run
+        parser.print_help(sys.stderr)
+        return 2
     try:
         return args.func(args)
     except InputError as err:
