@@ -253,13 +253,13 @@ def paper_mode_names(track: Track, table: pd.DataFrame) -> list[str]:
     list of str
         One name per row, e.g. ``"first pinned-pinned mode (Table 3)"``; several joined by "; ".
     """
-    from .paper.frequencies import _nearest, paper_frequencies
+    from .paper.frequencies import nearest_extremum, paper_frequencies
 
     preset = ballasted_track() if track.is_ballasted else slab_track()
     names = [[] for _ in range(len(table))]
     if track.replace(name=preset.name) == preset:
         for f_paper, quantity, kind, source, mode in paper_frequencies(track):
-            f = _nearest(table, quantity, kind, f_paper, rel_window=0.1)
+            f = nearest_extremum(table, quantity, kind, f_paper, rel_window=0.1)
             rows = np.flatnonzero((table["quantity"] == quantity) & (table["kind"] == kind) & (table["f"] == f))
             for row in rows:
                 names[row].append(f"{mode} ({source})")

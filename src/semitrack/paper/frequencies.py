@@ -30,7 +30,27 @@ def paper_frequencies(track: Track) -> tuple:
     return BALLASTED_FREQUENCIES if track.is_ballasted else SLAB_FREQUENCIES
 
 
-def _nearest(extrema: pd.DataFrame, quantity: str, kind: str, f_paper: float, rel_window: float) -> float:
+def nearest_extremum(extrema: pd.DataFrame, quantity: str, kind: str, f_paper: float, rel_window: float) -> float:
+    """The frequency of the extremum nearest to one the paper reports, or NaN if none is close.
+
+    Parameters
+    ----------
+    extrema : pandas.DataFrame
+        Peaks and dips as :func:`semitrack.characteristic_frequencies` returns them (columns
+        ``quantity``, ``kind``, ``f`` in Hz).
+    quantity, kind : str
+        The curve (e.g. ``"w1"``) and the kind of extremum (``"peak"`` or ``"dip"``).
+    f_paper : float
+        The paper's frequency (Hz).
+    rel_window : float
+        Largest accepted distance, relative to ``f_paper`` (-).
+
+    Returns
+    -------
+    float
+        The nearest extremum's frequency (Hz) of that curve and kind, NaN when none lies within
+        ``rel_window * f_paper``.
+    """
     cand = extrema[(extrema["quantity"] == quantity) & (extrema["kind"] == kind)]
     if cand.empty:
         return np.nan
@@ -73,11 +93,11 @@ def paper_frequency_table(track: Track, with_wavenumber: bool = True, rel_window
     rows = []
     for f_paper, quantity, kind, source, mode in paper_frequencies(track):
         row = {"source": source, "mode": mode, "quantity": quantity, "kind": kind, "paper (Hz)": f_paper}
-        f_ex = _nearest(exact, quantity, kind, f_paper, rel_window)
+        f_ex = nearest_extremum(exact, quantity, kind, f_paper, rel_window)
         row["exact (Hz)"] = f_ex
         row["exact dev. (%)"] = 100 * (f_ex - f_paper) / f_paper
         if wn is not None:
-            f_wn = _nearest(wn, quantity, kind, f_paper, rel_window)
+            f_wn = nearest_extremum(wn, quantity, kind, f_paper, rel_window)
             row["paper's method (Hz)"] = f_wn
             row["paper's method dev. (%)"] = 100 * (f_wn - f_paper) / f_paper
         rows.append(row)
