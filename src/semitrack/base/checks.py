@@ -1,4 +1,9 @@
-"""Input checks shared by the package: each error names the parameter, its value and the rule."""
+"""Input checks shared by the package: each error names the parameter, its value and the rule.
+
+Besides bad values, the checks refuse work that no call can finish in reasonable time and memory
+on a laptop (:func:`check_work`): a mistyped step must fail at once with a message, not after
+minutes of swapping. The limits are module constants, stated in the docstrings that use them.
+"""
 
 from __future__ import annotations
 
@@ -58,20 +63,52 @@ def check_int_at_least(name: str, value: object, minimum: int) -> int:
     return int(value)
 
 
+#: Most frequencies that one call evaluates (~0.1 ms each by the exact method, ~50 ms by the
+#: paper's; the batched solves hold ~1 kB per frequency at a time).
+MAX_FREQUENCIES = 200_000
+
+
+def check_work(size: float, limit: float, request: str, hint: str) -> None:
+    """Refuse a request whose ``size`` (e.g. a number of grid points) exceeds ``limit``.
+
+    Parameters
+    ----------
+    size : float
+        The amount of work asked for (grid points, elements, time steps, ...).
+    limit : float
+        The most the function handles in reasonable time and memory.
+    request : str
+        What was asked, naming the parameter and its value, e.g.
+        ``"df=1e-05 over band (3.0, 3000.0) gives 299700001 grid frequencies"``.
+    hint : str
+        How to ask for less (e.g. ``"use a larger df"``).
+
+    Raises
+    ------
+    ValueError
+        ``"<request>, more than the limit of <limit> (time and memory); <hint>"``.
+    """
+    if not size <= limit:  # also catches NaN
+        raise ValueError(f"{request}, more than the limit of {limit:.0f} (time and memory); {hint}")
+
+
 def as_frequencies(f: ArrayLike, name: str = "f") -> np.ndarray:
     """Frequencies in Hz as a float array (any shape); all must be positive and finite.
+
+    At most :data:`MAX_FREQUENCIES` of them per call.
 
     Raises
     ------
     TypeError
-        If ``f`` is not numeric.
+        If ``f`` is not numeric: strings, booleans and None are refused, as for track parameters.
     ValueError
-        If ``f`` is empty or any value is <= 0, NaN or infinite.
+        If ``f`` is empty, holds too many frequencies, or any value is <= 0, NaN or infinite.
     """
-    try:
-        arr = np.asarray(f, dtype=float)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name} must be a number or an array of numbers in Hz, got {f!r}") from None
+    raw = np.asarray(f) if f is not None else np.asarray(None, dtype=object)
+    if raw.dtype.kind not in "iuf":
+        raise TypeError(f"{name} must be a number or an array of numbers in Hz, got {f!r}")
+    arr = raw.astype(float)
+    check_work(arr.size, MAX_FREQUENCIES, f"{name} holds {arr.size} frequencies", "split them over several calls")
     if arr.size == 0:
         raise ValueError(f"{name} must hold at least one frequency, got an empty array")
     bad = ~(np.isfinite(arr) & (arr > 0))
@@ -86,9 +123,12 @@ def as_frequencies(f: ArrayLike, name: str = "f") -> np.ndarray:
 def check_band(band: ArrayLike, name: str = "band") -> tuple[float, float]:
     """A frequency band ``(f_lo, f_hi)`` in Hz with ``0 < f_lo < f_hi``, both finite."""
     try:
-        lo, hi = (float(b) for b in band)
+        lo, hi = band
     except (TypeError, ValueError):
-        raise TypeError(f"{name} must be a pair of frequencies (f_lo, f_hi) in Hz, got {band!r}") from None
+        lo = hi = None
+    if not (_is_real_number(lo) and _is_real_number(hi)):
+        raise TypeError(f"{name} must be a pair of frequencies (f_lo, f_hi) in Hz, got {band!r}")
+    lo, hi = float(lo), float(hi)
     if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
         raise ValueError(f"{name} must satisfy 0 < {name}[0] < {name}[1] (finite, Hz), got {band!r}")
     return lo, hi

@@ -35,7 +35,7 @@ import scipy.sparse as sp
 from numpy.typing import ArrayLike
 from scipy.sparse.linalg import splu
 
-from ..base.checks import as_frequencies, check_choice, check_int_at_least, check_real
+from ..base.checks import as_frequencies, check_choice, check_int_at_least, check_real, check_work
 from ..boundary.fitting import BroadbandBoundary
 from ..equivalent.systems import EquivalentSystem
 from ..methods.transfer import end_stiffness
@@ -57,6 +57,9 @@ __all__ = [
     "fe_central_receptance",
 ]
 
+#: Most rail elements of one model: ~400 k DOFs, whose sparse factorisation takes ~0.5 s per
+#: frequency (the book's longest reference track has 19 200).
+MAX_ELEMENTS = 200_000
 #: End conditions of a finite track model.
 ENDS = ("pinned", "free", "equivalent", "boundary", "exact")
 End = Literal["pinned", "free", "equivalent", "boundary", "exact"]
@@ -138,6 +141,7 @@ class FETrack:
         Number of elements per support spacing; even (>= 2), so that mid-spans are nodes. The
         FE error is second order in the element length; with 12 (the default) the discretisation
         error of w1 and alpha over 3-3000 Hz has a median of 0.25-0.4 % (8: 0.6-0.9 %).
+        ``elements_per_bay * (n_left + n_right)`` may not exceed :data:`MAX_ELEMENTS` (200 000).
 
     Attributes
     ----------
@@ -168,6 +172,9 @@ class FETrack:
         if ne % 2:
             raise ValueError(f"elements_per_bay must be even (mid-spans are nodes), got {ne}")
         self.elements_per_bay = ne
+        n_elements = ne * (self.n_left + self.n_right)
+        check_work(n_elements, MAX_ELEMENTS, f"{self.n_left + self.n_right} bays (n_bays, or n_left + n_right) x "
+                   f"elements_per_bay = {ne} give {n_elements} elements", "use fewer bays or elements per bay")
         _check_system(self.left, self.right, system, self.n_left + self.n_right)
         self.system = system
         self.mesh: Mesh = bay_mesh(track.spacing, self.n_left, self.n_right, ne)

@@ -39,7 +39,7 @@ import scipy.sparse as sp
 from numpy.typing import ArrayLike
 from scipy.sparse.linalg import splu
 
-from ..base.checks import check_int_at_least, check_positive, check_real
+from ..base.checks import check_int_at_least, check_positive, check_real, check_work
 from .models import BoundaryAttachment, FETrack
 
 __all__ = [
@@ -52,6 +52,10 @@ __all__ = [
     "SPEED_300_KMH",
 ]
 
+#: Most steps x DOFs of one integration (~50 ns each: 5e9 ~ 4 min).
+MAX_STEP_DOFS = 5_000_000_000
+#: Most recorded values, (n_steps + 1) x outputs (8 bytes each: 2e8 ~ 1.6 GB).
+MAX_RECORDED = 200_000_000
 #: 300 km/h in m/s.
 SPEED_300_KMH = 300.0 / 3.6
 
@@ -111,7 +115,9 @@ def newmark(M: ArrayLike | sp.spmatrix, C: ArrayLike | sp.spmatrix, K: ArrayLike
     dt : float
         Constant time step (s).
     n_steps : int
-        Number of steps; the histories hold ``n_steps + 1`` times including t = 0.
+        Number of steps; the histories hold ``n_steps + 1`` times including t = 0. ``n_steps``
+        times the number of DOFs may not exceed :data:`MAX_STEP_DOFS` (5e9), nor ``n_steps + 1``
+        times the number of outputs :data:`MAX_RECORDED` (2e8).
     outputs : None, sequence of int, matrix or callable
         What to record: ``None`` all DOFs; DOF indices; an ``(n_out, n)`` matrix (e.g.
         :meth:`FETrack.output_matrix`); or ``outputs(t, u) -> (n_out,)`` for outputs that move
@@ -148,6 +154,8 @@ def newmark(M: ArrayLike | sp.spmatrix, C: ArrayLike | sp.spmatrix, K: ArrayLike
     K = _as_operator("K", K, n)
     dt = check_positive("dt", dt)
     n_steps = check_int_at_least("n_steps", n_steps, 1)
+    check_work(n_steps * n, MAX_STEP_DOFS, f"n_steps = {n_steps} steps x {n} DOFs give {n_steps * n} step-DOFs",
+               "use a larger dt, a shorter duration or a smaller model")
     gamma = check_real("gamma", gamma)
     beta = check_real("beta", beta)
     if gamma < 0.5 or beta < 0.25 * (gamma + 0.5) ** 2 - 1e-15:
@@ -162,6 +170,8 @@ def newmark(M: ArrayLike | sp.spmatrix, C: ArrayLike | sp.spmatrix, K: ArrayLike
     t = dt * np.arange(n_steps + 1)
     force = _load_function(load, n, n_steps, t)
     record, n_out, labels = _recorder(outputs, n)
+    check_work((n_steps + 1) * n_out, MAX_RECORDED, f"n_steps = {n_steps} steps x {n_out} outputs give "
+               f"{(n_steps + 1) * n_out} recorded values", "record fewer outputs (outputs=...) or fewer steps")
 
     u = np.zeros(n) if u0 is None else _vector("u0", u0, n)
     v = np.zeros(n) if v0 is None else _vector("v0", v0, n)

@@ -15,7 +15,7 @@ import pandas as pd
 from numpy.typing import ArrayLike
 from scipy.optimize import minimize_scalar
 
-from ..base.checks import as_frequencies, check_band, check_choice, check_positive
+from ..base.checks import MAX_FREQUENCIES, as_frequencies, check_band, check_choice, check_positive, check_work
 from ..base.conventions import ELEMENTS
 from ..base.paper_values import PAPER_GRID_BAND, PAPER_GRID_STEP
 from ..model.tracks import PeriodicCell, Track
@@ -160,7 +160,8 @@ def characteristic_frequencies(track: Track | PeriodicCell, band: tuple[float, f
     band : tuple of float
         ``(f_lo, f_hi)`` of the search grid (Hz); the paper's grid by default (3-3000 Hz).
     df : float
-        Step of the search grid (Hz); the paper's 6 Hz by default.
+        Step of the search grid (Hz); the paper's 6 Hz by default. The grid may hold at most
+        :data:`semitrack.base.checks.MAX_FREQUENCIES` (200 000) frequencies.
 
     Returns
     -------
@@ -169,6 +170,9 @@ def characteristic_frequencies(track: Track | PeriodicCell, band: tuple[float, f
     """
     lo, hi = check_band(band)
     df = check_positive("df", df)
+    n_grid = np.floor((hi - lo) / df + 1e-9) + 1
+    check_work(n_grid, MAX_FREQUENCIES, f"df={df!r} over band {(lo, hi)} gives {n_grid:.0f} grid frequencies",
+               "use a larger df")
     f = np.arange(lo, hi + 1e-9, df)
     if f.size < 3:
         raise ValueError(f"band {band!r} with df={df!r} gives fewer than 3 grid points; use a smaller df")

@@ -207,8 +207,8 @@ def point_receptance(track: Track | PeriodicCell, f: ArrayLike, x: float = 0.0) 
     f : array_like
         Frequencies (Hz).
     x : float
-        Position of load and response, measured from a support (m); any real value, the track
-        being periodic. ``x = spacing / 2`` is mid-span.
+        Position of load and response, measured from a support (m); any finite value within 1e9
+        periods of the origin, the track being periodic. ``x = spacing / 2`` is mid-span.
 
     Returns
     -------
@@ -228,5 +228,10 @@ def point_receptance(track: Track | PeriodicCell, f: ArrayLike, x: float = 0.0) 
     """
     f = as_frequencies(f)
     cell = require_cell(track)
-    x = check_real("x", x) % cell.period
+    x = check_real("x", x)
+    # Beyond 1e9 periods a double cannot place x within the period to better than ~1e-7 of it.
+    if not abs(x) <= 1e9 * cell.period:
+        raise ValueError(f"x must be finite and within 1e9 periods ({1e9 * cell.period:.3g} m) of the "
+                         f"origin, got {x!r}: the track is periodic, give x modulo the period")
+    x = x % cell.period
     return infinite_receptance(cell, 2 * np.pi * f.ravel(), x).reshape(f.shape + (2, 2))

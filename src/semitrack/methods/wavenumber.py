@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import check_int_at_least, check_positive
+from ..base.checks import check_int_at_least, check_positive, check_work
 
 # The paper's settings (Sec. 4.1), kept importable from here as well.
 from ..base.paper_values import PAPER_BETA_MAX, PAPER_DBETA, PAPER_DX, PAPER_J_MAX
@@ -35,6 +35,12 @@ from ..model.tracks import PeriodicCell
 __all__ = ["PAPER_BETA_MAX", "PAPER_DBETA", "PAPER_DX", "PAPER_J_MAX", "WavenumberSettings", "central_quantities",
            "displacement_fields", "odd_slope"]
 
+
+#: Most terms (2 j_max + 1) x (2 beta_max / dbeta) of Eq. (12) per frequency: each holds ~128 bytes
+#: while its frequency is summed (1.6e7 terms ~ 2 GB; the paper's settings use 4.1e5).
+MAX_TERMS_PER_FREQUENCY = 16_000_000
+#: Most terms per call, over all frequencies (~1.4e7 terms/s on one core: 1e10 ~ 12 min).
+MAX_TERMS = 10_000_000_000
 
 @dataclass(frozen=True)
 class WavenumberSettings:
@@ -95,6 +101,9 @@ def displacement_fields(cell: PeriodicCell, omega: ArrayLike, x_rel: ArrayLike,
     chunk_bytes : float
         Rough memory budget of one frequency chunk (bytes).
 
+    The work is refused beyond :data:`MAX_TERMS_PER_FREQUENCY` terms per frequency or
+    :data:`MAX_TERMS` in all (ValueError).
+
     Returns
     -------
     ndarray, shape (n, p, 2, 2)
@@ -118,6 +127,11 @@ def displacement_fields(cell: PeriodicCell, omega: ArrayLike, x_rel: ArrayLike,
     omega = np.atleast_1d(np.asarray(omega, dtype=float))
     x_rel = np.atleast_1d(np.asarray(x_rel, dtype=float))
     x0 = cell.mid_span if x0 is None else float(x0)
+    n_terms = (2 * settings.j_max + 1) * settings.beta.size  # terms of the sum over (j, beta)
+    check_work(n_terms, MAX_TERMS_PER_FREQUENCY, f"beta_max/dbeta/j_max = {settings.beta_max!r}/{settings.dbeta!r}/"
+               f"{settings.j_max!r} give {n_terms} terms per frequency", "use a larger dbeta or a smaller beta_max")
+    check_work(n_terms * omega.size, MAX_TERMS, f"{omega.size} frequencies x {n_terms} terms give "
+               f"{n_terms * omega.size} terms", "use fewer frequencies or coarser settings")
     grid = _Grid(cell, settings, x_rel, x0)
     # Three (J, N) component arrays of D(beta_j)^-1 per frequency, plus their temporaries.
     per_freq = 16 * grid.beta_j.size * 8

@@ -1,0 +1,72 @@
+"""Runaway work and wrong-typed input are refused at once, with a message naming the parameter.
+
+Each case was found by trying the package as a careless user would (a mistyped step, a huge
+model); before the limits some of them grew to tens of GB or ran for hours.
+"""
+
+import time
+
+import numpy as np
+import pytest
+
+import semitrack as st
+from semitrack.base.checks import MAX_FREQUENCIES, check_band
+from semitrack.fe.timedomain import newmark
+
+SLAB = st.slab_track()
+
+
+def _no_load(t):
+    return np.zeros(1)
+
+
+RUNAWAY = {
+    "search grid df=1e-5": (lambda: st.characteristic_frequencies(SLAB, band=(3, 3000), df=1e-5),
+                            r"df=1e-05 over band \(3.0, 3000.0\) gives 299700001 grid frequencies"),
+    "too many frequencies": (lambda: st.semi_infinite_receptance(SLAB, np.arange(1.0, MAX_FREQUENCIES + 2)),
+                             r"f holds 200001 frequencies"),
+    "wavenumber beta_max x100": (lambda: st.semi_infinite_receptance(SLAB, [100.0], method="wavenumber",
+                                                                      beta_max=7854.0),
+                                 r"beta_max/dbeta/j_max = 7854.0/.* terms per frequency"),
+    "wavenumber sweep too long": (lambda: st.semi_infinite_receptance(SLAB, np.arange(1.0, 30001.0),
+                                                                       method="wavenumber", beta_max=785.4),
+                                  r"30000 frequencies x 4100000 terms"),
+    "100000 bays": (lambda: st.TruncatedTrack(SLAB, 100_000), r"200000 bays \(n_bays, or n_left \+ n_right\)"),
+    "1e10 time steps": (lambda: newmark([[1.0]], [[0.0]], [[1.0]], _no_load, 1e-9, 10**10),
+                        r"n_steps = 10000000000 steps x 1 DOFs"),
+    "recording 3e8 values": (lambda: newmark(np.eye(1000), np.zeros((1000, 1000)), np.eye(1000),
+                                             lambda t: np.zeros(1000), 1e-3, 300_000),
+                             r"n_steps = 300000 steps x 1000 outputs"),
+}
+
+
+@pytest.mark.parametrize("case", RUNAWAY)
+def test_runaway_work_is_refused_at_once(case):
+    call, message = RUNAWAY[case]
+    start = time.perf_counter()
+    with pytest.raises(ValueError, match=message + r".*more than the limit of \d+ \(time and memory\); "):
+        call()
+    assert time.perf_counter() - start < 2.0  # refused before any of the work (generous for a busy CI)
+
+
+@pytest.mark.parametrize("f", [True, [True, False], "100", ["3", "900"], None, [None], object()])
+def test_frequencies_must_be_numbers_as_track_parameters_are(f):
+    with pytest.raises(TypeError, match=r"f must be a number or an array of numbers in Hz, got "):
+        st.semi_infinite_receptance(SLAB, f)
+
+
+@pytest.mark.parametrize("band", [("3", "900"), (True, 900.0), 900.0, (3.0,), None])
+def test_bands_must_be_pairs_of_numbers(band):
+    with pytest.raises(TypeError, match=r"band must be a pair of frequencies \(f_lo, f_hi\) in Hz"):
+        check_band(band)
+    assert check_band((np.float64(3.0), 900)) == (3.0, 900.0)
+
+
+@pytest.mark.parametrize("x", [np.nan, np.inf, -np.inf, 1e308])
+def test_point_receptance_refuses_positions_it_cannot_resolve(x):
+    with pytest.raises(ValueError, match=r"x must be finite and within 1e9 periods"):
+        st.point_receptance(SLAB, [100.0], x=x)
+    # Far but resolvable positions are periodic images.
+    far = 1e6 * SLAB.spacing + 0.1
+    np.testing.assert_allclose(st.point_receptance(SLAB, [100.0], x=far),
+                               st.point_receptance(SLAB, [100.0], x=far % SLAB.spacing), rtol=1e-6)
