@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import scipy.io
 
-from ..equivalent.io import atomic_write
+from ..base.files import atomic_write
 from ..equivalent.metrics import ErrorSummary
 from .fitting import BroadbandBoundary
 from .passivity import passivity_report

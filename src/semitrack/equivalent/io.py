@@ -50,15 +50,14 @@ import csv
 import io as _io
 import json
 import os
-import tempfile
 import warnings
-from collections.abc import Callable
 from pathlib import Path
-from typing import IO, Any, Literal
+from typing import Any, Literal
 
 import numpy as np
 import scipy.io
 
+from ..base.files import atomic_write
 from .systems import PARAMETER_UNITS, EquivalentSystem
 
 __all__ = [
@@ -103,44 +102,6 @@ def _check_path(path) -> Path:
     if not isinstance(path, (str, os.PathLike)):
         raise TypeError(f"path must be a str or os.PathLike, got {type(path).__name__}")
     return Path(path)
-
-
-def atomic_write(path: str | os.PathLike, write: Callable[[IO], Any], binary: bool) -> Path:
-    """Call ``write(fh)`` on a temporary file next to ``path``, then move it onto ``path``.
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The file to (re)place; its folder must exist.
-    write : callable
-        Writes the content to the open file object it is given.
-    binary : bool
-        Open the temporary file in binary mode (else text, UTF-8, no newline translation).
-
-    Returns
-    -------
-    Path
-        ``path``. On any error the temporary file is removed and ``path`` is left as it was.
-    """
-    path = _check_path(path)
-    folder = path.parent if str(path.parent) else Path(".")
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
-    try:
-        with os.fdopen(fd, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8", "newline": ""})) as fh:
-            write(fh)
-            fh.flush()
-            os.fsync(fh.fileno())
-        # mkstemp creates the file private (0600); give it the mode of the file it replaces,
-        # or the usual rw-r--r--.
-        os.chmod(tmp, path.stat().st_mode & 0o777 if path.exists() else 0o644)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
-    return path
 
 
 def _check_matrices(system: EquivalentSystem, stored: dict, source: str) -> None:
