@@ -29,9 +29,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
-from threadpoolctl import threadpool_limits
 
 from ..base.checks import check_band, check_int_at_least, check_positive
+from ..base.threads import serial_blas
 from ..equivalent.metrics import ErrorSummary, error_band_grid, error_summary
 from ..methods.receptance import semi_infinite_receptance
 from ..model.tracks import Track, require_track
@@ -296,7 +296,7 @@ def fit_boundary(track: Track, band: tuple[float, float] = (3.0, 3000.0), n_pole
         return min(results, key=lambda r: (not passivity_report(r[0]), r[1].max))
 
     # Many small dense solves: threaded BLAS only adds contention (as in fit_equivalent).
-    with threadpool_limits(limits=1, user_api="blas"):
+    with serial_blas():
         results = _search_orders(orders, fit_order, tol)
     best = _choose(results)
     model, err, rounds = results[best]

@@ -21,8 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import OptimizeResult, least_squares
-from threadpoolctl import threadpool_limits
 
+from ..base.threads import serial_blas
 from .parametrisation import FitParametrisation
 from .residuals import Residuals
 from .systems import EquivalentSystem
@@ -109,7 +109,7 @@ def run_multistart(problem: Residuals, starts: list[np.ndarray], max_nfev: int) 
     """
     model = problem.model
     kw = dict(jac=problem.jac, bounds=(model.lower, model.upper), method="trf", x_scale="jac")
-    with threadpool_limits(limits=1, user_api="blas"):
+    with serial_blas():
         screened = [least_squares(problem.fun, s, max_nfev=min(_SCREEN_NFEV, max_nfev), **kw) for s in starts]
         start_costs = np.array([r.cost for r in screened])
         best, best_i = None, -1

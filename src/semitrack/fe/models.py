@@ -36,6 +36,7 @@ from numpy.typing import ArrayLike
 from scipy.sparse.linalg import splu
 
 from ..base.checks import as_frequencies, check_choice, check_int_at_least, check_real, check_work
+from ..base.threads import serial_blas
 from ..boundary.fitting import BroadbandBoundary
 from ..equivalent.systems import EquivalentSystem
 from ..methods.transfer import end_stiffness
@@ -426,9 +427,10 @@ class FETrack:
         exact = self._exact_blocks(omega)
         out = np.empty((f.size, self.n_dof, rhs.shape[1]), dtype=complex)
         rhs_c = np.ascontiguousarray(rhs, dtype=complex)
-        for i, w in enumerate(omega):
-            k = k0 if hysteretic else self._complex_k_data(f[i])
-            out[i] = _symmetric_lu(self._csc(self._z_data(k, w, exact, i))).solve(rhs_c)
+        with serial_blas():  # one sparse LU per frequency: threads only contend
+            for i, w in enumerate(omega):
+                k = k0 if hysteretic else self._complex_k_data(f[i])
+                out[i] = _symmetric_lu(self._csc(self._z_data(k, w, exact, i))).solve(rhs_c)
         return out
 
     def receptance(self, f: ArrayLike, x: float = 0.0) -> np.ndarray:
