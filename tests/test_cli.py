@@ -237,7 +237,7 @@ def test_bad_track_values(tmp_path, old, new, words):
 
 @pytest.mark.parametrize("args,words", [
     (["--fmin", 50, "--fmax", 10], ["--fmin must not exceed --fmax"]),
-    (["--fmin", "abc"], ["--fmin", "invalid float value"]),
+    (["--fmin", "abc"], ["--fmin", "invalid number value", "abc"]),
     (["--df", 0], ["--df must be positive"]),
 ])
 def test_bad_frequency_arguments(slab_file, tmp_path, args, words):
@@ -247,7 +247,7 @@ def test_bad_frequency_arguments(slab_file, tmp_path, args, words):
 
 
 def test_bad_fit_and_export_inputs(slab_file, tmp_path):
-    assert_bad_input(run("fit", slab_file, "--band", 500, 100, "-o", tmp_path / "s.json"), "--band", "500.0")
+    assert_bad_input(run("fit", slab_file, "--band", 500, 100, "-o", tmp_path / "s.json"), "--band", "[500, 100]")
     assert_bad_input(run("fit", slab_file, "--band", 3, 100, "--bars", 0, "-o", tmp_path / "s.json"), "--bars")
     assert_bad_input(run("fit", slab_file, "--band", 100, 100, "-o", tmp_path / "s.json"), "--band")
     assert_bad_input(run("fit", slab_file, "--band", 3, 100, "--seed", -1, "-o", tmp_path / "s.json"), "--seed")

@@ -1,16 +1,29 @@
 """The ``semitrack`` command-line program: example, receptance, fit, export, features.
 
 Exit codes: 0 success, 2 bad input (a one-line message on stderr, no traceback), 1 unexpected
-failure (with a traceback, so that it can be reported). Results go to files written atomically
-or to stdout; progress goes to stderr, and only when stderr is a terminal.
+failure (with a traceback, so that it can be reported), 130 interrupted (Ctrl-C, SIGINT), 143
+terminated (SIGTERM). Results go to files written atomically or to stdout; progress goes to
+stderr, and only when stderr is a terminal.
+
+Bad input is whatever the package refuses: a :class:`ValueError` raised by the package's own code
+(its checks name the parameter, the value and the rule; a ValueError from a library it calls is
+a failure), an input or output file that cannot be read or written (:class:`OSError`), and the
+command line's own checks. Every output path is checked before the work starts
+(:func:`semitrack.base.files.check_output_path`), and the files are written by
+:func:`semitrack.base.files.atomic_write`: a symbolic link is written through, a FIFO, device or
+directory is refused, and an interruption leaves no temporary file.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import io
+import json
 import os
+import signal
 import sys
+import threading
 import traceback
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -19,10 +32,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from . import __version__
-from .base.checks import check_band, check_int_at_least, check_positive
+from .base.checks import MAX_FREQUENCIES, check_band, check_int_at_least, check_positive
 from .base.conventions import ALL_ELEMENTS, ELEMENT_TEX, ELEMENT_UNITS, ELEMENTS
+from .base.files import atomic_write, check_output_path, read_text
 from .base.paper_values import FIT_BANDS, PAPER_GRID_BAND, PAPER_GRID_STEP
-from .equivalent.io import atomic_write, export_system, load_system_json, save_system_json
+from .equivalent.io import export_system, save_system_json, system_from_dict
 from .model.trackfile import EXAMPLES, TrackFileError, example_path, load_track_toml
 from .model.tracks import Track, ballasted_track, slab_track
 from .progress import Progress
@@ -31,9 +45,17 @@ if TYPE_CHECKING:  # imported when used, so that --help and bad input answer fas
     import pandas as pd
     from matplotlib.figure import Figure
 
-#: Largest frequency grid the CLI accepts (a guard against a mistyped --df).
-MAX_FREQUENCIES = 200_000
+    from .equivalent.systems import EquivalentSystem
+
+#: Highest frequency the CLI accepts (Hz): far above where a beam model of a rail holds, and far
+#: below where omega = 2 pi f overflows.
+MAX_FREQUENCY = 1e6
 BLOCK = 50  # frequencies per progress step
+#: Formats of ``receptance --plot``, by file suffix (matplotlib's names).
+PLOT_FORMATS = ("png", "pdf", "svg")
+#: Largest system file ``export`` reads (bytes): a system of 100 bars takes ~1 MB.
+MAX_SYSTEM_BYTES = 50_000_000
+PACKAGE_DIR = Path(__file__).resolve().parent
 
 #: Unit of the magnitude of each quantity of ``semitrack features`` (those of
 #: :class:`semitrack.CentralResponse` and :data:`semitrack.base.conventions.ELEMENT_UNITS`).
@@ -43,6 +65,10 @@ QUANTITY_UNITS: dict[str, str] = {"w1": "m/N", "psi2": "rad/(N m)", "Q2": "N/(N 
 
 class InputError(ValueError):
     """Bad input from the command line or an input file: reported with exit code 2."""
+
+
+class Terminated(BaseException):
+    """SIGTERM, raised in the main thread so that ``finally`` blocks (temporary files) run; exit 143."""
 
 
 class _Parser(argparse.ArgumentParser):
@@ -61,16 +87,41 @@ def checked(check: Callable, *args):
         raise InputError(str(err)) from None
 
 
+class Typed(float):
+    """A number from the command line that messages quote as it was typed (``1e309``, not ``inf``)."""
+
+    def __new__(cls, text: str):
+        number = super().__new__(cls, text)
+        number.text = text.strip()
+        return number
+
+    def __repr__(self) -> str:
+        return self.text
+
+
+def number(text: str) -> Typed:
+    """argparse's converter of numbers (its error reads "invalid number value: 'abc'")."""
+    return Typed(text)
+
+
+def frequency(name: str, value: float) -> float:
+    """A frequency from the command line (Hz): positive, finite and at most :data:`MAX_FREQUENCY`."""
+    checked(check_positive, name, value)
+    if value > MAX_FREQUENCY:
+        raise InputError(f"{name} must be at most {MAX_FREQUENCY:g} Hz, got {value!r}")
+    return float(value)
+
+
 def frequency_grid(fmin: float, fmax: float, df: float) -> np.ndarray:
     """The grid fmin, fmin + df, ... up to fmax inclusive (Hz); checks the three numbers."""
-    fmin, fmax, df = (checked(check_positive, name, value) for name, value in
-                      (("--fmin", fmin), ("--fmax", fmax), ("--df", df)))
-    if fmin > fmax:
+    checked(check_positive, "--df", df)
+    if frequency("--fmin", fmin) > frequency("--fmax", fmax):
         raise InputError(f"--fmin must not exceed --fmax, got fmin={fmin!r} > fmax={fmax!r}")
-    n = int(np.floor((fmax - fmin) / df + 1e-9)) + 1
+    fmin, fmax, df = float(fmin), float(fmax), float(df)
+    n = np.floor((fmax - fmin) / df + 1e-9) + 1  # a float: a tiny --df makes it huge (or inf)
     if n > MAX_FREQUENCIES:
-        raise InputError(f"the grid would hold {n} frequencies (more than {MAX_FREQUENCIES}); increase --df")
-    return fmin + df * np.arange(n)
+        raise InputError(f"the grid would hold {n:.3g} frequencies (more than {MAX_FREQUENCIES}); increase --df")
+    return fmin + df * np.arange(int(n))
 
 
 def _track(path: str) -> Track:
@@ -80,11 +131,60 @@ def _track(path: str) -> Track:
         raise InputError(str(err)) from None
 
 
-def _output_path(path: str) -> Path:
-    out = Path(path)
-    if not out.parent.exists():
-        raise InputError(f"output folder {str(out.parent)!r} does not exist")
-    return out
+def output_paths(*named: tuple[str, str | None]) -> list[Path | None]:
+    """Check every output file before the work starts: each writable, no file named twice.
+
+    Parameters
+    ----------
+    *named : tuple of (str, str or None)
+        ``(option, path)`` pairs, e.g. ``("-o", "alpha.csv")``; a None path (not asked for) is skipped.
+
+    Returns
+    -------
+    list of Path or None
+        The paths as given, in order (None where none was given).
+    """
+    seen: dict[Path, str] = {}
+    for option, path in named:
+        if path is None:
+            continue
+        target = checked(check_output_path, path, option)
+        if target.resolve() in seen:
+            raise InputError(f"{option} and {seen[target.resolve()]} name the same file {path!r}: name two files")
+        seen[target.resolve()] = option
+    return [None if path is None else Path(path) for _, path in named]
+
+
+def plot_format(path: Path) -> str:
+    """The format of ``--plot`` from its file suffix, one of :data:`PLOT_FORMATS`."""
+    suffix = path.suffix.lower().lstrip(".")
+    if suffix not in PLOT_FORMATS:
+        raise InputError(f"--plot {str(path)!r}: cannot tell the format from its suffix; name a "
+                         f"{', '.join('.' + f for f in PLOT_FORMATS)} file")
+    return suffix
+
+
+def stdout():
+    """sys.stdout, to write results to; refused (exit 2) before any work when it is closed."""
+    if sys.stdout is None:  # started with stdout closed (e.g. `>&-`)
+        raise InputError("stdout is closed: there is nowhere to write the results (redirect it, e.g. > out.csv)")
+    return sys.stdout
+
+
+def emit(text: str) -> None:
+    """Write results to stdout; a full disk or another write error is bad input (exit 2)."""
+    try:
+        stdout().write(text)
+        stdout().flush()
+    except BrokenPipeError:
+        raise
+    except OSError as err:
+        raise InputError(f"cannot write to stdout ({err.strerror})") from None
+
+
+def printable(text: str) -> str:
+    """``text`` with its line breaks and other control characters escaped (``\\n``): one line."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
 # ------------------------------------------------------------------------------------------
@@ -97,7 +197,7 @@ def receptance_csv(track: Track, f: np.ndarray, alpha: np.ndarray, method: str) 
     """
     buf = io.StringIO()
     buf.write(f"# semitrack {__version__}: receptance at the end of the semi-infinite track "
-              f"'{track.name}' (method={method})\n")
+              f"'{printable(track.name)}' (method={method})\n")
     units = ", ".join(f"{name} in {ELEMENT_UNITS[name]}" for name in ALL_ELEMENTS)
     buf.write(f"# units: f in Hz; {units} (alpha12 = w/M, alpha21 = psi/Q); phase in rad\n")
     buf.write("# sign convention: w downward, psi clockwise; end force Q downward, end moment M clockwise; "
@@ -144,7 +244,7 @@ def receptance_figure(track: Track, f: np.ndarray, alpha: np.ndarray) -> Figure:
 
 def _plot_receptance(path: Path, track: Track, f: np.ndarray, alpha: np.ndarray) -> None:
     fig = receptance_figure(track, f, alpha)
-    atomic_write(path, lambda fh: fig.savefig(fh, format="png", dpi=110), binary=True)
+    atomic_write(path, lambda fh: fig.savefig(fh, format=plot_format(path), dpi=110), binary=True)
 
 
 def cmd_receptance(args: argparse.Namespace) -> int:
@@ -152,8 +252,11 @@ def cmd_receptance(args: argparse.Namespace) -> int:
 
     track = _track(args.track)
     f = frequency_grid(args.fmin, args.fmax, args.df)
-    out = None if args.output == "-" else _output_path(args.output)
-    plot = _output_path(args.plot) if args.plot else None
+    out, plot = output_paths(("-o", None if args.output == "-" else args.output), ("--plot", args.plot))
+    if plot is not None:
+        plot_format(plot)
+    if out is None:
+        stdout()
     progress = Progress("receptance", int(np.ceil(f.size / BLOCK)), quiet=args.quiet)
     blocks = []
     for n, start in enumerate(range(0, f.size, BLOCK), start=1):
@@ -163,7 +266,7 @@ def cmd_receptance(args: argparse.Namespace) -> int:
     alpha = np.concatenate(blocks)
     text = receptance_csv(track, f, alpha, args.method)
     if out is None:
-        sys.stdout.write(text)
+        emit(text)
     else:
         atomic_write(out, lambda fh: fh.write(text), binary=False)
     if plot is not None:
@@ -174,8 +277,9 @@ def cmd_receptance(args: argparse.Namespace) -> int:
 def cmd_fit(args: argparse.Namespace) -> int:
     track = _track(args.track)
     fmin, fmax = checked(check_band, args.band, "--band")
+    frequency("--band", args.band[1])
     checked(check_int_at_least, "--seed", args.seed, 0)
-    out = _output_path(args.output)
+    (out,) = output_paths(("-o", args.output))
     if args.boundary:
         return _fit_boundary(args, track, (fmin, fmax), out)
     from .equivalent.fitting import fit_equivalent
@@ -189,7 +293,8 @@ def cmd_fit(args: argparse.Namespace) -> int:
     progress.update(1)
     progress.close()
     save_system_json(fit.system, out)
-    print(f"fitted a {layout} equivalent system with {args.bars} bars to '{track.name}' over {fmin:g}-{fmax:g} Hz")
+    print(f"fitted a {layout} equivalent system with {args.bars} bars to '{printable(track.name)}' over "
+          f"{fmin:g}-{fmax:g} Hz")
     print(f"median relative error {fit.median_error:.4f}, maximum {fit.max_error:.4f} ({', '.join(ELEMENTS)})")
     print(f"written to {out}")
     return 0
@@ -211,19 +316,72 @@ def _fit_boundary(args: argparse.Namespace, track: Track, band: tuple[float, flo
     progress.close()
     save_boundary(bnd, out)
     proof = "proven passive" if bnd.passivity else "NOT passive"
-    print(f"fitted a broadband boundary with {bnd.n_poles} poles to '{track.name}' over {band[0]:g}-{band[1]:g} Hz "
+    print(f"fitted a broadband boundary with {bnd.n_poles} poles to '{printable(track.name)}' over "
+          f"{band[0]:g}-{band[1]:g} Hz "
           f"({proof})")
     print(f"median relative error {bnd.median_error:.4f}, maximum {bnd.max_error:.4f} ({', '.join(ELEMENTS)})")
     print(f"written to {out}")
     return 0
 
 
-def cmd_export(args: argparse.Namespace) -> int:
+def _system_data(path: str) -> dict:
+    """The JSON object of a system file, its ``parameters`` and ``matrices`` objects of entries.
+
+    :func:`semitrack.equivalent.io.system_from_dict` reads the entries; this checks the structure
+    it takes for granted, so that a hand-edited file gets a message naming the file and the key.
+    """
     try:
-        system = load_system_json(args.system)
-    except (OSError, ValueError, TypeError, KeyError) as err:
-        raise InputError(f"{args.system}: cannot load the system: {err}") from None
-    out = _output_path(args.output)
+        text = read_text(path, MAX_SYSTEM_BYTES, "system file")
+    except OSError as err:
+        raise InputError(f"{path}: cannot read the system file ({err.strerror})") from None
+    try:
+        data = json.loads(text)
+    except RecursionError:
+        raise InputError(f"{path}: not a system file: its objects or arrays are nested too deeply") from None
+    except ValueError as err:
+        raise InputError(f"{path}: not a JSON file: {err}") from None
+    if not isinstance(data, dict):
+        raise InputError(f"{path}: not a system file: it must hold a JSON object, got {type(data).__name__}")
+    for key in ("parameters", "matrices"):
+        table = data.get(key, {})
+        if not isinstance(table, dict):
+            raise InputError(f"{path}: {key!r} must be an object of named entries, got {json.dumps(table)[:40]}")
+        for name, entry in table.items():
+            if isinstance(entry, dict) and "values" not in entry:
+                raise InputError(f"{path}: {key}[{name!r}] has no key 'values'")
+    return data
+
+
+def load_system_file(path: str) -> EquivalentSystem:
+    """The system of a JSON file written by ``semitrack fit`` (or :func:`semitrack.export_system`).
+
+    Parameters
+    ----------
+    path : str
+        The file.
+
+    Returns
+    -------
+    SlabEquivalent or BallastedEquivalent
+
+    Raises
+    ------
+    InputError
+        Naming the file and the key or value at fault.
+    """
+    data = _system_data(path)
+    try:
+        return system_from_dict(data, source=path)
+    except KeyError as err:
+        raise InputError(f"{path}: cannot load the system: missing key {err.args[0]!r}") from None
+    except (TypeError, ValueError) as err:
+        message = str(err).removeprefix(f"{path}: ")  # the package's messages may name the file already
+        raise InputError(f"{path}: cannot load the system: {message}") from None
+
+
+def cmd_export(args: argparse.Namespace) -> int:
+    system = load_system_file(args.system)
+    (out,) = output_paths(("-o", args.output))
     if args.format is None and out.suffix.lower() not in (".json", ".csv", ".mat"):
         raise InputError(f"cannot tell the format from {out.name!r}: give --format json|csv|mat or a "
                          ".json/.csv/.mat file name")
@@ -301,25 +459,28 @@ def cmd_features(args: argparse.Namespace) -> int:
     f = frequency_grid(args.fmin, args.fmax, args.df)
     if f.size < 3:
         raise InputError("the frequency grid needs at least 3 points to find peaks and dips")
+    stdout()
     table = features_table(track, f, args.df)
     if args.csv:
-        sys.stdout.write(table.to_csv(index=False, float_format="%.6g"))
+        emit(table.to_csv(index=False, float_format="%.6g"))
         return 0
-    print(f"peaks and dips of '{track.name}' between {f[0]:g} and {f[-1]:g} Hz (exact method, refined), "
-          "rows by frequency, each magnitude in its unit")
+    lines = [f"peaks and dips of '{printable(track.name)}' between {f[0]:g} and {f[-1]:g} Hz (exact method, "
+             "refined), rows by frequency, each magnitude in its unit"]
     if table["mode"].eq("").all():
         table = table.drop(columns="mode")
-        print("(modes are named for the paper's two tracks only, as the paper names them)")
+        lines.append("(modes are named for the paper's two tracks only, as the paper names them)")
     else:
         width = table["mode"].str.len().max()
         table["mode"] = table["mode"].str.ljust(width)
     table = table.rename(columns={"f_Hz": "f (Hz)", "f_grid_Hz": "grid f (Hz)"})
-    print(table.to_string(index=False, float_format=lambda v: f"{v:.6g}"))
+    lines.append(table.to_string(index=False, float_format=lambda v: f"{v:.6g}"))
+    emit("\n".join(lines) + "\n")
     return 0
 
 
 def cmd_example(args: argparse.Namespace) -> int:
     names = ", ".join(EXAMPLES)
+    stdout()
     if args.list:
         for name in EXAMPLES:
             print(f"{name:<10} {load_track_toml(example_path(name)).name}")
@@ -328,7 +489,7 @@ def cmd_example(args: argparse.Namespace) -> int:
         raise InputError(f"name an example: {names} (e.g. semitrack example slab > slab.toml)")
     if args.name not in EXAMPLES:
         raise InputError(f"unknown example {args.name!r}; the examples are: {names}")
-    sys.stdout.write(example_path(args.name).read_text())
+    emit(example_path(args.name).read_text())
     return 0
 
 
@@ -336,9 +497,9 @@ def cmd_example(args: argparse.Namespace) -> int:
 def _track_and_grid_arguments(p: argparse.ArgumentParser, step: str) -> None:
     p.add_argument("track", help="track description file (TOML)")
     (fmin, fmax), df = PAPER_GRID_BAND, PAPER_GRID_STEP  # the paper's grid by default
-    p.add_argument("--fmin", type=float, default=fmin, help=f"lowest frequency, Hz (default {fmin:g})")
-    p.add_argument("--fmax", type=float, default=fmax, help=f"highest frequency, Hz (default {fmax:g})")
-    p.add_argument("--df", type=float, default=df, help=f"{step}, Hz (default {df:g})")
+    p.add_argument("--fmin", type=number, default=fmin, help=f"lowest frequency, Hz (default {fmin:g})")
+    p.add_argument("--fmax", type=number, default=fmax, help=f"highest frequency, Hz (default {fmax:g})")
+    p.add_argument("--df", type=number, default=df, help=f"{step}, Hz (default {df:g})")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -377,7 +538,7 @@ def build_parser() -> argparse.ArgumentParser:
                               .format(*FIT_BANDS["ballasted"]))
     p.add_argument("track", help="track description file (TOML)")
     p.add_argument("--bars", type=int, default=5, help="number of rigid bars N (default 5)")
-    p.add_argument("--band", type=float, nargs=2, metavar=("FMIN", "FMAX"), required=True, help="band to fit, Hz")
+    p.add_argument("--band", type=number, nargs=2, metavar=("FMIN", "FMAX"), required=True, help="band to fit, Hz")
     p.add_argument("--seed", type=int, default=0, help="seed of the multi-start (default 0)")
     p.add_argument("--unconstrained", action="store_true", help="drop the paper's frequency constraints")
     p.add_argument("--boundary", action="store_true",
@@ -406,28 +567,109 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv: Sequence[str] | None = None) -> int:
-    """Run the program; returns the exit code."""
-    parser = build_parser()
+def _refused_by_package(err: ValueError) -> bool:
+    """True if ``err`` was raised by the package's own code (a refusal of its input, see above)."""
+    tb = err.__traceback__
+    while tb is not None and tb.tb_next is not None:
+        tb = tb.tb_next
+    return tb is not None and Path(tb.tb_frame.f_code.co_filename).resolve().is_relative_to(PACKAGE_DIR)
+
+
+def _error(command: str, message: str) -> None:
+    print(f"{command}: error: {printable(message)}", file=sys.stderr)
+
+
+def _silence_stdout() -> None:
+    """Point stdout at /dev/null after its reader went away, so that the flush at exit is quiet."""
+    with contextlib.suppress(OSError, ValueError, AttributeError):
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the parsed command; bad input and failures become exit codes and one-line messages.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        From :func:`build_parser`.
+
+    Returns
+    -------
+    int
+        0 success, 2 bad input, 1 unexpected failure (after printing the traceback).
+    """
+    command = f"semitrack {args.command}"
     try:
-        args = parser.parse_args(argv)
-    except SystemExit as stop:  # --help, --version, usage errors
-        return int(stop.code or 0)
-    if args.command is None:  # a usage error: show what there is to run
-        parser.print_help(sys.stderr)
-        return 2
-    try:
-        return args.func(args)
-    except InputError as err:
-        print(f"semitrack {args.command}: error: {err}", file=sys.stderr)
-        return 2
+        code = args.func(args)
+        if sys.stdout is not None:
+            emit("")  # flushes what print() left in the buffer: a full disk is reported now, not at exit
+        return code
     except BrokenPipeError:  # the reader of stdout went away (e.g. `| head`): not a failure
-        sys.stdout = open(os.devnull, "w")  # noqa: SIM115 - silences the flush at exit
+        _silence_stdout()
         return 0
+    except InputError as err:
+        _error(command, str(err))
+    except ValueError as err:
+        if not _refused_by_package(err):
+            raise
+        _error(command, str(err))
+    except OSError as err:  # an input or output file: unreadable, unwritable, disk full, ...
+        _error(command, f"{err.filename}: {err.strerror}" if err.filename else str(err))
+    return 2
+
+
+@contextlib.contextmanager
+def _termination_as_exception():
+    """SIGTERM raises :class:`Terminated` in the main thread while the program runs (then restored)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def terminate(signum, frame):
+        raise Terminated
+
+    previous = signal.signal(signal.SIGTERM, terminate)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the program.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        The arguments (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit code: 0 success, 2 bad input, 1 unexpected failure, 130 interrupted (SIGINT),
+        143 terminated (SIGTERM).
+    """
+    command = "semitrack"
+    try:
+        with _termination_as_exception():
+            parser = build_parser()
+            try:
+                args = parser.parse_args(argv)
+            except SystemExit as stop:  # --help, --version, usage errors
+                return int(stop.code or 0)
+            if args.command is None:  # a usage error: show what there is to run
+                parser.print_help(sys.stderr)
+                return 2
+            command = f"semitrack {args.command}"
+            try:
+                return run(args)
+            except Exception:  # noqa: BLE001 - an unexpected failure is reported in full
+                print(f"{command}: unexpected failure, please report it:", file=sys.stderr)
+                traceback.print_exc()
+                return 1
     except KeyboardInterrupt:
-        print(f"semitrack {args.command}: interrupted", file=sys.stderr)
-        return 1
-    except Exception:  # noqa: BLE001 - an unexpected failure is reported in full
-        print(f"semitrack {args.command}: unexpected failure, please report it:", file=sys.stderr)
-        traceback.print_exc()
-        return 1
+        print(f"{command}: interrupted", file=sys.stderr)
+        return 130
+    except Terminated:
+        print(f"{command}: terminated", file=sys.stderr)
+        return 143
