@@ -64,3 +64,36 @@ def test_damping_model_round_trips_and_is_checked(tmp_path):
     path.write_text(track_to_toml(viscous).replace('"viscous"', '"coulomb"'))
     with pytest.raises(TrackFileError, match=r"line 3.*damping must be one of \('hysteretic', 'viscous'\)"):
         load_track_toml(path)
+
+
+@pytest.mark.parametrize("kind", ["slab", "ballasted"])
+@pytest.mark.parametrize("spacing", [0.3, 0.65, 1.2, 5.0, 1000.0])
+def test_plausible_spacings_load(tmp_path, kind, spacing):
+    """The paper's tracks and variants of them load: only spacings no track comes near are refused."""
+    path = tmp_path / "t.toml"
+    path.write_text(re.sub(r"(?m)^spacing\s*=\s*\S+", f"spacing = {spacing!r}", example_path(kind).read_text()))
+    assert load_track_toml(path).spacing == spacing
+
+
+@pytest.mark.parametrize("spacing", ["1000.5", "1e300"])
+def test_spacing_beyond_any_track_is_refused(tmp_path, spacing):
+    """From ~1e150 m the exact method's scaling overflows; a kilometre is already no railway track."""
+    text = example_path("slab").read_text()
+    line = next(n for n, ln in enumerate(text.splitlines(), 1) if ln.startswith("spacing"))
+    path = tmp_path / "t.toml"
+    path.write_text(re.sub(r"(?m)^spacing\s*=\s*\S+", f"spacing = {spacing}", text))
+    expected = rf"line {line}: spacing must be at most 1000 m .*got {re.escape(repr(float(spacing)))}"
+    with pytest.raises(TrackFileError, match=expected):
+        load_track_toml(path)
+
+
+@pytest.mark.parametrize("content,message", [
+    (b'type = "slab"\nname = "caf\xe9"\n', r"not a UTF-8 text track file \(byte 0xe9 at offset 25\)"),
+    (b"a = " + b"[" * 3000 + b"]" * 3000, "nested too deeply"),
+    (b"# " + b"x" * 1_000_000, "larger than 1000000 bytes"),
+])
+def test_files_that_are_no_track_files(tmp_path, content, message):
+    path = tmp_path / "t.toml"
+    path.write_bytes(content)
+    with pytest.raises(TrackFileError, match=message):
+        load_track_toml(path)

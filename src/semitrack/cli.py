@@ -506,7 +506,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="semitrack", description=(
         "Receptance of a semi-infinite periodic railway track and its equivalent multi-rigid-body "
         "system. Track files are TOML; 'semitrack example slab > slab.toml' writes one to start from."),
-        epilog="Exit codes: 0 success, 2 bad input, 1 unexpected failure. "
+        epilog="Exit codes: 0 success, 2 bad input, 1 unexpected failure, 130 interrupted, 143 terminated. "
                "'semitrack COMMAND --help' shows an example of each command.")
     parser.add_argument("--version", action="version", version=f"semitrack {__version__}")
     sub = parser.add_subparsers(dest="command", title="commands", metavar="COMMAND", parser_class=_Parser)
@@ -526,7 +526,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--method", choices=("transfer", "wavenumber"), default="transfer",
                    help="transfer: exact (default); wavenumber: the paper's method and settings")
     p.add_argument("-o", "--output", default="-", help="CSV file to write (default: stdout)")
-    p.add_argument("--plot", help="also write a PNG plot of the magnitudes")
+    p.add_argument("--plot", help="also write a plot of the magnitudes; its suffix gives the format: "
+                                  f"{', '.join('.' + f for f in PLOT_FORMATS)}")
     p.add_argument("--quiet", action="store_true", help="no progress line")
     p.set_defaults(func=cmd_receptance)
 
