@@ -354,6 +354,15 @@ def test_bad_system_files(capsys, tmp_path, system_file, case):
     assert not (tmp_path / "x.mat").exists()
 
 
+def test_a_warning_is_one_line_and_not_a_failure(capsys, tmp_path, system_file):
+    data = json.loads(system_file.read_text())
+    data["matrices"]["K"]["values"][0][0] *= 2
+    system_file.write_text(json.dumps(data))
+    code, _, err = cli(capsys, "export", system_file, "-o", tmp_path / "x.csv")
+    assert code == 0 and len(err.splitlines()) == 1
+    assert err.startswith("semitrack export: warning: ") and "stored K differs" in err
+
+
 # --- names and messages stay on one line -------------------------------------------------------------
 def test_a_track_name_with_line_breaks_stays_on_its_header_line(capsys, tmp_path):
     path = tmp_path / "t.toml"
@@ -444,8 +453,8 @@ def test_two_writers_of_the_same_file_leave_one_whole_file(tmp_path, track):
     runs = [spawn("receptance", track, *grid, "-o", out, stderr=subprocess.PIPE) for grid in grids]
     assert all(p.wait(timeout=120) == 0 for p in runs), [p.stderr.read() for p in runs]
     data = pd.read_csv(out, comment="#")
-    assert (data["f_Hz"].to_numpy() == np.arange(3.0, 3001.0, 3.0)).all() or \
-        (data["f_Hz"].to_numpy() == np.arange(3.0, 301.0, 1.0)).all()
+    f = data["f_Hz"].to_numpy()
+    assert np.array_equal(f, np.arange(3.0, 3001.0, 3.0)) or np.array_equal(f, np.arange(3.0, 301.0, 1.0))
     assert data.notna().all().all() and temporaries(tmp_path) == []
 
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import functools
 import io
 import json
 import os
@@ -25,6 +26,7 @@ import signal
 import sys
 import threading
 import traceback
+import warnings
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -580,6 +582,11 @@ def _error(command: str, message: str) -> None:
     print(f"{command}: error: {printable(message)}", file=sys.stderr)
 
 
+def _warning(command: str, message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning on one line of stderr (``warnings.showwarning``'s signature), like the errors."""
+    print(f"{command}: warning: {printable(str(message))}", file=sys.stderr)
+
+
 def _silence_stdout() -> None:
     """Point stdout at /dev/null after its reader went away, so that the flush at exit is quiet."""
     with contextlib.suppress(OSError, ValueError, AttributeError):
@@ -597,25 +604,25 @@ def run(args: argparse.Namespace) -> int:
     Returns
     -------
     int
-        0 success, 2 bad input, 1 unexpected failure (after printing the traceback).
+        0 success, 2 bad input (one line on stderr); an unexpected failure propagates.
     """
     command = f"semitrack {args.command}"
-    try:
-        code = args.func(args)
-        if sys.stdout is not None:
-            emit("")  # flushes what print() left in the buffer: a full disk is reported now, not at exit
-        return code
-    except BrokenPipeError:  # the reader of stdout went away (e.g. `| head`): not a failure
-        _silence_stdout()
-        return 0
-    except InputError as err:
-        _error(command, str(err))
-    except ValueError as err:
-        if not _refused_by_package(err):
-            raise
-        _error(command, str(err))
-    except OSError as err:  # an input or output file: unreadable, unwritable, disk full, ...
-        _error(command, f"{err.filename}: {err.strerror}" if err.filename else str(err))
+    with warnings.catch_warnings():
+        warnings.showwarning = functools.partial(_warning, command)
+        try:
+            code = args.func(args)
+            if sys.stdout is not None:
+                emit("")  # flushes what print() left in the buffer: a full disk is reported now, not at exit
+            return code
+        except BrokenPipeError:  # the reader of stdout went away (e.g. `| head`): not a failure
+            _silence_stdout()
+            return 0
+        except ValueError as err:  # InputError, or a refusal by the package
+            if not _refused_by_package(err):
+                raise
+            _error(command, str(err))
+        except OSError as err:  # an input or output file: unreadable, unwritable, disk full, ...
+            _error(command, f"{err.filename}: {err.strerror}" if err.filename else str(err))
     return 2
 
 
