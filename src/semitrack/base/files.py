@@ -29,10 +29,10 @@ _NOT_REGULAR = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pi
 
 
 def _as_path(path: object, name: str) -> Path:
-    if not isinstance(path, (str, os.PathLike)):
-        raise TypeError(f"{name} must be a str or os.PathLike, got {type(path).__name__}")
-    text = os.fspath(path)
-    if isinstance(text, bytes) or text == "" or "\x00" in text:
+    text = os.fspath(path) if isinstance(path, (str, os.PathLike)) else None
+    if not isinstance(text, str):
+        raise TypeError(f"{name} must be a str or os.PathLike (of str), got {type(path).__name__}")
+    if text == "" or "\x00" in text:
         raise ValueError(f"{name} must name a file, got {text!r}")
     return Path(text)
 
