@@ -70,3 +70,18 @@ def test_point_receptance_refuses_positions_it_cannot_resolve(x):
     far = 1e6 * SLAB.spacing + 0.1
     np.testing.assert_allclose(st.point_receptance(SLAB, [100.0], x=far),
                                st.point_receptance(SLAB, [100.0], x=far % SLAB.spacing), rtol=1e-6)
+
+
+@pytest.mark.parametrize("case", [dict(kappa=1e300), dict(E=2e211), dict(A=1e-300), dict(G=1e-300)])
+def test_exact_method_refuses_what_it_cannot_resolve(case):
+    """Accepted but absurd moduli overflow the algebra: a clear ValueError, never a LinAlgError or
+    a silently wrong alpha."""
+    with pytest.raises(ValueError, match=r"the exact method cannot resolve 'slab' at 2 frequencies from 100 Hz"):
+        st.semi_infinite_receptance(st.slab_track(**case), [100.0, 1000.0])
+
+
+@pytest.mark.parametrize("spacing", [1000.5, 1e300])
+def test_track_refuses_a_spacing_no_railway_comes_near(spacing):
+    with pytest.raises(ValueError, match=r"spacing must be at most 1000 m \(no railway track comes near\)"):
+        st.slab_track(spacing=spacing)
+    assert st.slab_track(spacing=1000.0).spacing == 1000.0

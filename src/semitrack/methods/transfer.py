@@ -178,11 +178,17 @@ def end_stiffness(cell: PeriodicCell, omega: np.ndarray, x_cut: float) -> tuple[
     # Without rail damping a wave may keep |lambda| = 1 (above the shear cut-on, two may) and the
     # doubling would stall or settle on a wrong solvent: take the limit of vanishing damping.
     extra_loss = _VANISHING_DAMPING if cell.track.eta_rail < _VANISHING_DAMPING else 0.0
-    d = period_dynamic_stiffness(cell, omega, x_cut, extra_loss)
-    g_right, g_left, converged = _cyclic_reduction(d)
-    k_right = d[:, :2, :2] + d[:, :2, 2:] @ g_right
-    k_left = d[:, 2:, 2:] + d[:, 2:, :2] @ g_left
-    good = converged & _physical(k_right) & _physical(k_left)
+    # Overflow warnings would only precede the clearer error below: every result is checked.
+    with np.errstate(all="ignore"):
+        try:
+            d = period_dynamic_stiffness(cell, omega, x_cut, extra_loss)
+            g_right, g_left, converged = _cyclic_reduction(d)
+        except np.linalg.LinAlgError:  # inf or NaN in the algebra, e.g. kappa = 1e300
+            good = np.zeros(omega.size, dtype=bool)
+        else:
+            k_right = d[:, :2, :2] + d[:, :2, 2:] @ g_right
+            k_left = d[:, 2:, 2:] + d[:, 2:, :2] @ g_left
+            good = converged & _physical(k_right) & _physical(k_left)
     if not good.all():
         f_bad = omega[~good] / (2 * np.pi)
         raise ValueError(

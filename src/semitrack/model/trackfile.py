@@ -10,9 +10,9 @@ The format mirrors :class:`semitrack.Track` (examples ship in ``semitrack/exampl
     [ballast] sleeper_mass, kb, eta_ballast      (ballasted only)
 
 Every error is a :class:`TrackFileError` (a ValueError) whose message names the file, the line
-where it can be found, the key, the value and the rule. Besides the Track's own rules, a file's
-values obey :data:`PHYSICAL_LIMITS` (bounds no railway track comes near, beyond which the
-arithmetic overflows), and the file itself must be UTF-8 text of at most :data:`MAX_FILE_BYTES`.
+where it can be found, the key, the value and the rule (the Track's own rules, including its
+bounds such as the largest spacing), and the file itself must be UTF-8 text of at most
+:data:`MAX_FILE_BYTES`.
 """
 
 from __future__ import annotations
@@ -39,10 +39,6 @@ EXAMPLES = ("slab", "ballasted")
 #: Largest track file read (bytes): a track file holds some 20 lines; this refuses e.g. /dev/zero.
 MAX_FILE_BYTES = 1_000_000
 
-#: Upper bounds of a file's values, in the units of :class:`semitrack.Track`, beyond the Track's
-#: rules: a support spacing of kilometres is no railway track (the paper's is 0.6 m) and from
-#: ~1e150 m the squared spacing of the exact method's scaling overflows.
-PHYSICAL_LIMITS: dict[str, tuple[float, str]] = {"spacing": (1000.0, "m")}
 
 
 class TrackFileError(ValueError):
@@ -87,7 +83,7 @@ def load_track_toml(path: str | Path) -> Track:
     ------
     TrackFileError
         If the file is missing, not TOML, has unknown or missing keys, non-numeric values or
-        values out of range (the Track's rules and :data:`PHYSICAL_LIMITS`), or if it is not
+        values out of range (the Track's rules, :data:`semitrack.model.tracks.FIELD_RULES`), or if it is not
         UTF-8 text or larger than :data:`MAX_FILE_BYTES`. The message names the file, line,
         key, value and rule.
     """
@@ -201,10 +197,6 @@ def _check_track_values(values: dict[str, tuple[str | None, object]], where: _Lo
             params[key] = check_track_field(key, value)
         except (TypeError, ValueError) as err:
             where.fail(section, key, str(err))
-        limit, unit = PHYSICAL_LIMITS.get(key, (None, ""))
-        if limit is not None and params[key] > limit:
-            where.fail(section, key, f"{key} must be at most {limit:g} {unit} (no railway track comes near), "
-                       f"got {value!r}")
     try:
         return Track(**params)
     except (TypeError, ValueError) as err:  # rules between fields

@@ -45,8 +45,21 @@ DAMPING_MODELS = ("hysteretic", "viscous")
 #: The rule every Track field obeys, one check of :mod:`semitrack.base.checks` per field. The
 #: Track itself and the track file reader (:mod:`semitrack.model.trackfile`) both apply this
 #: table, through :func:`check_track_field`. ``sleeper_mass`` and ``kb`` may also be None together.
+#: Largest support spacing (m): kilometres are no railway track (the paper's is 0.65 m), and from
+#: ~1e150 m the exact method's scaling (spacing squared) overflows.
+MAX_SPACING = 1000.0
+
+
+def _check_spacing(key: str, value: object) -> float:
+    spacing = check_positive(key, value)
+    if spacing > MAX_SPACING:
+        raise ValueError(f"{key} must be at most {MAX_SPACING:g} m (no railway track comes near), got {value!r}")
+    return spacing
+
+
 FIELD_RULES: dict[str, Callable] = {
-    **dict.fromkeys(("rho", "E", "G", "A", "I", "kappa", "kv", "spacing", "sleeper_mass", "kb"), check_positive),
+    **dict.fromkeys(("rho", "E", "G", "A", "I", "kappa", "kv", "sleeper_mass", "kb"), check_positive),
+    "spacing": _check_spacing,
     **dict.fromkeys(("eta_rail", "kphi", "eta_pad", "eta_ballast"), check_nonnegative),
     "name": check_string,
     "damping": lambda key, value: check_choice(key, value, DAMPING_MODELS),
