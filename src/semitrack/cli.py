@@ -20,7 +20,6 @@ import argparse
 import contextlib
 import functools
 import io
-import json
 import os
 import signal
 import sys
@@ -36,9 +35,9 @@ import numpy as np
 from . import __version__
 from .base.checks import MAX_FREQUENCIES, check_band, check_int_at_least, check_positive
 from .base.conventions import ALL_ELEMENTS, ELEMENT_TEX, ELEMENT_UNITS, ELEMENTS
-from .base.files import atomic_write, check_output_path, read_text
+from .base.files import atomic_write, check_output_path
 from .base.paper_values import FIT_BANDS, PAPER_GRID_BAND, PAPER_GRID_STEP
-from .equivalent.io import export_system, save_system_json, system_from_dict
+from .equivalent.io import export_system, load_system_json, save_system_json
 from .model.trackfile import EXAMPLES, TrackFileError, example_path, load_track_toml
 from .model.tracks import Track, ballasted_track, slab_track
 from .progress import Progress
@@ -55,8 +54,6 @@ MAX_FREQUENCY = 1e6
 BLOCK = 50  # frequencies per progress step
 #: Formats of ``receptance --plot``, by file suffix (matplotlib's names).
 PLOT_FORMATS = ("png", "pdf", "svg")
-#: Largest system file ``export`` reads (bytes): a system of 100 bars takes ~1 MB.
-MAX_SYSTEM_BYTES = 50_000_000
 PACKAGE_DIR = Path(__file__).resolve().parent
 
 #: Unit of the magnitude of each quantity of ``semitrack features`` (those of
@@ -326,34 +323,6 @@ def _fit_boundary(args: argparse.Namespace, track: Track, band: tuple[float, flo
     return 0
 
 
-def _system_data(path: str) -> dict:
-    """The JSON object of a system file, its ``parameters`` and ``matrices`` objects of entries.
-
-    :func:`semitrack.equivalent.io.system_from_dict` reads the entries; this checks the structure
-    it takes for granted, so that a hand-edited file gets a message naming the file and the key.
-    """
-    try:
-        text = read_text(path, MAX_SYSTEM_BYTES, "system file")
-    except OSError as err:
-        raise InputError(f"{path}: cannot read the system file ({err.strerror})") from None
-    try:
-        data = json.loads(text)
-    except RecursionError:
-        raise InputError(f"{path}: not a system file: its objects or arrays are nested too deeply") from None
-    except ValueError as err:
-        raise InputError(f"{path}: not a JSON file: {err}") from None
-    if not isinstance(data, dict):
-        raise InputError(f"{path}: not a system file: it must hold a JSON object, got {type(data).__name__}")
-    for key in ("parameters", "matrices"):
-        table = data.get(key, {})
-        if not isinstance(table, dict):
-            raise InputError(f"{path}: {key!r} must be an object of named entries, got {json.dumps(table)[:40]}")
-        for name, entry in table.items():
-            if isinstance(entry, dict) and "values" not in entry:
-                raise InputError(f"{path}: {key}[{name!r}] has no key 'values'")
-    return data
-
-
 def load_system_file(path: str) -> EquivalentSystem:
     """The system of a JSON file written by ``semitrack fit`` (or :func:`semitrack.export_system`).
 
@@ -371,13 +340,14 @@ def load_system_file(path: str) -> EquivalentSystem:
     InputError
         Naming the file and the key or value at fault.
     """
-    data = _system_data(path)
     try:
-        return system_from_dict(data, source=path)
+        return load_system_json(path)
+    except OSError as err:
+        raise InputError(f"{path}: cannot read the system file ({err.strerror})") from None
     except KeyError as err:
         raise InputError(f"{path}: cannot load the system: missing key {err.args[0]!r}") from None
     except (TypeError, ValueError) as err:
-        message = str(err).removeprefix(f"{path}: ")  # the package's messages may name the file already
+        message = str(err).removeprefix(f"{path}: ")  # the package's messages name the file already
         raise InputError(f"{path}: cannot load the system: {message}") from None
 
 

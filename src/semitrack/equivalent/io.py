@@ -57,7 +57,7 @@ from typing import Any, Literal
 import numpy as np
 import scipy.io
 
-from ..base.files import atomic_write
+from ..base.files import atomic_write, read_text
 from .systems import PARAMETER_UNITS, EquivalentSystem
 
 __all__ = [
@@ -75,6 +75,8 @@ __all__ = [
 
 FORMAT_NAME = "semitrack.equivalent.systems"
 FORMAT_VERSION = 1
+#: Largest system file read (bytes): far above any real system, a guard against a wrong file.
+MAX_SYSTEM_BYTES = 50_000_000
 
 # Stored matrices count as consistent with the parameters when they agree to this relative
 # (to the largest entry) tolerance: a JSON/CSV round trip is exact, a .mat one too (doubles).
@@ -179,6 +181,19 @@ def system_to_dict(system: EquivalentSystem) -> dict[str, Any]:
     }
 
 
+def _entries(data: dict[str, Any], key: str, source: str) -> dict[str, Any]:
+    """The named entries of ``data[key]`` (each a value, or an object with ``values``), checked."""
+    table = data.get(key, {})
+    if not isinstance(table, dict):
+        raise ValueError(f"{source}: {key!r} must be an object of named entries, got {json.dumps(table)[:40]}")
+    out = {}
+    for name, entry in table.items():
+        if isinstance(entry, dict) and "values" not in entry:
+            raise ValueError(f"{source}: {key}[{name!r}] has no key 'values'")
+        out[name] = entry["values"] if isinstance(entry, dict) else entry
+    return out
+
+
 def system_from_dict(data: dict[str, Any], source: str = "data") -> EquivalentSystem:
     """Rebuild a system from :func:`system_to_dict` output (matrices checked if present).
 
@@ -203,13 +218,11 @@ def system_from_dict(data: dict[str, Any], source: str = "data") -> EquivalentSy
     for key in ("layout", "parameters"):
         if key not in data:
             raise ValueError(f"{source}: missing key {key!r}")
-    params = {}
-    for name, entry in data["parameters"].items():
-        values = entry["values"] if isinstance(entry, dict) else entry
-        params[name] = np.asarray(values, dtype=float)
+    params = {name: np.asarray(values, dtype=float)
+              for name, values in _entries(data, "parameters", source).items()}
     params["layout"] = data["layout"]
     system = EquivalentSystem.from_parameters(params)
-    stored = {n: (m["values"] if isinstance(m, dict) else m) for n, m in data.get("matrices", {}).items()}
+    stored = _entries(data, "matrices", source)
     _check_matrices(system, stored, source)
     return system
 
@@ -248,11 +261,22 @@ def load_system_json(path: str | os.PathLike) -> EquivalentSystem:
     Raises
     ------
     ValueError
-        For a file of another format or version, or without layout or parameters.
+        For a file that is not UTF-8 JSON of at most :data:`MAX_SYSTEM_BYTES`, of another format
+        or version, without layout or parameters, or with entries that are not ``{"values": ...}``
+        objects; the message names the file and the key.
+    OSError
+        If the file cannot be read.
     """
     path = _check_path(path)
-    with open(path, encoding="utf-8") as fh:
-        data = json.load(fh)
+    text = read_text(path, MAX_SYSTEM_BYTES, "system file")
+    try:
+        data = json.loads(text)
+    except RecursionError:
+        raise ValueError(f"{path}: not a system file: its objects or arrays are nested too deeply") from None
+    except ValueError as err:
+        raise ValueError(f"{path}: not a JSON file: {err}") from None
+    if not isinstance(data, dict):
+        raise ValueError(f"{path}: not a system file: it must hold a JSON object, got {type(data).__name__}")
     return system_from_dict(data, source=str(path))
 
 
