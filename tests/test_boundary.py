@@ -22,6 +22,7 @@ from semitrack.boundary.vector_fitting import pole_basis, starting_poles, vector
 from semitrack.equivalent.metrics import error_band_grid, error_summary
 from semitrack.fe.timedomain import newmark, pulse_response
 from semitrack.fe.truncation import truncation_errors
+from semitrack.paper.boundary_study import order_study
 
 BAND = (3.0, 3000.0)
 
@@ -369,3 +370,15 @@ def test_moving_load_with_boundary_ends(viscous_fits):
                             positions=(0.0,), speed=100.0, x_start=-2.0, x_end=2.0, dt=2e-5)
     assert np.all(out["errors"]["boundary"] < 1e-5)
     assert np.all(out["errors"]["pinned"] > 100 * out["errors"]["boundary"])
+
+
+def test_orders_tried_are_the_fits_at_those_orders(viscous_fits):
+    """The order study reuses the automatic search's orders instead of refitting them: that is
+    right only if each recorded trial is what a fit at that fixed order gives."""
+    bnd, track = viscous_fits["slab"], st.slab_track(damping="viscous")
+    for n, trial in bnd.orders_tried.items():
+        again = st.fit_boundary(track, band=BAND, n_poles=n)
+        assert (trial.median, trial.max, trial.passive, trial.enforcement_rounds) == (
+            again.median_error, again.max_error, bool(again.is_passive()), again.enforcement_rounds)
+    study = order_study(track, tuple(bnd.orders_tried), reuse=[bnd])
+    assert study["median error (%)"].tolist() == [100 * t.median for t in bnd.orders_tried.values()]

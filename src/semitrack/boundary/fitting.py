@@ -26,6 +26,7 @@ from __future__ import annotations
 import time
 import warnings
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -89,6 +90,16 @@ def track_end_limits(track: Track) -> tuple[np.ndarray, np.ndarray]:
     return 0.5 * (K0 + K0.T), D
 
 
+class OrderTrial(NamedTuple):
+    """One order fitted by :func:`fit_boundary`'s search (see ``BroadbandBoundary.orders_tried``)."""
+
+    median: float  #: median element error of alpha over the band (-)
+    max: float  #: max element error of alpha over the band (-)
+    passive: bool  #: passed the Hamiltonian passivity test
+    enforcement_rounds: int  #: rounds of passivity enforcement needed
+    elapsed: float  #: wall time of this order's fit (s)
+
+
 @dataclass(frozen=True, eq=False)
 class BroadbandBoundary:
     """A passive rational model of a semi-infinite track's end, fitted over a band.
@@ -108,7 +119,9 @@ class BroadbandBoundary:
     enforcement_rounds : int
         Rounds of passivity enforcement that were needed (0: the refined fit was passive).
     orders_tried : dict
-        ``{n_poles: (median, max)}`` for every order fitted on the way.
+        ``{n_poles: OrderTrial}`` for every order fitted on the way: each order's errors,
+        passivity, enforcement rounds and fit time, as ``fit_boundary(..., n_poles=n)`` would
+        give them (the same deterministic fit).
     elapsed : float
         Wall time of the fit (s).
     """
@@ -209,10 +222,11 @@ def _one_order(n_poles: int, f: np.ndarray, alpha: np.ndarray, guard: np.ndarray
 
 def _search_orders(orders, fit_order, tol) -> dict:
     """Fit the orders in turn; stop at the first that meets ``tol`` or once a larger order
-    lowers the maximum error by less than 10 %. Returns ``{order: (model, errors, rounds)}``."""
+    lowers the maximum error by less than 10 %. Returns ``{order: (model, errors, rounds, s)}``."""
     results = {}
     for order in orders:
-        results[order] = fit_order(order)
+        start = time.perf_counter()
+        results[order] = (*fit_order(order), time.perf_counter() - start)
         err = results[order][1]
         if err.median <= tol[0] and err.max <= tol[1]:
             break
@@ -299,12 +313,13 @@ def fit_boundary(track: Track, band: tuple[float, float] = (3.0, 3000.0), n_pole
     with serial_blas():
         results = _search_orders(orders, fit_order, tol)
     best = _choose(results)
-    model, err, rounds = results[best]
+    model, err, rounds, _ = results[best]
     report = passivity_report(model)
     if not report:
         warnings.warn(f"fit_boundary: passivity could not be enforced ({report}); the model may "
                       "generate energy in a time-domain simulation", RuntimeWarning, stacklevel=2)
     return BroadbandBoundary(model=model, band=band, errors=err, passivity=report, track_name=track.name,
                              enforcement_rounds=rounds,
-                             orders_tried={n: (r[1].median, r[1].max) for n, r in results.items()},
+                             orders_tried={n: OrderTrial(r[1].median, r[1].max, bool(passivity_report(r[0])),
+                                                         r[2], r[3]) for n, r in results.items()},
                              elapsed=time.perf_counter() - start)

@@ -307,8 +307,9 @@ def order_study(track: Track, orders: Iterable[int] = (12, 24, 36, 48), band: tu
     band : tuple of float
         Fit band (Hz).
     reuse : iterable of BroadbandBoundary
-        Fits of this track and band already made (e.g. the automatic order's); an order found
-        among them is not fitted again (the fit is deterministic).
+        Fits of this track and band already made (e.g. the automatic order's); an order that
+        one of them tried on its way (``orders_tried``) is not fitted again (the fit is
+        deterministic).
 
     Returns
     -------
@@ -316,12 +317,18 @@ def order_study(track: Track, orders: Iterable[int] = (12, 24, 36, 48), band: tu
         One row per order: ``n_poles``, ``states``, ``median error (%)``, ``max error (%)``,
         ``proven passive``, ``enforcement rounds``, ``fit time (s)``.
     """
-    known = {b.n_poles: b for b in reuse if tuple(b.band) == tuple(check_band(band))}
+    # Every order a fit of this band tried (the automatic search tries several) is reused: the
+    # fit at a given order is deterministic, so refitting it would only repeat the same work.
+    known = {n: trial for b in reuse if tuple(b.band) == tuple(check_band(band))
+             for n, trial in b.orders_tried.items()}
     rows = []
     for n in orders:
-        b = known.get(n) or fit_boundary(track, band=band, n_poles=check_int_at_least("n_poles", n, 2))
-        rows.append((b.n_poles, 2 * b.n_poles, 100 * b.median_error, 100 * b.max_error, bool(b.is_passive()),
-                     b.enforcement_rounds, b.elapsed))
+        trial = known.get(n)
+        if trial is None:
+            b = fit_boundary(track, band=band, n_poles=check_int_at_least("n_poles", n, 2))
+            trial = b.orders_tried[b.n_poles]
+        rows.append((n, 2 * n, 100 * trial.median, 100 * trial.max, trial.passive,
+                     trial.enforcement_rounds, trial.elapsed))
     return pd.DataFrame(rows, columns=["n_poles", "states", "median error (%)", "max error (%)",
                                        "proven passive", "enforcement rounds", "fit time (s)"])
 
