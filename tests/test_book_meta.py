@@ -63,7 +63,7 @@ def test_api_reference_refuses_a_public_name_it_cannot_trace(book_ext, tmp_path,
     package = tmp_path / "fakepkg"
     package.mkdir()
     (package / "core.py").write_text("def f():\n    pass\n")
-    (package / "__init__.py").write_text("from .core import f\ng = 1\n__all__ = ['f', 'g']\n")
+    (package / "__init__.py").write_text("_EXPORTS = {'f': ('core', 'f')}\n__all__ = ['f', 'g']\n")
     monkeypatch.syspath_prepend(str(tmp_path))
     with pytest.raises(RuntimeError, match=r"\['g'\]"):
         book_ext.public_names("fakepkg")

@@ -11,9 +11,7 @@
 
 from __future__ import annotations
 
-import ast
 import importlib
-from pathlib import Path
 
 from pybtex.plugin import register_plugin
 from pybtex.style.formatting.alpha import Style as AlphaStyle
@@ -42,18 +40,16 @@ class ShorthandStyle(AlphaStyle):
 
 # ----------------------------------------------------------------------------- API reference
 def public_names(package: str = PACKAGE) -> dict[str, tuple[str, str]]:
-    """Map every name of ``package.__all__`` to (defining module, name there), read from its imports."""
+    """Map every name of ``package.__all__`` to (defining module, name there).
+
+    Read from the package's lazy-export table ``_EXPORTS`` (``{name: (module, attribute)}``).
+    """
     module = importlib.import_module(package)
-    tree = ast.parse(Path(module.__file__).read_text(encoding="utf-8"))
-    origin = {}
-    for node in tree.body:
-        if isinstance(node, ast.ImportFrom) and node.level == 1:
-            for alias in node.names:
-                origin[alias.asname or alias.name] = (f"{package}.{node.module}", alias.name)
-    missing = sorted(set(module.__all__) - set(origin))
+    exports = getattr(module, "_EXPORTS", {})
+    missing = sorted(set(module.__all__) - set(exports))
     if missing:
-        raise RuntimeError(f"{package}.__all__ names not imported in {package}/__init__.py: {missing}")
-    return {name: origin[name] for name in module.__all__}
+        raise RuntimeError(f"{package}.__all__ names missing from {package}._EXPORTS: {missing}")
+    return {name: (f"{package}.{exports[name][0]}", exports[name][1]) for name in module.__all__}
 
 
 def _entry(name: str, module_name: str, source_name: str) -> str:

@@ -3,41 +3,84 @@
 A research compendium package reproducing and extending the paper "Receptance of a
 semi-infinite periodic railway track and an equivalent multi-rigid body system for use in
 truncated track models". SI units; frequencies in Hz at the API.
+
+The flat API (``st.fit_equivalent``, ``st.TruncatedTrack``, ...) is loaded on first use (PEP 562):
+``import semitrack`` itself imports nothing heavy, so that the command line can answer Ctrl-C
+from its first moment, and a name costs its module's import only when it is used.
 """
 
-from .base.paper_values import FIT_BANDS as PAPER_FIT_BANDS
-from .base.paper_values import PAPER_GRID
-from .boundary.fitting import BroadbandBoundary, fit_boundary
-from .boundary.io import load_boundary, save_boundary
-from .equivalent.cache import cached_fit
-from .equivalent.constraints import ballasted_from_free, cell_frequencies, slab_from_free, unit_cell_frequencies
-from .equivalent.fitting import FitResult, default_fit_frequencies, fit_characteristic_frequencies, fit_equivalent
-from .equivalent.io import export_system, load_system_csv, load_system_json, load_system_mat
-from .equivalent.metrics import ErrorSummary, error_band_grid, error_summary, receptance_errors
-from .equivalent.systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent
-from .fe.models import FETrack, TruncatedTrack, fe_central_receptance, fe_semi_infinite_receptance
-from .methods.continuous import continuous_foundation_receptance
-from .methods.features import QUANTITIES, characteristic_frequencies, find_extrema, response_curves
-from .methods.receptance import CentralResponse, central_response, point_receptance, semi_infinite_receptance
-from .methods.wavenumber import WavenumberSettings
-from .model.trackfile import TrackFileError, load_track_toml
-from .model.tracks import PeriodicCell, Track, ballasted_track, parameter_table, slab_track
-from .paper.frequencies import paper_frequency_table
-from .paper.systems import paper_consistency_report, paper_table4, paper_table7
+from importlib import import_module
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "PAPER_FIT_BANDS", "PAPER_GRID",
-    "BroadbandBoundary", "fit_boundary", "load_boundary", "save_boundary",
-    "BallastedEquivalent", "CentralResponse", "EquivalentSystem", "ErrorSummary", "FETrack", "FitResult",
-    "PeriodicCell", "QUANTITIES", "SlabEquivalent", "Track", "TrackFileError", "TruncatedTrack",
-    "WavenumberSettings", "default_fit_frequencies", "fe_central_receptance", "fe_semi_infinite_receptance",
-    "fit_characteristic_frequencies", "fit_equivalent", "load_track_toml", "parameter_table",
-    "ballasted_from_free", "ballasted_track", "cached_fit", "cell_frequencies", "central_response",
-    "characteristic_frequencies", "continuous_foundation_receptance", "error_band_grid",
-    "error_summary", "export_system", "find_extrema", "load_system_csv", "load_system_json",
-    "load_system_mat", "paper_consistency_report", "paper_frequency_table", "paper_table4",
-    "paper_table7", "point_receptance", "receptance_errors", "response_curves",
-    "semi_infinite_receptance", "slab_from_free", "slab_track", "unit_cell_frequencies",
-]
+#: Every public name: ``{name: (module, attribute in it)}``, in the order of ``__all__``.
+_EXPORTS: dict[str, tuple[str, str]] = {
+    "PAPER_FIT_BANDS": ("base.paper_values", "FIT_BANDS"),
+    "PAPER_GRID": ("base.paper_values", "PAPER_GRID"),
+    "BroadbandBoundary": ("boundary.fitting", "BroadbandBoundary"),
+    "fit_boundary": ("boundary.fitting", "fit_boundary"),
+    "load_boundary": ("boundary.io", "load_boundary"),
+    "save_boundary": ("boundary.io", "save_boundary"),
+    "BallastedEquivalent": ("equivalent.systems", "BallastedEquivalent"),
+    "CentralResponse": ("methods.receptance", "CentralResponse"),
+    "EquivalentSystem": ("equivalent.systems", "EquivalentSystem"),
+    "ErrorSummary": ("equivalent.metrics", "ErrorSummary"),
+    "FETrack": ("fe.models", "FETrack"),
+    "FitResult": ("equivalent.fitting", "FitResult"),
+    "PeriodicCell": ("model.tracks", "PeriodicCell"),
+    "QUANTITIES": ("methods.features", "QUANTITIES"),
+    "SlabEquivalent": ("equivalent.systems", "SlabEquivalent"),
+    "Track": ("model.tracks", "Track"),
+    "TrackFileError": ("model.trackfile", "TrackFileError"),
+    "TruncatedTrack": ("fe.models", "TruncatedTrack"),
+    "WavenumberSettings": ("methods.wavenumber", "WavenumberSettings"),
+    "default_fit_frequencies": ("equivalent.fitting", "default_fit_frequencies"),
+    "fe_central_receptance": ("fe.models", "fe_central_receptance"),
+    "fe_semi_infinite_receptance": ("fe.models", "fe_semi_infinite_receptance"),
+    "fit_characteristic_frequencies": ("equivalent.fitting", "fit_characteristic_frequencies"),
+    "fit_equivalent": ("equivalent.fitting", "fit_equivalent"),
+    "load_track_toml": ("model.trackfile", "load_track_toml"),
+    "parameter_table": ("model.tracks", "parameter_table"),
+    "ballasted_from_free": ("equivalent.constraints", "ballasted_from_free"),
+    "ballasted_track": ("model.tracks", "ballasted_track"),
+    "cached_fit": ("equivalent.cache", "cached_fit"),
+    "cell_frequencies": ("equivalent.constraints", "cell_frequencies"),
+    "central_response": ("methods.receptance", "central_response"),
+    "characteristic_frequencies": ("methods.features", "characteristic_frequencies"),
+    "continuous_foundation_receptance": ("methods.continuous", "continuous_foundation_receptance"),
+    "error_band_grid": ("equivalent.metrics", "error_band_grid"),
+    "error_summary": ("equivalent.metrics", "error_summary"),
+    "export_system": ("equivalent.io", "export_system"),
+    "find_extrema": ("methods.features", "find_extrema"),
+    "load_system_csv": ("equivalent.io", "load_system_csv"),
+    "load_system_json": ("equivalent.io", "load_system_json"),
+    "load_system_mat": ("equivalent.io", "load_system_mat"),
+    "paper_consistency_report": ("paper.systems", "paper_consistency_report"),
+    "paper_frequency_table": ("paper.frequencies", "paper_frequency_table"),
+    "paper_table4": ("paper.systems", "paper_table4"),
+    "paper_table7": ("paper.systems", "paper_table7"),
+    "point_receptance": ("methods.receptance", "point_receptance"),
+    "receptance_errors": ("equivalent.metrics", "receptance_errors"),
+    "response_curves": ("methods.features", "response_curves"),
+    "semi_infinite_receptance": ("methods.receptance", "semi_infinite_receptance"),
+    "slab_from_free": ("equivalent.constraints", "slab_from_free"),
+    "slab_track": ("model.tracks", "slab_track"),
+    "unit_cell_frequencies": ("equivalent.constraints", "unit_cell_frequencies"),
+}
+
+__all__ = list(_EXPORTS)
+
+
+def __getattr__(name: str):
+    """Load a public name from its module on first use, then keep it here."""
+    try:
+        module, attribute = _EXPORTS[name]
+    except KeyError:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}") from None
+    value = getattr(import_module(f".{module}", __name__), attribute)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_EXPORTS))
