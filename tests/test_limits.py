@@ -31,6 +31,7 @@ RUNAWAY = {
     "wavenumber sweep too long": (lambda: st.semi_infinite_receptance(SLAB, np.arange(1.0, 30001.0),
                                                                        method="wavenumber", beta_max=785.4),
                                   r"30000 frequencies x 4100000 terms"),
+    "50 bars": (lambda: st.fit_equivalent(SLAB, layout="slab", n_bars=50), r"n_bars=50 asks for a fit of 50 bars"),
     "100000 bays": (lambda: st.TruncatedTrack(SLAB, 100_000), r"200000 bays \(n_bays, or n_left \+ n_right\)"),
     "1e10 time steps": (lambda: newmark([[1.0]], [[0.0]], [[1.0]], _no_load, 1e-9, 10**10),
                         r"n_steps = 10000000000 steps x 1 DOFs"),

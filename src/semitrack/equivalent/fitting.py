@@ -40,7 +40,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..base.checks import check_band, check_int_at_least
+from ..base.checks import check_band, check_int_at_least, check_work
 from ..base.paper_values import FIT_BANDS
 from ..model.tracks import Track, require_track
 from .assembly import LAYOUTS, Layout, check_layout
@@ -74,6 +74,9 @@ __all__ = [
 #: A fit whose median error exceeds this is reported as poor (RuntimeWarning): the paper's own
 #: Tables 4 and 7 reach about 0.15-0.17 on the dense grid of their bands.
 POOR_MEDIAN_ERROR = 0.25
+#: Most bars a fit accepts: beyond it the multi-start least squares runs for many minutes (its
+#: unknowns and its Jacobian grow with N; N = 12 already takes ~20 s on one core).
+MAX_BARS = 20
 
 # The paper's constraint equations of each layout, as :class:`FitResult` names them.
 _CONSTRAINT_EQUATIONS = {"slab": "the paper's Eq. (19)-(20) tie k, J to f_n",
@@ -257,6 +260,7 @@ def _check_arguments(track, layout, n_bars, band, seed, constrained, n_starts, t
     track = require_track(track)
     layout = check_layout(("ballasted" if track.is_ballasted else "slab") if layout is None else layout)
     n_bars = check_int_at_least("n_bars", n_bars, 1)
+    check_work(n_bars, MAX_BARS, f"n_bars={n_bars} asks for a fit of {n_bars} bars", "fit fewer bars")
     band = check_band(FIT_BANDS[layout] if band is None else band)
     seed = _check_seed(seed)
     if not isinstance(constrained, (bool, np.bool_)):
@@ -353,7 +357,8 @@ def fit_equivalent(track: Track, layout: Layout | None = None, n_bars: int = 5,
         Layout of the equivalent system (paper Fig. 7 or 12); default ``"ballasted"`` for a
         track with sleepers and ``"slab"`` otherwise.
     n_bars : int
-        Number of bars N >= 1 (the paper uses 5).
+        Number of bars N >= 1 (the paper uses 5), at most :data:`MAX_BARS` (20): the fit's time
+        grows fast with N (slab track, one core: N = 5 ~4 s, 8 ~6 s, 12 ~20 s).
     band : (float, float), optional
         Frequency band (Hz) of the error measures and of the default fit frequencies; default
         the paper's, :data:`~semitrack.base.paper_values.FIT_BANDS` (3-900 Hz slab, 3-750 Hz
