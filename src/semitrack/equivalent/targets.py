@@ -156,16 +156,21 @@ def _det_extrema(track, target, search_band, df):
     return find_extrema(f, {"det": 1.0 / np.linalg.det(alpha)})
 
 
+# What to do when the track has no characteristic frequency to constrain, for both audiences.
+_WITHOUT_CONSTRAINTS = ("fit without them (constrained=False; on the command line --unconstrained) or give "
+                        "the frequencies yourself (characteristic={'f_n': ...}, or f_n1, f_n2, f_anti)")
+
+
 def _ballasted_extrema(table, dips: np.ndarray, search_band) -> dict[str, float]:
     """``f_n1, f_n2`` = the two lowest dips, ``f_anti`` = the highest peak between them."""
     if dips.size < 2:
         raise ValueError(f"fewer than two dips of |det(alpha^-1)| in {search_band} Hz (found {dips.size}): "
-                         "cannot set f_n1, f_n2; pass characteristic={'f_n1': ..., 'f_n2': ..., 'f_anti': ...}")
+                         f"cannot set f_n1, f_n2 for the paper's constraints; {_WITHOUT_CONSTRAINTS}")
     f1, f2 = float(dips[0]), float(dips[1])
     peaks = table[(table["kind"] == "peak") & (table["f"] > f1) & (table["f"] < f2)]
     if peaks.empty:
         raise ValueError(f"no peak of |det(alpha^-1)| between its dips at {f1:.4g} and {f2:.4g} Hz: "
-                         "cannot set f_anti; pass characteristic={...}")
+                         f"cannot set f_anti for the paper's constraints; {_WITHOUT_CONSTRAINTS}")
     fa = float(peaks["f"].to_numpy(float)[np.argmax(peaks["magnitude"].to_numpy(float))])
     return {"f_n1": f1, "f_n2": f2, "f_anti": fa}
 
@@ -225,8 +230,8 @@ def fit_characteristic_frequencies(track: Track, layout: Layout, *, target: Targ
     if layout == "ballasted":
         return _ballasted_extrema(table, dips, search_band)
     if dips.size == 0:
-        raise ValueError(f"no dip of |det(alpha^-1)| found in {search_band} Hz: cannot set f_n; "
-                         "pass characteristic={'f_n': ...}")
+        raise ValueError(f"no dip of |det(alpha^-1)| found in {search_band} Hz: cannot set f_n for the "
+                         f"paper's constraints; {_WITHOUT_CONSTRAINTS}")
     f_b = track.bouncing_frequency_estimate
     return {"f_n": float(dips[np.argmin(np.abs(dips - f_b))])}
 
