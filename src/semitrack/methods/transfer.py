@@ -169,9 +169,10 @@ def end_stiffness(cell: PeriodicCell, omega: np.ndarray, x_cut: float) -> tuple[
     Raises
     ------
     ValueError
-        Where the result cannot be trusted: the doubling did not converge, or the end stiffness
-        is not reciprocal to 1e-6 (lost precision). Neither happens for tracks within a wide
-        margin of physical ones (spacing 0.3-12 m, up to 50 MHz, pads up to 1e25: tested).
+        Where the result cannot be trusted: the algebra overflowed, the doubling did not
+        converge, or an end stiffness is not reciprocal (to 1e-6) and passive (to 1e-9 of its
+        size), signs of lost precision. None happens for tracks within a wide margin of physical
+        ones (spacing 0.3-12 m, up to 50 MHz, pads up to 1e25: tested).
     """
     check_real("x_cut", x_cut)
     omega = np.atleast_1d(omega)
@@ -183,12 +184,11 @@ def end_stiffness(cell: PeriodicCell, omega: np.ndarray, x_cut: float) -> tuple[
         try:
             d = period_dynamic_stiffness(cell, omega, x_cut, extra_loss)
             g_right, g_left, converged = _cyclic_reduction(d)
-        except np.linalg.LinAlgError:  # inf or NaN in the algebra, e.g. kappa = 1e300
-            good = np.zeros(omega.size, dtype=bool)
-        else:
             k_right = d[:, :2, :2] + d[:, :2, 2:] @ g_right
             k_left = d[:, 2:, 2:] + d[:, 2:, :2] @ g_left
             good = converged & _physical(k_right) & _physical(k_left)
+        except np.linalg.LinAlgError:  # inf or NaN in the algebra, e.g. kappa = 1e300
+            good = np.zeros(omega.size, dtype=bool)
     if not good.all():
         f_bad = omega[~good] / (2 * np.pi)
         raise ValueError(
