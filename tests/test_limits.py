@@ -50,7 +50,7 @@ def test_runaway_work_is_refused_at_once(case):
     assert time.perf_counter() - start < 2.0  # refused before any of the work (generous for a busy CI)
 
 
-@pytest.mark.parametrize("f", [True, [True, False], "100", ["3", "900"], None, [None], object()])
+@pytest.mark.parametrize("f", [True, [True, False], "100", ["3", "900"], None, [None], object(), [1.0, [2.0, 3.0]]])
 def test_frequencies_must_be_numbers_as_track_parameters_are(f):
     with pytest.raises(TypeError, match=r"f must be a number or an array of numbers in Hz, got "):
         st.semi_infinite_receptance(SLAB, f)

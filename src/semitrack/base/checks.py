@@ -104,7 +104,10 @@ def as_frequencies(f: ArrayLike, name: str = "f") -> np.ndarray:
     ValueError
         If ``f`` is empty, holds too many frequencies, or any value is <= 0, NaN or infinite.
     """
-    raw = np.asarray(f) if f is not None else np.asarray(None, dtype=object)
+    try:
+        raw = np.asarray(f)
+    except (TypeError, ValueError):  # e.g. a ragged list
+        raw = np.asarray(None)
     if raw.dtype.kind not in "iuf":
         raise TypeError(f"{name} must be a number or an array of numbers in Hz, got {f!r}")
     arr = raw.astype(float)
