@@ -33,7 +33,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from . import __version__
-from .base.checks import MAX_FREQUENCIES, check_band, check_int_at_least, check_positive
+from .base.checks import MAX_FREQUENCIES, check_band, check_int_at_least, check_positive, check_work
 from .base.conventions import ALL_ELEMENTS, ELEMENT_TEX, ELEMENT_UNITS, ELEMENTS
 from .base.files import atomic_write, check_output_path
 from .base.paper_values import FIT_BANDS, PAPER_GRID_BAND, PAPER_GRID_STEP
@@ -118,8 +118,7 @@ def frequency_grid(fmin: float, fmax: float, df: float) -> np.ndarray:
         raise InputError(f"--fmin must not exceed --fmax, got fmin={fmin!r} > fmax={fmax!r}")
     fmin, fmax, df = float(fmin), float(fmax), float(df)
     n = np.floor((fmax - fmin) / df + 1e-9) + 1  # a float: a tiny --df makes it huge (or inf)
-    if n > MAX_FREQUENCIES:
-        raise InputError(f"the grid would hold {n:.3g} frequencies (more than {MAX_FREQUENCIES}); increase --df")
+    checked(check_work, n, MAX_FREQUENCIES, f"the grid would hold {n:.3g} frequencies", "increase --df")
     return fmin + df * np.arange(int(n))
 
 
