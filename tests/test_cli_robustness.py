@@ -443,8 +443,16 @@ def test_check_output_path_returns_the_target_of_a_link(tmp_path):
 
 
 # --- subprocesses: concurrency, pipes, closed stdout, signals -----------------------------------------
+def _interruptible() -> None:
+    """In the child: Ctrl-C as a terminal delivers it. A shell that starts a job in the background
+    without job control (e.g. `cmd &` in a script) makes its children ignore SIGINT, and a
+    program rightly keeps an ignored SIGINT ignored, which is not what these tests are about."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def spawn(*args, **kwargs) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, "-m", "semitrack", *map(str, args)], env=ENV, text=True, **kwargs)
+    return subprocess.Popen([sys.executable, "-m", "semitrack", *map(str, args)], env=ENV, text=True,
+                            preexec_fn=_interruptible, **kwargs)
 
 
 def test_two_writers_of_the_same_file_leave_one_whole_file(tmp_path, track):
@@ -500,7 +508,7 @@ def test_a_signal_during_the_write_leaves_the_old_file_and_no_temporary(tmp_path
     out = tmp_path / "out.csv"
     out.write_text(OLD)
     p = subprocess.Popen([sys.executable, "-c", SLOW_WRITE, "receptance", str(track), *GRID, "-o", str(out)],
-                         env=ENV, text=True, stderr=subprocess.PIPE)
+                         env=ENV, text=True, stderr=subprocess.PIPE, preexec_fn=_interruptible)
     deadline = time.monotonic() + 60
     while not temporaries(tmp_path) and time.monotonic() < deadline and p.poll() is None:
         time.sleep(0.02)
