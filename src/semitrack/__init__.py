@@ -29,6 +29,7 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "FitResult": ("equivalent.fitting", "FitResult"),
     "PeriodicCell": ("model.tracks", "PeriodicCell"),
     "QUANTITIES": ("methods.features", "QUANTITIES"),
+    "Slab": ("model.slab", "Slab"),
     "SlabEquivalent": ("equivalent.systems", "SlabEquivalent"),
     "Track": ("model.tracks", "Track"),
     "TrackFileError": ("model.trackfile", "TrackFileError"),

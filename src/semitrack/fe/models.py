@@ -368,7 +368,7 @@ class FETrack:
         out = {}
         if "exact" in (self.left, self.right):
             cell = self.track.cell()
-            k_right, k_left = end_stiffness(cell, omega, cell.mid_span)
+            k_right, k_left = end_stiffness(cell, omega, cell.central_section)
             out.update({side: (k_right if side == "right" else k_left) for side in self._sides("exact")})
         if "boundary" in (self.left, self.right):
             k = self.system.dynamic_stiffness(omega / (2 * np.pi))

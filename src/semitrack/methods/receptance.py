@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies, check_choice, check_real
 from ..model.tracks import PeriodicCell, Track, require_cell
-from .transfer import end_stiffness, infinite_receptance
+from .transfer import end_stiffness, infinite_response, same_section
 from .wavenumber import WavenumberSettings, central_quantities
 
 #: The two ways to compute the receptance: the exact periodic-structure method and the paper's.
@@ -133,18 +133,17 @@ def central_response(track: Track | PeriodicCell, f: ArrayLike, method: Method =
     f = as_frequencies(f)
     cell = require_cell(track)
     ws = _settings(method, dict(settings))
-    if not cell.is_symmetric_about(cell.mid_span):
+    x0 = cell.central_section
+    if not cell.is_symmetric_about(x0):
         # Eq. (14) uses psi1 = w2 = 0 and Q1 = M2 = 0.5 at the cut: true only at a mirror plane.
         raise ValueError(
-            f"the central responses and Eq. (14) need a cell that is symmetric about its mid-span "
-            f"x = {cell.mid_span}; supports at {cell.positions} in a period of {cell.period} are not. "
-            "semi_infinite_receptance(..., method='transfer') handles any cell"
+            f"the central responses and Eq. (14) need a cell that is symmetric about its central "
+            f"cross-section x = {x0}; supports at {cell.positions} in a period of {cell.period} are not. "
+            "semi_infinite_receptance(..., method='transfer') handles any cell without a coupled foundation"
         )
     omega = 2 * np.pi * f.ravel()
     if ws is None:
-        k_right, k_left = end_stiffness(cell, omega, cell.mid_span)
-        h = np.linalg.inv(k_right + k_left)
-        loads = k_right @ h  # loads on the right part: column 0 unit force, column 1 unit moment
+        h, loads = infinite_response(cell, omega, x0)  # loads on the right part per unit force, moment
         w1, psi2 = h[:, 0, 0], h[:, 1, 1]
         m1, q2 = loads[:, 1, 0], loads[:, 0, 1]
     else:
@@ -158,9 +157,13 @@ def semi_infinite_receptance(track: Track | PeriodicCell, f: ArrayLike, method: 
                              **settings) -> np.ndarray:
     """2x2 receptance alpha at the end of the semi-infinite track (paper Eq. 13).
 
-    The track is cut at a mid-span (the central cross-section). ``alpha[..., i, k]`` is response
-    i (0: w, downward, m; 1: psi, clockwise, rad) per end load k (0: force Q, downward, N;
-    1: moment M, clockwise, N m).
+    The track is cut at a mid-span (the central cross-section; for a flexible slab, the slab joint
+    or centre as ``slab.cut`` says). ``alpha[..., i, k]`` is response i (0: w, downward, m;
+    1: psi, clockwise, rad) per end load k (0: force Q, downward, N; 1: moment M, clockwise, N m).
+
+    Where a flexible slab runs through the cut (``cut="centre"``) the two halves are not
+    separate structures; alpha is then defined as the paper does, by Eq. (14) from the infinite
+    track's central responses, for either method.
 
     Parameters
     ----------
@@ -190,9 +193,12 @@ def semi_infinite_receptance(track: Track | PeriodicCell, f: ArrayLike, method: 
     """
     f = as_frequencies(f)
     cell = require_cell(track)
-    if method == "transfer":
+    # The cut splits the track into two structures unless a coupled foundation runs through it.
+    x0 = cell.central_section
+    separable = cell.has_uncoupled_supports(f.ravel()[:1]) or same_section(x0, cell.joint, cell.period)
+    if method == "transfer" and separable:
         _settings(method, dict(settings))
-        k_right, _ = end_stiffness(cell, 2 * np.pi * f.ravel(), cell.mid_span)
+        k_right, _ = end_stiffness(cell, 2 * np.pi * f.ravel(), x0)
         return np.linalg.inv(k_right).reshape(f.shape + (2, 2))
     return central_response(cell, f, method, **settings).alpha
 
@@ -234,4 +240,4 @@ def point_receptance(track: Track | PeriodicCell, f: ArrayLike, x: float = 0.0) 
         raise ValueError(f"x must be finite and within 1e9 periods ({1e9 * cell.period:.3g} m) of the "
                          f"origin, got {x!r}: the track is periodic, give x modulo the period")
     x = x % cell.period
-    return infinite_receptance(cell, 2 * np.pi * f.ravel(), x).reshape(f.shape + (2, 2))
+    return infinite_response(cell, 2 * np.pi * f.ravel(), x)[0].reshape(f.shape + (2, 2))

@@ -50,14 +50,6 @@ _RECIPROCITY_TOL = 1e-6
 _PASSIVITY_TOL = 1e-9
 
 
-def _require_uncoupled(cell: PeriodicCell, f: np.ndarray) -> None:
-    if not cell.has_uncoupled_supports(f):
-        raise NotImplementedError(
-            "the transfer method needs supports that are not coupled through the foundation "
-            "(G_rs diagonal); use method='wavenumber' for a coupled slab"
-        )
-
-
 def period_dynamic_stiffness(cell: PeriodicCell, omega: np.ndarray, x_cut: float,
                              extra_loss: float = 0.0) -> np.ndarray:
     """Dynamic stiffness of one period between its end cross-sections x_cut and x_cut + L.
@@ -65,7 +57,8 @@ def period_dynamic_stiffness(cell: PeriodicCell, omega: np.ndarray, x_cut: float
     Parameters
     ----------
     cell : PeriodicCell
-        The period (supports must not be coupled through the foundation).
+        The period. If its foundation couples supports (a flexible slab), ``x_cut`` must be
+        the cell's :attr:`~semitrack.PeriodicCell.joint`, where no coupling crosses.
     omega : ndarray
         Circular frequencies (rad/s), shape ``(n,)``.
     x_cut : float
@@ -81,26 +74,59 @@ def period_dynamic_stiffness(cell: PeriodicCell, omega: np.ndarray, x_cut: float
         Maps (w_a, psi_a, w_b, psi_b) at x_cut and x_cut + L (m, rad) to the loads applied to the
         period there (N, N m); the rail segments are exact and the supports condensed out.
     """
+    k, _, _ = _period_model(cell, omega, x_cut, extra_loss)
+    n_dofs = k.shape[-1]
+    ends = np.r_[0, 1, n_dofs - 2, n_dofs - 1]
+    inner = np.arange(2, n_dofs - 2)
+    d = k[:, ends[:, None], ends]
+    if inner.size:
+        d = d - k[:, ends[:, None], inner] @ np.linalg.solve(k[:, inner[:, None], inner], k[:, inner[:, None], ends])
+    return d
+
+
+def _period_model(cell: PeriodicCell, omega: np.ndarray, x_cut: float, extra_loss: float,
+                  point: float | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Assembled stiffness of the period from ``x_cut``, before condensation.
+
+    Rail nodes sit at both ends, at every support and at ``point`` (m, inside the period) if
+    given. Returns the stiffness ``(n, 2 n_nodes, 2 n_nodes)`` over (w, psi) of the nodes in
+    order along x, the node positions relative to ``x_cut`` (m), and the rail segments'
+    dynamic stiffness ``(n_nodes - 1, n, 4, 4)``.
+    """
     f = omega / (2 * np.pi)
-    _require_uncoupled(cell, f)
     period = cell.period
-    offsets = sorted((_distance_past(x, x_cut, period), i) for i, x in enumerate(cell.positions))
-    edges = np.array([0.0] + [dist for dist, _ in offsets if dist < period] + [period])
+    ks = cell.support_stiffness_matrix(f)  # (n, 2S, 2S)
+    if _couples_supports(ks) and not same_section(x_cut, cell.joint, period):
+        raise ValueError(
+            f"the foundation of this cell couples its supports: its period must start at the joint "
+            f"x = {cell.joint:g} m, where no coupling crosses, not at x = {x_cut:g} m")
+    offsets = [_distance_past(x, x_cut, period) for x in cell.positions]
+    points = [dist for dist in offsets if dist < period]
+    if point is not None:
+        points.append(_distance_past(point, x_cut, period))
+    edges = np.unique(np.r_[0.0, points, period])
     segments = segment_dynamic_stiffness(cell.track, omega, np.diff(edges), extra_loss)  # (m, n, 4, 4)
     n_nodes = edges.size
     k = np.zeros((omega.size, 2 * n_nodes, 2 * n_nodes), dtype=complex)
     for j, seg in enumerate(segments):
         k[:, 2 * j : 2 * j + 4, 2 * j : 2 * j + 4] += seg
-    ks = cell.support_stiffness_matrix(f)
-    for dist, i in offsets:
-        node = int(np.searchsorted(edges, dist))  # the node at this support (the last if at L)
-        k[:, 2 * node : 2 * node + 2, 2 * node : 2 * node + 2] += ks[:, 2 * i : 2 * i + 2, 2 * i : 2 * i + 2]
-    ends = np.r_[0, 1, 2 * n_nodes - 2, 2 * n_nodes - 1]
-    inner = np.arange(2, 2 * n_nodes - 2)
-    d = k[:, ends[:, None], ends]
-    if inner.size:
-        d = d - k[:, ends[:, None], inner] @ np.linalg.solve(k[:, inner[:, None], inner], k[:, inner[:, None], ends])
-    return d
+    nodes = np.searchsorted(edges, offsets)  # the node at each support (the last if at L)
+    dofs = np.ravel(np.column_stack([2 * nodes, 2 * nodes + 1]))  # (w, psi) of each support, in ks order
+    k[:, dofs[:, None], dofs] += ks
+    return k, edges, segments
+
+
+def _couples_supports(ks: np.ndarray) -> bool:
+    """True when a support stiffness matrix ``(n, 2S, 2S)`` links two different supports."""
+    s = ks.shape[-1] // 2
+    own = np.kron(np.eye(s, dtype=bool), np.ones((2, 2), dtype=bool))
+    return bool(np.any(ks[:, ~own] != 0))
+
+
+def same_section(x: float, y: float, period: float) -> bool:
+    """True when ``x`` and ``y`` (m) are the same cross-section of the periodic track."""
+    gap = (x - y) % period
+    return min(gap, period - gap) <= 1e-9 * period
 
 
 def _distance_past(x: float, x_cut: float, period: float) -> float:
@@ -153,7 +179,8 @@ def end_stiffness(cell: PeriodicCell, omega: np.ndarray, x_cut: float) -> tuple[
     Parameters
     ----------
     cell : PeriodicCell
-        The period of the track (supports not coupled through the foundation).
+        The period of the track. If its foundation couples supports, ``x_cut`` must be its
+        joint (see :func:`period_dynamic_stiffness`).
     omega : ndarray
         Circular frequencies (rad/s), shape ``(n,)``.
     x_cut : float
@@ -190,12 +217,16 @@ def end_stiffness(cell: PeriodicCell, omega: np.ndarray, x_cut: float) -> tuple[
         except np.linalg.LinAlgError:  # inf or NaN in the algebra, e.g. kappa = 1e300
             good = np.zeros(omega.size, dtype=bool)
     if not good.all():
-        f_bad = omega[~good] / (2 * np.pi)
-        raise ValueError(
-            f"the exact method cannot resolve {cell.track.name!r} at {f_bad.size} frequencies from "
-            f"{f_bad.min():.6g} Hz: the doubling did not converge or its end stiffness is not reciprocal "
-            "and passive (lost precision); the track's parameters are outside what the method resolves")
+        raise _unresolved(cell, omega[~good])
     return k_right, k_left
+
+
+def _unresolved(cell: PeriodicCell, omega_bad: np.ndarray) -> ValueError:
+    f_bad = omega_bad / (2 * np.pi)
+    return ValueError(
+        f"the exact method cannot resolve {cell.track.name!r} at {f_bad.size} frequencies from "
+        f"{f_bad.min():.6g} Hz: the doubling did not converge or its end stiffness is not reciprocal "
+        "and passive (lost precision); the track's parameters are outside what the method resolves")
 
 
 def _physical(k: np.ndarray) -> np.ndarray:
@@ -218,11 +249,64 @@ def _physical(k: np.ndarray) -> np.ndarray:
     return reciprocal & passive
 
 
+def infinite_response(cell: PeriodicCell, omega: np.ndarray, x: float) -> tuple[np.ndarray, np.ndarray]:
+    """Response of the infinite track to a unit force and a unit moment on the rail at ``x``.
+
+    Parameters
+    ----------
+    cell : PeriodicCell
+        The period of the track.
+    omega : ndarray
+        Circular frequencies (rad/s), shape ``(n,)``.
+    x : float
+        Load position (m), in the coordinates of ``cell.positions``.
+
+    Returns
+    -------
+    h : ndarray, shape (n, 2, 2)
+        Receptance at x: (w, psi) (m, rad) per load (F, M) (N, N m); H = (K_R + K_L)^{-1}.
+    loads_right : ndarray, shape (n, 2, 2)
+        The rail's internal forces (Q, M) just right of x per load: the loads the rail x > x
+        carries, Q2 and M1 of the paper's Eq. (14) among them.
+
+    Notes
+    -----
+    Where no foundation coupling crosses x, the two semi-infinite tracks either side of x have
+    end stiffnesses K_R and K_L (:func:`end_stiffness`). Inside a flexible slab the slab links
+    both sides, so the slab's period holding x is solved with the semi-infinite tracks beyond its
+    joints attached as K_L and K_R, and the forces come from the exact rail segment right of x.
+    """
+    omega = np.atleast_1d(omega)
+    joint = cell.joint
+    f = omega / (2 * np.pi)
+    if same_section(x, joint, cell.period) or not _couples_supports(cell.support_stiffness_matrix(f[:1])):
+        k_right, k_left = end_stiffness(cell, omega, x)
+        h = np.linalg.inv(k_right + k_left)
+        return h, k_right @ h
+    k_right, k_left = end_stiffness(cell, omega, joint)
+    extra_loss = _VANISHING_DAMPING if cell.track.eta_rail < _VANISHING_DAMPING else 0.0
+    with np.errstate(all="ignore"):
+        k, edges, segments = _period_model(cell, omega, joint, extra_loss, point=x)
+        k[:, :2, :2] += k_left  # the track before the slab's first joint
+        k[:, -2:, -2:] += k_right  # and after its second (the same track, by periodicity)
+        node = int(np.searchsorted(edges, _distance_past(x, joint, cell.period)))
+        unit = np.zeros((k.shape[-1], 2))
+        unit[2 * node: 2 * node + 2] = np.eye(2)
+        try:
+            u = np.linalg.solve(k, np.broadcast_to(unit, (omega.size,) + unit.shape))
+            h = u[:, 2 * node: 2 * node + 2]
+            loads_right = segments[node][:, :2, :] @ u[:, 2 * node: 2 * node + 4]
+            good = _physical(np.linalg.inv(h))
+        except np.linalg.LinAlgError:
+            good = np.zeros(omega.size, dtype=bool)
+    if not good.all():
+        raise _unresolved(cell, omega[~good])
+    return h, loads_right
+
+
 def infinite_receptance(cell: PeriodicCell, omega: np.ndarray, x: float) -> np.ndarray:
     """2x2 receptance of the infinite track at ``x`` (response (w, psi) to load (F, M) at x).
 
-    Shape ``(n, 2, 2)``; the displacement is continuous at x and the load splits between the
-    two semi-infinite parts, so H = (K_R + K_L)^{-1}.
+    Shape ``(n, 2, 2)``; see :func:`infinite_response`.
     """
-    k_right, k_left = end_stiffness(cell, omega, x)
-    return np.linalg.inv(k_right + k_left)
+    return infinite_response(cell, omega, x)[0]

@@ -97,7 +97,7 @@ def displacement_fields(cell: PeriodicCell, omega: ArrayLike, x_rel: ArrayLike,
     settings : WavenumberSettings, optional
         Discretisation; the paper's by default.
     x0 : float, optional
-        Load position (m); the first mid-span by default.
+        Load position (m); the cell's central cross-section by default.
     chunk_bytes : float
         Rough memory budget of one frequency chunk (bytes).
 
@@ -126,7 +126,7 @@ def displacement_fields(cell: PeriodicCell, omega: ArrayLike, x_rel: ArrayLike,
     settings = settings or WavenumberSettings()
     omega = np.atleast_1d(np.asarray(omega, dtype=float))
     x_rel = np.atleast_1d(np.asarray(x_rel, dtype=float))
-    x0 = cell.mid_span if x0 is None else float(x0)
+    x0 = cell.central_section if x0 is None else float(x0)
     n_terms = (2 * settings.j_max + 1) * settings.beta.size  # terms of the sum over (j, beta)
     check_work(n_terms, MAX_TERMS_PER_FREQUENCY, f"beta_max/dbeta/j_max = {settings.beta_max!r}/{settings.dbeta!r}/"
                f"{settings.j_max!r} give {n_terms} terms per frequency", "use a larger dbeta or a smaller beta_max")
@@ -160,8 +160,9 @@ class _Grid:
         j = np.arange(-settings.j_max, settings.j_max + 1)
         self.j0 = settings.j_max
         self.beta_j = self.beta[None, :] - 2 * np.pi * j[:, None] / period  # (J, N)
-        # Rows for R_rs (Eq. 10): separation y = x_r - x_s, weight 1/L.
-        sep = (pos[:, None] - pos[None, :]).ravel()  # (S*S,)
+        # Rows for R_rs (Eq. 10): separation y = x_r - x_s, weight 1/L. Equally spaced supports
+        # repeat separations (2S - 1 distinct of S^2): sum each once, then spread (self.sep_of_pair).
+        sep, self.sep_of_pair = np.unique((pos[:, None] - pos[None, :]).ravel(), return_inverse=True)
         # Rows for the periodic term at point p from support s: y = x'_p - x_s, an extra
         # e^{-i 2 pi j x0/L}, and the 1/L of Eq. (12).
         obs = (x_rel[:, None] - pos[None, :]).ravel()  # (P*S,)
@@ -182,6 +183,7 @@ class _Grid:
 
         # R(beta) of Eq. (10) as (w, N, 2S, 2S) with DOFs (w_1, psi_1, w_2, ...).
         r_sum = self._sum_over_j(comps, slice(0, self.n_r)) * self.phase_r[None, :, :, None, None]
+        r_sum = r_sum[:, self.sep_of_pair.ravel()]
         r_mat = r_sum.reshape(n_w, n_s, n_s, n_beta, 2, 2).transpose(0, 3, 1, 4, 2, 5)
         r_mat = r_mat.reshape(n_w, n_beta, 2 * n_s, 2 * n_s)
         # A(beta)^-1 = K (I + R K)^-1 with K the support stiffness (inverse of H of Eq. 3).

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.linalg import expm
 
+from .beam import beam_scaling, beam_state_matrix, wave_dynamic_stiffness
 from .tracks import Track
 
 
@@ -67,14 +68,7 @@ def state_matrix(track: Track, omega: ArrayLike, extra_loss: float = 0.0) -> np.
     """
     omega = np.atleast_1d(np.asarray(omega, dtype=float))
     ei, kag = (modulus * (1 + 1j * extra_loss) for modulus in track.rail_moduli(omega / (2 * np.pi)))
-    a = np.zeros((omega.size, 4, 4), dtype=complex)
-    a[:, 0, 1] = 1.0
-    a[:, 0, 2] = -1.0 / kag
-    a[:, 1, 3] = -1.0 / ei
-    a[:, 2, 0] = omega**2 * track.mass_per_length
-    a[:, 3, 1] = omega**2 * track.rotary_inertia
-    a[:, 3, 2] = -1.0
-    return a
+    return beam_state_matrix(omega, ei, 1.0 / kag, track.mass_per_length, track.rotary_inertia)
 
 
 def field_transfer(track: Track, omega: ArrayLike, length: float) -> np.ndarray:
@@ -94,8 +88,7 @@ def state_scaling(track: Track) -> np.ndarray:
     w / d, psi, Q d^2 / EI, M d / EI with d the support spacing; used to keep the eigenvalue
     problems of the transfer method well balanced.
     """
-    d, ei = track.spacing, abs(track.EI)
-    return np.array([1.0 / d, 1.0, d**2 / ei, d / ei])
+    return beam_scaling(track.spacing, abs(track.EI))
 
 
 def segment_dynamic_stiffness(track: Track, omega: ArrayLike, lengths: ArrayLike,
@@ -125,20 +118,4 @@ def segment_dynamic_stiffness(track: Track, omega: ArrayLike, lengths: ArrayLike
         segment at its ends (Q_a, M_a, Q_b, M_b) (N, N m); symmetric (reciprocity).
     """
     omega = np.atleast_1d(np.asarray(omega, dtype=float))
-    lengths = np.atleast_1d(np.asarray(lengths, dtype=float))
-    scale = state_scaling(track)  # a balanced, dimensionless state
-    kappa, phi = np.linalg.eig(scale[:, None] * state_matrix(track, omega, extra_loss) / scale[None, :])
-    order = np.argsort(kappa.real, axis=-1, kind="stable")  # two decaying towards +x first
-    kappa = np.take_along_axis(kappa, order, axis=-1)
-    phi = np.take_along_axis(phi, order[:, None, :], axis=-1)
-    # s(x) = phi_1 e^{kappa_1 x} a + phi_2 e^{kappa_2 (x - l)} b, with Re kappa_1 <= Re kappa_2.
-    decay = np.exp(np.concatenate([kappa[None, :, :2], -kappa[None, :, 2:]], axis=-1)
-                   * lengths[:, None, None])  # (m, n, 4): e^{kappa_1 l}, e^{-kappa_2 l}
-    start = phi * np.where(np.arange(4) < 2, 1.0 + 0j, decay)[..., None, :]  # s(0) per wave
-    end = phi * np.where(np.arange(4) < 2, decay, 1.0 + 0j)[..., None, :]  # s(l) per wave
-    disp = np.concatenate([start[..., :2, :], end[..., :2, :]], axis=-2)
-    load = np.concatenate([start[..., 2:, :], -end[..., 2:, :]], axis=-2)  # loads ON the segment
-    d_scaled = np.swapaxes(np.linalg.solve(np.swapaxes(disp, -1, -2), np.swapaxes(load, -1, -2)), -1, -2)
-    # Back to SI: the scaled loads are scale[2:] * (Q, M), the scaled displacements scale[:2] * (w, psi).
-    s_u, s_f = np.tile(scale[:2], 2), np.tile(scale[2:], 2)
-    return d_scaled * s_u[None, :] / s_f[:, None]
+    return wave_dynamic_stiffness(state_matrix(track, omega, extra_loss), state_scaling(track), lengths)

@@ -22,6 +22,7 @@ check of the general formulation.
 from __future__ import annotations
 
 import dataclasses
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -38,6 +39,7 @@ from ..base.checks import (
     check_string,
 )
 from ..base.paper_values import TABLE2_SLAB, TABLE5_BALLASTED
+from .slab import Slab
 
 #: Damping models of a Track: the paper's loss factors, or their causal viscous equivalents.
 DAMPING_MODELS = ("hysteretic", "viscous")
@@ -131,6 +133,10 @@ class Track:
         ``"hysteretic"`` (the paper's): constant loss factors. ``"viscous"``: causal viscous
         dampers, each equal to its loss factor at the family's reference frequency
         (:meth:`reference_frequencies`); the loss factor then grows as ``eta f / f_ref``.
+    slab : Slab or None
+        A flexible slab under the pads (:class:`semitrack.Slab`), coupling the ``slab.fasteners``
+        supports it carries; one slab is then one period of the track. ``None`` (default): each
+        pad rests on its own rigid foundation or sleeper. Hysteretic damping only.
     """
 
     rho: float
@@ -149,6 +155,7 @@ class Track:
     eta_ballast: float = 0.0
     name: str = "track"
     damping: str = "hysteretic"
+    slab: Slab | None = None
 
     def __post_init__(self):
         if (self.sleeper_mass is None) != (self.kb is None):
@@ -160,12 +167,34 @@ class Track:
             value = getattr(self, key)
             if value is not None:  # only sleeper_mass and kb may be None, checked above
                 object.__setattr__(self, key, check_track_field(key, value))
+        if self.slab is not None:
+            self._check_slab()
+
+    def _check_slab(self) -> None:
+        if not isinstance(self.slab, Slab):
+            raise TypeError(f"slab must be a semitrack Slab or None, got {type(self.slab).__name__}")
+        if self.is_ballasted:
+            raise ValueError("a track has either a flexible slab or sleepers on ballast under its pads, not both: "
+                             "give slab or sleeper_mass/kb")
+        if self.damping != "hysteretic":
+            raise ValueError("a flexible slab takes hysteretic damping (loss factors) only, got damping='viscous'")
+        self.slab.check_spacing(self.spacing)
 
     # ----------------------------------------------------------------------------------------
     @property
     def is_ballasted(self) -> bool:
         """True when the pad rests on a sleeper mass on ballast (paper Sec. 5)."""
         return self.sleeper_mass is not None
+
+    @property
+    def has_flexible_slab(self) -> bool:
+        """True when the pads rest on a flexible :class:`Slab` that couples them."""
+        return self.slab is not None
+
+    def _refuse_slab(self, what: str) -> None:
+        if self.has_flexible_slab:
+            raise ValueError(f"{what} is per support, and the supports of a flexible-slab track are coupled "
+                             "through the slab: use track.cell().support_stiffness_matrix(f)")
 
     @property
     def EI(self) -> complex:
@@ -313,6 +342,7 @@ class Track:
             Same shape as ``f`` (m/N).
         """
         f = as_frequencies(f)
+        self._refuse_slab("foundation_receptance")
         if not self.is_ballasted:
             return np.zeros(f.shape, dtype=complex)
         omega = 2 * np.pi * f
@@ -336,22 +366,36 @@ class Track:
             Rotational dynamic stiffness (N m/rad): the pad alone (the sleeper does not rotate).
         """
         f = as_frequencies(f)
+        self._refuse_slab("support_stiffness")
         k = self.cell().support_stiffness_matrix(f.ravel())  # one support: (n, 2, 2)
         return k[:, 0, 0].reshape(f.shape), k[:, 1, 1].reshape(f.shape)
 
-    def cell(self, supports_per_period: int = 1) -> PeriodicCell:
+    def cell(self, supports_per_period: int | None = None) -> PeriodicCell:
         """The periodic cell of this track with ``supports_per_period`` identical supports.
 
         Parameters
         ----------
-        supports_per_period : int
-            Number S >= 1 of supports in one period; the period is S x spacing (m).
+        supports_per_period : int, optional
+            Number S >= 1 of supports in one period; the period is S x spacing (m). Default 1,
+            and for a flexible-slab track the slab's ``fasteners`` (the only choice there).
 
         Returns
         -------
         PeriodicCell
+            For a flexible slab: supports at 0, d, ..., (S - 1) d, the slab's receptance as the
+            coupled foundation, and the cut at the slab joint (x = -d/2) or the slab centre
+            (x = (S - 1) d / 2) as ``slab.cut`` says.
         """
-        return PeriodicCell.uniform(self, supports_per_period)
+        if not self.has_flexible_slab:
+            return PeriodicCell.uniform(self, 1 if supports_per_period is None else supports_per_period)
+        s = self.slab.fasteners
+        if supports_per_period is not None and supports_per_period != s:
+            raise ValueError(f"a flexible-slab track has one slab, {s} supports, per period; got "
+                             f"supports_per_period={supports_per_period!r}")
+        d = self.spacing
+        cut = -0.5 * d if self.slab.cut == "joint" else 0.5 * (s - 1) * d
+        return PeriodicCell(self, s * d, tuple(d * np.arange(s)),
+                            foundation=functools.partial(self.slab.receptance, spacing=d), cut=cut % (s * d))
 
 
 def slab_track(**overrides) -> Track:
@@ -366,8 +410,9 @@ def slab_track(**overrides) -> Track:
     **overrides
         Track fields to change, by name, in SI units: ``rho`` (kg/m^3), ``E``, ``G`` (N/m^2),
         ``A`` (m^2), ``I`` (m^4), ``kappa``, ``eta_rail`` (-), ``kv`` (N/m), ``kphi``
-        (N m/rad), ``eta_pad`` (-), ``spacing`` (m) and ``name``. The sleeper and ballast
-        fields are refused: a slab track has a rigid foundation.
+        (N m/rad), ``eta_pad`` (-), ``spacing`` (m), ``name`` and ``slab`` (a :class:`Slab` for a
+        flexible slab that couples the fasteners; by default the paper's rigid slab). The sleeper
+        and ballast fields are refused.
 
     Returns
     -------
@@ -379,6 +424,13 @@ def slab_track(**overrides) -> Track:
     >>> track = st.slab_track(kv=8e7)
     >>> track.kv, track.spacing, track.is_ballasted
     (80000000.0, 0.65, False)
+
+    A floating slab, 6.5 m long with 10 fasteners, on a slab mat (values per rail):
+
+    >>> mat = st.Slab(length=6.5, fasteners=10, E=3.6e10, I=8.5e-4, mass_per_length=640.0,
+    ...               support_stiffness=2.5e7, eta_support=0.2)
+    >>> st.slab_track(slab=mat).cell().n_supports
+    10
     """
     return _build(dict(TABLE2_SLAB, name="slab"), overrides, ("sleeper_mass", "kb", "eta_ballast"))
 
@@ -399,7 +451,7 @@ def ballasted_track(**overrides) -> Track:
     -------
     Track
     """
-    return _build(dict(TABLE5_BALLASTED, name="ballasted"), overrides, ())
+    return _build(dict(TABLE5_BALLASTED, name="ballasted"), overrides, ("slab",))
 
 
 def _build(params: dict, overrides: dict, forbidden: tuple[str, ...]) -> Track:
@@ -469,13 +521,18 @@ class PeriodicCell:
         ``foundation(f) -> (n_f, S, S)`` complex array: the vertical receptance matrix G_rs of the
         foundation under the S pads (m/N), the paper's Eq. (3). By default each support has its
         own foundation, ``G_rs = delta_rs * track.foundation_receptance(f)``; a coupled slab can be
-        given here (the wavenumber method accepts it, the transfer method needs it diagonal).
+        given here: it couples the supports of one period [0, L) (the paper's bays), so the
+        period boundary x = 0 is a joint that no coupling crosses.
+    cut : float, optional
+        The central cross-section (m) where alpha's cut and the central responses sit, in
+        [0, period); the first mid-span (:attr:`mid_span`) by default.
     """
 
     track: Track
     period: float
     positions: tuple[float, ...]
     foundation: Callable[[np.ndarray], np.ndarray] | None = field(default=None, compare=False)
+    cut: float | None = None
 
     def __post_init__(self):
         require_track(self.track)
@@ -489,6 +546,11 @@ class PeriodicCell:
         if list(pos) != sorted(pos) or len(set(pos)) != len(pos):
             raise ValueError(f"support positions must be distinct and increasing, got {pos}")
         object.__setattr__(self, "positions", pos)
+        if self.cut is not None:
+            cut = check_nonnegative("cut", self.cut)
+            if not cut < self.period:
+                raise ValueError(f"cut must satisfy 0 <= cut < period={self.period}, got {self.cut!r}")
+            object.__setattr__(self, "cut", cut)
 
     @classmethod
     def uniform(cls, track: Track, supports_per_period: int = 1) -> PeriodicCell:
@@ -519,6 +581,21 @@ class PeriodicCell:
         """Position of the first mid-span, between the first support and the next (m)."""
         nxt = self.positions[1] if self.n_supports > 1 else self.period
         return 0.5 * (self.positions[0] + nxt)
+
+    @property
+    def central_section(self) -> float:
+        """Where alpha's cut and the central responses sit (m): ``cut``, else :attr:`mid_span`."""
+        return self.mid_span if self.cut is None else self.cut
+
+    @property
+    def joint(self) -> float:
+        """A cross-section that no foundation coupling crosses (m), between two periods' supports.
+
+        Midway between the last support of the previous period and the first of this one:
+        the slab joint of a flexible-slab track (-d/2). Negative values are allowed (positions
+        are periodic).
+        """
+        return 0.5 * (self.positions[0] + self.positions[-1] - self.period)
 
     def is_symmetric_about(self, x: float, rtol: float = 1e-9) -> bool:
         """True when the periodic track is a mirror image of itself about the cross-section ``x``.
