@@ -80,3 +80,11 @@ def test_undamped_rail_is_refused_by_the_wavenumber_method():
     with pytest.raises(ValueError, match=r"needs a damped rail \(eta_rail > 0\), got eta_rail=0.0"):
         st.semi_infinite_receptance(track, [500.0], method="wavenumber")
     st.semi_infinite_receptance(track, [500.0])  # the exact method takes the limit instead
+
+
+def test_summing_the_wavenumbers_in_blocks_changes_nothing(track):
+    """A frequency whose terms exceed the memory budget is summed in wavenumber blocks."""
+    cell, omega, x = track.cell(), 2 * np.pi * np.array([50.0, 900.0]), np.array([0.0, 0.04, 0.08])
+    whole = displacement_fields(cell, omega, x)
+    blocks = displacement_fields(cell, omega, x, chunk_bytes=1e6)  # ~240 wavenumbers per block
+    np.testing.assert_allclose(blocks, whole, rtol=1e-12, atol=1e-12 * np.abs(whole).max())

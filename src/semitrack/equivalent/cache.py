@@ -48,6 +48,7 @@ import numpy as np
 
 from ..base.checks import check_band
 from ..base.paper_values import FIT_BANDS
+from ..model.slab import Slab
 from ..model.tracks import Track, require_track
 from .assembly import Layout, check_layout
 from .fitting import FitResult, fit_equivalent
@@ -119,6 +120,8 @@ def _canonical(value):
     if isinstance(value, Track):
         return ["track"] + [[f.name, _canonical(getattr(value, f.name))]
                             for f in dataclasses.fields(value) if f.name != "name"]
+    if isinstance(value, Slab):
+        return ["slab"] + [[f.name, _canonical(getattr(value, f.name))] for f in dataclasses.fields(value)]
     if callable(value):
         raise TypeError("cached_fit cannot key a callable target (its code and state have no stable identity); "
                         "pass sampled (f, alpha) or call fit_equivalent")

@@ -165,6 +165,11 @@ class FETrack:
     def __init__(self, track: Track, n_left: int, n_right: int, left: End = "pinned", right: End = "pinned",
                  system: EquivalentSystem | BroadbandBoundary | None = None, elements_per_bay: int = 12):
         self.track = require_track(track)
+        if self.track.has_flexible_slab:
+            raise NotImplementedError(
+                "the finite-element track models hold pads on a rigid foundation or on sleepers; a flexible "
+                "slab (track.slab) is not modelled there yet: use the exact method (semi_infinite_receptance, "
+                "point_receptance), which handles it")
         self.n_left = check_int_at_least("n_left", n_left, 0)
         self.n_right = check_int_at_least("n_right", n_right, 0)
         self.left = check_choice("left", left, ENDS)

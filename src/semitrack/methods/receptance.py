@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies, check_choice, check_real
 from ..model.tracks import PeriodicCell, Track, require_cell
-from .transfer import end_stiffness, infinite_response, same_section
+from .transfer import end_stiffness, infinite_response, same_section, slab_cut_end_stiffness
 from .wavenumber import WavenumberSettings, central_quantities
 
 #: The two ways to compute the receptance: the exact periodic-structure method and the paper's.
@@ -48,6 +48,10 @@ class CentralResponse:
         Bending moment on that section per unit force (N m/N).
     method : {"transfer", "wavenumber"}
         The method that computed them.
+    separable : bool
+        False where a flexible slab runs through the central cross-section: the two halves then
+        also meet through the slab, and Eq. (14) and (18), which presume they meet through the
+        rail alone, do not hold (:attr:`alpha` and :attr:`det` refuse).
 
     Examples
     --------
@@ -63,15 +67,25 @@ class CentralResponse:
     Q2: np.ndarray
     M1: np.ndarray
     method: str
+    separable: bool = True
+
+    def _require_separable(self, what: str) -> None:
+        if not self.separable:
+            raise ValueError(
+                f"{what} presumes that the two halves of the track meet through the rail alone; a flexible "
+                "slab runs through this cut (their Eq. 14 alpha is not even reciprocal). Use "
+                "semi_infinite_receptance, which cuts the slab there too")
 
     @property
     def det(self) -> np.ndarray:
         """det(alpha^-1), Eq. (18) (N^2)."""
+        self._require_separable("Eq. (18)")
         return (0.25 - self.M1 * self.Q2) / (self.w1 * self.psi2)
 
     @property
     def alpha(self) -> np.ndarray:
         """Receptance of the semi-infinite track by Eq. (14), shape ``(n, 2, 2)``."""
+        self._require_separable("Eq. (14)")
         scale = 1.0 / (0.25 - self.M1 * self.Q2)
         a = np.empty(self.w1.shape + (2, 2), dtype=complex)
         a[..., 0, 0] = 0.5 * self.w1 * scale
@@ -150,7 +164,12 @@ def central_response(track: Track | PeriodicCell, f: ArrayLike, method: Method =
         w1, psi2, q2, m1 = central_quantities(cell, omega, ws)
     shape = f.shape
     return CentralResponse(f=f, w1=w1.reshape(shape), psi2=psi2.reshape(shape), Q2=q2.reshape(shape),
-                           M1=m1.reshape(shape), method=method)
+                           M1=m1.reshape(shape), method=method, separable=_separable(cell, f))
+
+
+def _separable(cell: PeriodicCell, f: np.ndarray) -> bool:
+    """True when the cut splits the track into two structures joined by the rail alone."""
+    return cell.has_uncoupled_supports(f.ravel()[:1]) or same_section(cell.central_section, cell.joint, cell.period)
 
 
 def semi_infinite_receptance(track: Track | PeriodicCell, f: ArrayLike, method: Method = "transfer",
@@ -161,9 +180,9 @@ def semi_infinite_receptance(track: Track | PeriodicCell, f: ArrayLike, method: 
     or centre as ``slab.cut`` says). ``alpha[..., i, k]`` is response i (0: w, downward, m;
     1: psi, clockwise, rad) per end load k (0: force Q, downward, N; 1: moment M, clockwise, N m).
 
-    Where a flexible slab runs through the cut (``cut="centre"``) the two halves are not
-    separate structures; alpha is then defined as the paper does, by Eq. (14) from the infinite
-    track's central responses, for either method.
+    Inside a flexible slab (``slab.cut`` not "joint") the slab is cut too: alpha is that of the
+    semi-infinite track whose first slab starts, free, at the cut (exact method only; the
+    paper's Eq. 14 presumes halves joined by the rail alone, so the wavenumber method refuses).
 
     Parameters
     ----------
@@ -193,14 +212,23 @@ def semi_infinite_receptance(track: Track | PeriodicCell, f: ArrayLike, method: 
     """
     f = as_frequencies(f)
     cell = require_cell(track)
-    # The cut splits the track into two structures unless a coupled foundation runs through it.
-    x0 = cell.central_section
-    separable = cell.has_uncoupled_supports(f.ravel()[:1]) or same_section(x0, cell.joint, cell.period)
-    if method == "transfer" and separable:
+    omega = 2 * np.pi * f.ravel()
+    if _separable(cell, f):
+        if method == "wavenumber":
+            return central_response(cell, f, method, **settings).alpha
         _settings(method, dict(settings))
-        k_right, _ = end_stiffness(cell, 2 * np.pi * f.ravel(), x0)
-        return np.linalg.inv(k_right).reshape(f.shape + (2, 2))
-    return central_response(cell, f, method, **settings).alpha
+        k_right, _ = end_stiffness(cell, omega, cell.central_section)
+    elif cell.track.has_flexible_slab and cell.foundation is not None:
+        if method != "transfer":
+            raise ValueError("inside a flexible slab alpha is that of the track with its slab cut at the cut, "
+                             "which the paper's Eq. (14) cannot give: use method='transfer' or slab cut='joint'")
+        _settings(method, dict(settings))
+        k_right = slab_cut_end_stiffness(cell, omega)
+    else:
+        raise ValueError(f"the foundation of this cell couples supports across its central cross-section "
+                         f"x = {cell.central_section:g} m, so the track does not end there; cut at its joint "
+                         f"x = {cell.joint:g} m (PeriodicCell(..., cut=...))")
+    return np.linalg.inv(k_right).reshape(f.shape + (2, 2))
 
 
 def point_receptance(track: Track | PeriodicCell, f: ArrayLike, x: float = 0.0) -> np.ndarray:

@@ -32,6 +32,8 @@ rail loss factor of 1e-9 added, far below any physical one.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from ..base.checks import check_real
@@ -247,6 +249,53 @@ def _physical(k: np.ndarray) -> np.ndarray:
     absorbed = np.linalg.eigvalsh((balanced - np.conj(np.swapaxes(balanced, 1, 2))) / 2j)
     passive = absorbed[:, 0] >= -_PASSIVITY_TOL * np.abs(balanced).max(axis=(1, 2))
     return reciprocal & passive
+
+
+def slab_cut_end_stiffness(cell: PeriodicCell, omega: np.ndarray) -> np.ndarray:
+    """End stiffness of the track right of a cut inside a flexible slab, the slab cut there too.
+
+    The cut is the cell's central cross-section, the k-th mid-span of a slab (k =
+    ``slab.cut_span`` >= 1). The part x > x_cut is the rest of the cut slab (free at the cut,
+    carrying the slab's last S - k fasteners, with its rail) followed by the semi-infinite track
+    from the next joint, whose end stiffness :func:`end_stiffness` gives; it is solved whole and
+    condensed onto the rail at the cut. Unlike Eq. (14) from the infinite track's responses,
+    which presumes the two halves meet through the rail alone, this is the end of a structure:
+    reciprocal and passive.
+
+    Parameters
+    ----------
+    cell : PeriodicCell
+        The cell of a flexible-slab track (``track.cell()``).
+    omega : ndarray
+        Circular frequencies (rad/s), shape ``(n,)``.
+
+    Returns
+    -------
+    ndarray, shape (n, 2, 2)
+        Maps (w, psi) at the cut (m, rad) to the loads (Q, M) applied there (N, N m).
+    """
+    track = cell.track
+    slab, d = track.slab, track.spacing
+    k = slab.cut_span
+    n_right = slab.fasteners - k
+    omega = np.atleast_1d(omega)
+    k_next, _ = end_stiffness(cell, omega, cell.joint)  # the track beyond the cut slab's far joint
+    rest = PeriodicCell(track, n_right * d, tuple(d * (np.arange(n_right) + 0.5)),
+                        foundation=functools.partial(slab.receptance, spacing=d, from_span=k))
+    extra_loss = _VANISHING_DAMPING if track.eta_rail < _VANISHING_DAMPING else 0.0
+    with np.errstate(all="ignore"):
+        try:
+            stiff, _, _ = _period_model(rest, omega, 0.0, extra_loss)  # from the cut to the joint
+            stiff[:, -2:, -2:] += k_next
+            inner = np.arange(2, stiff.shape[-1])
+            k_end = stiff[:, :2, :2] - stiff[:, :2, inner] @ np.linalg.solve(stiff[:, inner[:, None], inner],
+                                                                             stiff[:, inner, :2])
+            good = _physical(k_end)
+        except np.linalg.LinAlgError:
+            good = np.zeros(omega.size, dtype=bool)
+    if not good.all():
+        raise _unresolved(cell, omega[~good])
+    return k_end
 
 
 def infinite_response(cell: PeriodicCell, omega: np.ndarray, x: float) -> tuple[np.ndarray, np.ndarray]:

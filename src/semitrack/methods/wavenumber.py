@@ -36,9 +36,11 @@ __all__ = ["PAPER_BETA_MAX", "PAPER_DBETA", "PAPER_DX", "PAPER_J_MAX", "Wavenumb
            "displacement_fields", "odd_slope"]
 
 
-#: Most terms (2 j_max + 1) x (2 beta_max / dbeta) of Eq. (12) per frequency: each holds ~128 bytes
-#: while its frequency is summed (1.6e7 terms ~ 2 GB; the paper's settings use 4.1e5).
-MAX_TERMS_PER_FREQUENCY = 16_000_000
+#: Most terms (2 j_max + 1) x (2 beta_max / dbeta) of Eq. (12) per frequency (the paper's settings
+#: use 4.1e5). Memory is bounded by summing the wavenumbers in blocks; the limit is one of time:
+#: ~1e-7 s per term with one support per period, ~1e-6 s with ten (a flexible slab), so 1e8 terms
+#: take from 10 s to ~2 min per frequency.
+MAX_TERMS_PER_FREQUENCY = 100_000_000
 #: Most terms per call, over all frequencies (~1.4e7 terms/s on one core: 1e10 ~ 12 min).
 MAX_TERMS = 10_000_000_000
 
@@ -133,13 +135,16 @@ def displacement_fields(cell: PeriodicCell, omega: ArrayLike, x_rel: ArrayLike,
     check_work(n_terms * omega.size, MAX_TERMS, f"{omega.size} frequencies x {n_terms} terms give "
                f"{n_terms * omega.size} terms", "use fewer frequencies or coarser settings")
     grid = _Grid(cell, settings, x_rel, x0)
-    # Three (J, N) component arrays of D(beta_j)^-1 per frequency, plus their temporaries.
-    per_freq = 16 * grid.beta_j.size * 8
+    # Three (J, N) component arrays of D(beta_j)^-1 per frequency, plus their temporaries: chunk
+    # the frequencies, and where one frequency alone exceeds the budget, its wavenumbers.
+    per_term = 16 * 8
+    per_freq = per_term * grid.beta_j.size
     step = max(1, int(chunk_bytes // per_freq))
+    beta_block = max(1, int(chunk_bytes // (per_term * grid.beta_j.shape[0])))
     out = np.empty((omega.size, x_rel.size, 2, 2), dtype=complex)
     for start in range(0, omega.size, step):
         sl = slice(start, start + step)
-        out[sl] = grid.fields(omega[sl])
+        out[sl] = grid.fields(omega[sl], beta_block)
     return out
 
 
@@ -175,14 +180,28 @@ class _Grid:
         self.phase_direct = np.exp(1j * np.outer(x_rel, self.beta))  # (P, N)
         self.phase_b = np.exp(1j * np.outer(self.beta, pos))  # (N, S): B(beta) of Eq. (8)
 
-    def fields(self, omega: np.ndarray, points_per_block: int = 8) -> np.ndarray:
+    def fields(self, omega: np.ndarray, beta_block: int | None = None) -> np.ndarray:
+        """Eq. (12) at the points ``x_rel`` for the frequencies ``omega``, shape (n, P, 2, 2).
+
+        The Riemann sum over beta is taken in blocks of ``beta_block`` wavenumbers (all at once
+        by default), which bounds the memory of one frequency.
+        """
+        n_beta = self.beta.size
+        block = n_beta if beta_block is None else beta_block
+        total = sum(self._partial_sum(omega, slice(start, min(start + block, n_beta)))
+                    for start in range(0, n_beta, block))
+        return (self.dbeta / (2 * np.pi)) * total
+
+    def _partial_sum(self, omega: np.ndarray, b: slice, points_per_block: int = 8) -> np.ndarray:
+        """The terms of Eq. (12) (without dbeta / 2 pi) of the wavenumbers ``beta[b]``."""
         cell, n_s = self.cell, self.pos.size
-        n_w, n_beta, n_p = omega.size, self.beta.size, self.x_rel.size
-        comps = operator_inverse(cell.track, omega[:, None, None], self.beta_j[None])  # 4 x (w, J, N)
+        n_w, n_p = omega.size, self.x_rel.size
+        n_beta = b.stop - b.start
+        comps = operator_inverse(cell.track, omega[:, None, None], self.beta_j[None, :, b])  # 4 x (w, J, n)
         d0 = np.stack([c[:, self.j0] for c in comps], -1).reshape(n_w, n_beta, 2, 2)  # D(beta)^-1
 
         # R(beta) of Eq. (10) as (w, N, 2S, 2S) with DOFs (w_1, psi_1, w_2, ...).
-        r_sum = self._sum_over_j(comps, slice(0, self.n_r)) * self.phase_r[None, :, :, None, None]
+        r_sum = self._sum_over_j(comps, slice(0, self.n_r)) * self.phase_r[None, :, b, None, None]
         r_sum = r_sum[:, self.sep_of_pair.ravel()]
         r_mat = r_sum.reshape(n_w, n_s, n_s, n_beta, 2, 2).transpose(0, 3, 1, 4, 2, 5)
         r_mat = r_mat.reshape(n_w, n_beta, 2 * n_s, 2 * n_s)
@@ -190,24 +209,24 @@ class _Grid:
         k_sup = cell.support_stiffness_matrix(omega / (2 * np.pi))[:, None]
         a_inv = k_sup @ np.linalg.inv(np.eye(2 * n_s) + r_mat @ k_sup)
         # G(beta) = A^-1 B D^-1 for both unit loads (p0 = identity).
-        bd = (self.phase_b[None, :, :, None, None] * d0[:, :, None]).reshape(n_w, n_beta, 2 * n_s, 2)
+        bd = (self.phase_b[None, b, :, None, None] * d0[:, :, None]).reshape(n_w, n_beta, 2 * n_s, 2)
         g = (a_inv @ bd).reshape(n_w, n_beta, n_s, 2, 2)
 
         periodic = np.empty((n_w, n_p, 2, 2), dtype=complex)
         for start in range(0, n_p, points_per_block):  # blocks of points bound the memory
             pts = slice(start, min(start + points_per_block, n_p))
             rows = slice(self.n_r + pts.start * n_s, self.n_r + pts.stop * n_s)
-            phase = self.phase_p[rows.start - self.n_r : rows.stop - self.n_r]
+            phase = self.phase_p[rows.start - self.n_r : rows.stop - self.n_r, b]
             p_sum = self._sum_over_j(comps, rows) * phase[None, :, :, None, None]
             p_sum = p_sum.reshape(n_w, pts.stop - pts.start, n_s, n_beta, 2, 2)
             periodic[:, pts] = np.einsum("wpsnab,wnsbk->wpak", p_sum, g, optimize=True)
-        direct = np.einsum("pn,wnab->wpab", self.phase_direct, d0, optimize=True)
-        return (self.dbeta / (2 * np.pi)) * (direct - periodic)
+        direct = np.einsum("pn,wnab->wpab", self.phase_direct[:, b], d0, optimize=True)
+        return direct - periodic
 
     def _sum_over_j(self, comps, rows):
         """sum_j coef[row, j] D(beta_j)^-1 for the given rows, shape (w, rows, N, 2, 2)."""
         coef = self.coef[rows]
-        n_w, n_beta = comps[0].shape[0], self.beta.size
+        n_w, n_beta = comps[0].shape[:1] + comps[0].shape[2:]
         return np.stack([coef @ c for c in comps], -1).reshape(n_w, -1, n_beta, 2, 2)
 
 

@@ -34,9 +34,9 @@ from ..base.checks import (
 )
 from .beam import beam_scaling, beam_state_matrix, wave_dynamic_stiffness
 
-#: Where the cut of alpha and the central responses sits on a flexible-slab track: at the joint
-#: between two slabs (the paper's choice, Sec. 3) or at the slab's centre (a mid-span when the
-#: slab carries an even number of fasteners).
+#: Where the cut of alpha and the central responses sits on a flexible-slab track, by name: at the
+#: joint between two slabs (the paper's choice, Sec. 3) or at the slab's centre (a mid-span when
+#: the slab carries an even number of fasteners). An integer k picks the k-th mid-span inside.
 SLAB_CUTS = ("joint", "centre")
 
 #: Most fasteners on one slab: each adds a node to the batched solves of every frequency.
@@ -76,10 +76,13 @@ class Slab:
         Euler-Bernoulli slab (rigid in shear).
     rotary_inertia : float
         rho I of the slab section (kg m), used with ``shear_stiffness`` (default 0).
-    cut : {"joint", "centre"}
-        Where the cut of alpha and the central responses sits: at the joint between two slabs
-        (default, the paper's choice), or at the slab's centre (needs an even ``fasteners``, so
-        that the centre is a mid-span). With a flexible slab alpha depends on it.
+    cut : {"joint", "centre"} or int
+        Where alpha's cut (and the central responses) sits: at the joint between two slabs
+        (default, the paper's choice); at the slab's centre (needs an even ``fasteners``, so that
+        the centre is a mid-span); or at the k-th mid-span inside the slab, 1 <= k <= S - 1 (k
+        fasteners of the slab lie left of it). Inside a slab the slab is cut too: alpha is that
+        of the semi-infinite track whose first slab starts, free, at the cut. With a flexible
+        slab alpha depends on the cut.
     """
 
     length: float
@@ -105,10 +108,27 @@ class Slab:
         if s > MAX_FASTENERS:
             raise ValueError(f"fasteners must be at most {MAX_FASTENERS} (a slab is a few metres long), got {s}")
         object.__setattr__(self, "fasteners", s)
-        check_choice("cut", self.cut, SLAB_CUTS)
-        if self.cut == "centre" and s % 2:
-            raise ValueError(f"cut='centre' needs an even number of fasteners (the centre of a slab with "
-                             f"{s} is a fastener, not a mid-span); use cut='joint'")
+        if isinstance(self.cut, str):
+            check_choice("cut", self.cut, SLAB_CUTS)
+            if self.cut == "centre" and s % 2:
+                raise ValueError(f"cut='centre' needs an even number of fasteners (the centre of a slab with "
+                                 f"{s} is a fastener, not a mid-span); use cut='joint' or a mid-span number")
+        else:
+            try:
+                k = check_int_at_least("cut", self.cut, 1)
+            except TypeError:
+                raise TypeError(f"cut must be one of {SLAB_CUTS} or a mid-span number, got {self.cut!r}") from None
+            if k > s - 1:
+                raise ValueError(f"cut must be a mid-span inside the slab, 1 <= cut <= fasteners - 1 = {s - 1}, "
+                                 f"got {self.cut!r}")
+            object.__setattr__(self, "cut", k)
+
+    @property
+    def cut_span(self) -> int:
+        """The cut as a mid-span number k: 0 at the joint, S/2 at the centre, else ``cut``."""
+        if isinstance(self.cut, str):
+            return 0 if self.cut == "joint" else self.fasteners // 2
+        return self.cut
 
     def check_spacing(self, spacing: float) -> None:
         """Raise ValueError unless S fasteners fit on the slab as the ``length`` rule states.
@@ -150,7 +170,7 @@ class Slab:
         omega2 = (self.support_stiffness + self.E * self.I * beta**4) / self.mass_per_length
         return np.sqrt(omega2) / (2 * np.pi)
 
-    def receptance(self, f: ArrayLike, spacing: float) -> np.ndarray:
+    def receptance(self, f: ArrayLike, spacing: float, from_span: int = 0) -> np.ndarray:
         """Vertical receptance G_rs of the slab between its fasteners (paper Eq. 3), exact.
 
         Parameters
@@ -159,34 +179,40 @@ class Slab:
             Frequencies (Hz), positive and finite; flattened.
         spacing : float
             Fastener spacing d (m), as the track's.
+        from_span : int
+            0 (default): the whole slab. k >= 1: the part of the slab right of its k-th mid-span,
+            cut there with a free end, carrying the last S - k fasteners.
 
         Returns
         -------
-        ndarray of complex, shape ``(n_f, S, S)``
+        ndarray of complex, shape ``(n_f, S - from_span, S - from_span)``
             Slab deflection under fastener r per unit downward force at fastener s (m/N),
             symmetric; fasteners ordered along x.
         """
         f = np.atleast_1d(as_frequencies(f)).ravel()
         spacing = check_positive("spacing", spacing)
         self.check_spacing(spacing)
+        k = int(from_span)
+        if not 0 <= k < self.fasteners:
+            raise ValueError(f"from_span must be in 0..{self.fasteners - 1}, got {from_span!r}")
         omega = 2 * np.pi * f
-        s = self.fasteners
+        s = self.fasteners - k
         ei = self.E * self.I * (1 + 1j * self.eta_slab)
         compliance = 0.0 if self.shear_stiffness is None else 1.0 / (self.shear_stiffness * (1 + 1j * self.eta_slab))
         a = beam_state_matrix(omega, ei, compliance, self.mass_per_length, self.rotary_inertia,
                               self.support_stiffness * (1 + 1j * self.eta_support))
-        overhang = 0.5 * (self.length - (s - 1) * spacing)
-        lengths = [overhang, spacing] if s > 1 else [overhang]
-        seg = wave_dynamic_stiffness(a, beam_scaling(spacing, self.E * self.I), lengths)  # (1 or 2, n, 4, 4)
-        n_nodes = s + 2  # left end, the S fasteners, right end
-        k = np.zeros((f.size, 2 * n_nodes, 2 * n_nodes), dtype=complex)
+        overhang = 0.5 * (self.length - (self.fasteners - 1) * spacing)
+        lengths = np.r_[0.5 * spacing if k else overhang, np.full(s - 1, spacing), overhang]  # left end to right
+        unique, which = np.unique(lengths, return_inverse=True)
+        seg = wave_dynamic_stiffness(a, beam_scaling(spacing, self.E * self.I), unique)  # (<= 3, n, 4, 4)
+        n_nodes = s + 2  # left end, the fasteners, right end
+        stiff = np.zeros((f.size, 2 * n_nodes, 2 * n_nodes), dtype=complex)
         for j in range(n_nodes - 1):
-            inner = 0 < j < n_nodes - 2
-            k[:, 2 * j: 2 * j + 4, 2 * j: 2 * j + 4] += seg[1 if inner else 0]
+            stiff[:, 2 * j: 2 * j + 4, 2 * j: 2 * j + 4] += seg[which[j]]
         fastener_w = 2 * np.arange(1, s + 1)
         unit = np.zeros((2 * n_nodes, s))
         unit[fastener_w, np.arange(s)] = 1.0
-        g = np.linalg.solve(k, np.broadcast_to(unit, (f.size,) + unit.shape))[:, fastener_w, :]
+        g = np.linalg.solve(stiff, np.broadcast_to(unit, (f.size,) + unit.shape))[:, fastener_w, :]
         return 0.5 * (g + np.swapaxes(g, 1, 2))  # symmetric by reciprocity; remove rounding asymmetry
 
 

@@ -383,8 +383,8 @@ class Track:
         -------
         PeriodicCell
             For a flexible slab: supports at 0, d, ..., (S - 1) d, the slab's receptance as the
-            coupled foundation, and the cut at the slab joint (x = -d/2) or the slab centre
-            (x = (S - 1) d / 2) as ``slab.cut`` says.
+            coupled foundation, and the cut at the mid-span ``slab.cut`` names: x = (k - 1/2) d
+            for k = ``slab.cut_span``, the slab joint (x = -d/2) for k = 0.
         """
         if not self.has_flexible_slab:
             return PeriodicCell.uniform(self, 1 if supports_per_period is None else supports_per_period)
@@ -393,7 +393,7 @@ class Track:
             raise ValueError(f"a flexible-slab track has one slab, {s} supports, per period; got "
                              f"supports_per_period={supports_per_period!r}")
         d = self.spacing
-        cut = -0.5 * d if self.slab.cut == "joint" else 0.5 * (s - 1) * d
+        cut = (self.slab.cut_span - 0.5) * d  # the joint (k = 0) is the mid-span before the first fastener
         return PeriodicCell(self, s * d, tuple(d * np.arange(s)),
                             foundation=functools.partial(self.slab.receptance, spacing=d), cut=cut % (s * d))
 
@@ -704,11 +704,27 @@ PARAMETER_INFO = (
     ("eta_ballast", "eta_B", "ballast loss factor", "-"),
 )
 
+#: Symbol, description and unit of every numeric :class:`Slab` field (``cut`` is a choice, not a
+#: parameter; ``shear_stiffness`` appears only for a Timoshenko slab).
+SLAB_PARAMETER_INFO = (
+    ("length", "L", "slab length", "m"),
+    ("fasteners", "S", "fasteners per slab", "-"),
+    ("E", "E_S", "Young's modulus of the slab", "N/m^2"),
+    ("I", "I_S", "second moment of area of the slab (per rail)", "m^4"),
+    ("mass_per_length", "m_S'", "slab mass per unit length (per rail)", "kg/m"),
+    ("eta_slab", "eta_S", "loss factor of the slab", "-"),
+    ("shear_stiffness", "kappa_S A_S G_S", "shear stiffness of the slab (per rail)", "N"),
+    ("rotary_inertia", "rho_S I_S", "rotary inertia of the slab (per rail)", "kg m"),
+    ("support_stiffness", "k_L", "resilient layer stiffness per unit length (per rail)", "N/m^2"),
+    ("eta_support", "eta_L", "loss factor of the resilient layer", "-"),
+)
+
 
 def parameter_table(track: Track) -> pd.DataFrame:
     """The track's parameters as a table, in the order of the paper's Tables 2 and 5.
 
-    Fields that do not apply (the sleeper and ballast of a slab track) are left out.
+    Fields that do not apply (the sleeper and ballast of a slab track) are left out; a flexible
+    slab's fields follow the pad's (:data:`SLAB_PARAMETER_INFO`).
 
     Parameters
     ----------
@@ -723,4 +739,7 @@ def parameter_table(track: Track) -> pd.DataFrame:
     track = require_track(track)
     rows = [(sym, desc, getattr(track, key), unit) for key, sym, desc, unit in PARAMETER_INFO
             if not (key in ("sleeper_mass", "kb", "eta_ballast") and not track.is_ballasted)]
+    if track.has_flexible_slab:
+        rows += [(sym, desc, getattr(track.slab, key), unit) for key, sym, desc, unit in SLAB_PARAMETER_INFO
+                 if getattr(track.slab, key) is not None]
     return pd.DataFrame(rows, columns=["symbol", "description", "value", "unit"])
