@@ -232,7 +232,8 @@ def test_stiffening_the_slab_and_its_layer_tends_to_the_rigid_slab():
     rigid = st.semi_infinite_receptance(st.slab_track(), f)
     devs = []
     for factor in 10.0 ** np.arange(5):
-        slab = dataclasses.replace(FLOATING, E=FLOATING.E * factor, support_stiffness=FLOATING.support_stiffness * factor)
+        slab = dataclasses.replace(FLOATING, E=FLOATING.E * factor,
+                                   support_stiffness=FLOATING.support_stiffness * factor)
         devs.append(_rel(st.semi_infinite_receptance(st.slab_track(slab=slab), f), rigid).max())
     devs = np.array(devs)
     assert np.all(np.diff(devs) < 0), devs

@@ -35,6 +35,7 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "TrackFileError": ("model.trackfile", "TrackFileError"),
     "TruncatedTrack": ("fe.models", "TruncatedTrack"),
     "WavenumberSettings": ("methods.wavenumber", "WavenumberSettings"),
+    "Wheel": ("model.wheel", "Wheel"),
     "default_fit_frequencies": ("equivalent.fitting", "default_fit_frequencies"),
     "fe_central_receptance": ("fe.models", "fe_central_receptance"),
     "fe_semi_infinite_receptance": ("fe.models", "fe_semi_infinite_receptance"),
@@ -67,6 +68,7 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "slab_from_free": ("equivalent.constraints", "slab_from_free"),
     "slab_track": ("model.tracks", "slab_track"),
     "unit_cell_frequencies": ("equivalent.constraints", "unit_cell_frequencies"),
+    "wheel_rail_force": ("methods.wheelrail", "wheel_rail_force"),
 }
 
 __all__ = list(_EXPORTS)

@@ -1,0 +1,140 @@
+"""A wheel on the rail: unsprung mass, optional primary suspension, static preload, Hertzian contact.
+
+The paper's motivation (its Sec. 1) is the time-domain interaction of wheels and track at high
+frequencies; this is the wheel side of it. Conventions follow the track's: displacements
+downward, time factor exp(i omega t). The contact force F is the compression between wheel and
+rail (positive when they press together). The Hertzian law for two elastic bodies of revolution
+is F = C_H max(delta, 0)^(3/2) with delta the approach of the two bodies; wheel and rail lose
+contact where delta < 0.
+
+Linearised about the static preload P0 (the wheel's share of the vehicle's weight), the contact
+is a spring of stiffness k_H = dF/ddelta = 1.5 C_H^(2/3) P0^(1/3).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..base.checks import as_frequencies, check_nonnegative, check_positive
+
+#: A Hertz constant typical of a 0.46 m wheel on a 0.3 m rail head (N/m^1.5), the Wheel default.
+DEFAULT_HERTZ_CONSTANT = 9.3e10
+
+
+@dataclass(frozen=True)
+class Wheel:
+    """A wheel: its unsprung mass, an optional primary suspension to a fixed bogie, a preload.
+
+    Parameters
+    ----------
+    mass : float
+        Unsprung mass of the wheel (half a wheelset) (kg).
+    preload : float
+        Static wheel load P0 (N), pressing the wheel onto the rail.
+    hertz_constant : float
+        C_H of the Hertzian contact F = C_H delta^(3/2) (N/m^1.5); see :meth:`from_radii`.
+    primary_stiffness : float
+        Stiffness of the primary suspension between the wheel and a bogie held still (N/m); 0
+        (default) for a free unsprung mass, which the suspension barely changes above ~20 Hz.
+    primary_damping : float
+        Viscous damping of the primary suspension (N s/m).
+
+    Examples
+    --------
+    >>> import semitrack as st
+    >>> wheel = st.Wheel(mass=600.0, preload=1e5)
+    >>> round(wheel.contact_stiffness / 1e9, 2)  # linearised Hertz stiffness, GN/m
+    1.43
+    """
+
+    mass: float = 600.0
+    preload: float = 1e5
+    hertz_constant: float = DEFAULT_HERTZ_CONSTANT
+    primary_stiffness: float = 0.0
+    primary_damping: float = 0.0
+
+    def __post_init__(self):
+        for key in ("mass", "preload", "hertz_constant"):
+            object.__setattr__(self, key, check_positive(key, getattr(self, key)))
+        for key in ("primary_stiffness", "primary_damping"):
+            object.__setattr__(self, key, check_nonnegative(key, getattr(self, key)))
+
+    @classmethod
+    def from_radii(cls, wheel_radius: float = 0.46, rail_radius: float = 0.3, E: float = 2.1e11,
+                   poisson: float = 0.3, **wheel) -> Wheel:
+        """A wheel whose Hertz constant follows from the radii of wheel and rail head.
+
+        Both bodies of steel (``E``, ``poisson``); the contact ellipse is approximated by a circle
+        of the geometric-mean radius R = sqrt(R_wheel R_rail), so that
+        C_H = (4/3) E* sqrt(R) with E* = E / (2 (1 - nu^2)) (within a few per cent of the
+        elliptic solution for the usual ratio of radii).
+
+        Parameters
+        ----------
+        wheel_radius : float
+            Rolling radius of the wheel (m).
+        rail_radius : float
+            Transverse radius of the rail head (m).
+        E : float
+            Young's modulus of both (N/m^2).
+        poisson : float
+            Poisson's ratio of both (-), in [0, 0.5).
+        **wheel
+            The other :class:`Wheel` fields (``mass``, ``preload``, ...).
+
+        Returns
+        -------
+        Wheel
+        """
+        r_w, r_r, e = (check_positive(k, v) for k, v in
+                       (("wheel_radius", wheel_radius), ("rail_radius", rail_radius), ("E", E)))
+        nu = check_nonnegative("poisson", poisson)
+        if not nu < 0.5:
+            raise ValueError(f"poisson must be in [0, 0.5), got {poisson!r}")
+        e_star = e / (2 * (1 - nu**2))
+        return cls(hertz_constant=4.0 / 3.0 * e_star * np.sqrt(np.sqrt(r_w * r_r)), **wheel)
+
+    @property
+    def contact_stiffness(self) -> float:
+        """k_H = 1.5 C_H^(2/3) P0^(1/3), the contact linearised at the preload (N/m)."""
+        return 1.5 * self.hertz_constant ** (2 / 3) * self.preload ** (1 / 3)
+
+    @property
+    def static_approach(self) -> float:
+        """delta_0 = (P0 / C_H)^(2/3), the contact's compression under the preload alone (m)."""
+        return (self.preload / self.hertz_constant) ** (2 / 3)
+
+    def contact_force(self, approach: ArrayLike) -> np.ndarray:
+        """Hertzian contact force C_H max(delta, 0)^(3/2) (N), zero out of contact.
+
+        Parameters
+        ----------
+        approach : array_like
+            The approach delta of wheel and rail (m), positive in contact.
+
+        Returns
+        -------
+        ndarray
+            The force (N), the shape of ``approach``.
+        """
+        return self.hertz_constant * np.maximum(np.asarray(approach, dtype=float), 0.0) ** 1.5
+
+    def receptance(self, f: ArrayLike) -> np.ndarray:
+        """Vertical receptance of the wheel, downward displacement per downward force (m/N).
+
+        ``1 / (k_1 + i omega c_1 - omega^2 m)``: -1/(omega^2 m) for a free unsprung mass.
+
+        Parameters
+        ----------
+        f : array_like
+            Frequencies (Hz), positive and finite.
+
+        Returns
+        -------
+        ndarray of complex, the shape of ``f``
+        """
+        omega = 2 * np.pi * as_frequencies(f)
+        return 1.0 / (self.primary_stiffness + 1j * omega * self.primary_damping - omega**2 * self.mass)
