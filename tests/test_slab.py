@@ -317,4 +317,6 @@ def test_wavenumber_method_refined_agrees_within_one_percent(name):
         exact = st.semi_infinite_receptance(track, [f])
         wn = st.semi_infinite_receptance(track, [f], method="wavenumber", beta_max=1570.8, dx=0.001, **settings)
         worst[f] = float(_rel(wn, exact)[0])
+    # measured worst element (%): mortar 0.27, 0.26, 0.15, 0.55, 0.32; floating 0.35, 0.91, 0.15,
+    # 0.54, 0.32 (the paper's own settings: 9-57 %)
     assert max(worst.values()) < 0.01, worst
