@@ -105,7 +105,10 @@ def _period_model(cell: PeriodicCell, omega: np.ndarray, x_cut: float, extra_los
     offsets = [_distance_past(x, x_cut, period) for x in cell.positions]
     points = [dist for dist in offsets if dist < period]
     if point is not None:
-        points.append(_distance_past(point, x_cut, period))
+        at = _distance_past(point, x_cut, period)
+        # A point within rounding of a support is that support's node, not a segment of ~0 length.
+        near = [p for p in points if abs(p - at) <= 1e-9 * period]
+        points.append(near[0] if near else at)
     edges = np.unique(np.r_[0.0, points, period])
     segments = segment_dynamic_stiffness(cell.track, omega, np.diff(edges), extra_loss)  # (m, n, 4, 4)
     n_nodes = edges.size
@@ -338,7 +341,7 @@ def infinite_response(cell: PeriodicCell, omega: np.ndarray, x: float) -> tuple[
         k, edges, segments = _period_model(cell, omega, joint, extra_loss, point=x)
         k[:, :2, :2] += k_left  # the track before the slab's first joint
         k[:, -2:, -2:] += k_right  # and after its second (the same track, by periodicity)
-        node = int(np.searchsorted(edges, _distance_past(x, joint, cell.period)))
+        node = int(np.argmin(np.abs(edges - _distance_past(x, joint, cell.period))))  # the point's node
         unit = np.zeros((k.shape[-1], 2))
         unit[2 * node: 2 * node + 2] = np.eye(2)
         try:
