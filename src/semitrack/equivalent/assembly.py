@@ -164,6 +164,28 @@ class Assembly:
             self._constant["Bl"][idx, N + 1 + idx] = 1.0  # Eq. (B.12)
             self._constant["Br"] = np.zeros((N, n))
             self._constant["Br"][idx, 2 * N + 1 + idx] = 1.0
+        self._stack_terms()
+
+    def _stack_terms(self) -> None:
+        """The rows of every term, one after the other (the stacked form of the sensitivities).
+
+        ``term_rows[t]`` is the slice of term ``t``'s rows; ``_row_kind`` the index of each row's
+        kind (K, C, M); ``_row_weights`` (rows, N) each row's length weights (zero for the maps
+        that do not depend on the lengths).
+        """
+        N, start = self.n_bars, 0
+        self.term_rows: list[slice] = []
+        kinds, weights = [], []
+        for term in self.terms:
+            n_rows = N - 1 if term.map == "R" else N
+            self.term_rows.append(slice(start, start + n_rows))
+            start += n_rows
+            kinds.append(np.full(n_rows, "KCM".index(term.kind)))
+            W = self.length_weights.get(term.map)
+            weights.append(np.zeros((n_rows, N)) if W is None else W)
+        self.n_term_rows = start
+        self._row_kind = np.concatenate(kinds)
+        self._row_weights = np.concatenate(weights)
 
     def maps(self, L: np.ndarray) -> dict[str, np.ndarray]:
         """The maps from ``q`` to the elongation of every family (Eq. A.1-A.12, B.1-B.12).
@@ -237,16 +259,17 @@ class Assembly:
             out.update(Bl=Bl, Br=Br, U1=A1 - Bl, U2=out["A2"] - Br)
         return out
 
-    def receptance_sensitivities(self, X: np.ndarray, params: dict[str, np.ndarray], omega: np.ndarray,
-                                 pairs) -> tuple[dict[str, np.ndarray], np.ndarray]:
-        """Derivatives of receptance elements with respect to every value and every length.
+    def stacked_sensitivities(self, X: np.ndarray, params: dict[str, np.ndarray], omega: np.ndarray,
+                              pairs) -> tuple[np.ndarray, np.ndarray]:
+        """Derivatives of receptance elements with respect to every value (stacked) and every length.
 
         With ``X = Z^-1 E_end`` the end receptance is ``X[:2]`` and ``d alpha = -X^T dZ X``. With
         ``Z = sum phi P^T diag(v) P`` (``phi`` = 1, ``i omega``, ``-omega^2`` for K, C, M) and
         ``Y = P X`` (rows ``Y_r``, shape (n_f, 2)), a change of a value ``v_r`` gives
         ``-phi Y_r^T Y_r``; a change of a length ``L_j``, which moves column ``1 + j`` of the maps
-        by the weights ``W[r, j]``, gives ``-phi (Xj^T S_j + S_j^T Xj)`` with
-        ``S_j = sum_r v_r W[r, j] Y_r`` and ``Xj = X[:, 1 + j, :]``. O(n_f N) per term.
+        by the weights ``W[r, j]``, gives ``-(Xj^T S_j + S_j^T Xj)`` with
+        ``S_j = sum_r phi_r v_r W[r, j] Y_r`` over the rows of every term and
+        ``Xj = X[:, 1 + j, :]``. O(n_f N) per term, in a few array operations over all rows.
 
         Parameters
         ----------
@@ -261,26 +284,49 @@ class Assembly:
 
         Returns
         -------
+        d_rows : ndarray, shape (n_f, n_term_rows, n_elements)
+            ``d alpha_e / d v_r`` for the rows of every term, in the order of :attr:`terms`
+            (term ``t`` holds the rows ``term_rows[t]`` of its value family).
+        d_lengths : ndarray, shape (n_f, n_elements, N)
+            ``d alpha_e / d L_j``.
+        """
+        a_idx, b_idx = np.array([a for a, _ in pairs]), np.array([b for _, b in pairs])
+        Y = self.projected_maps(X, params["L"])
+        Y = np.concatenate([Y[term.map] for term in self.terms], axis=1)  # (n_f, rows, 2)
+        phi = np.stack([np.ones_like(omega, dtype=complex), 1j * omega, -(omega**2) + 0j], axis=1)[:, self._row_kind]
+        phiY = phi[:, :, None] * Y
+        d_rows = -(phiY[:, :, a_idx] * Y[:, :, b_idx])
+        v = np.concatenate([params[term.value] for term in self.terms])
+        n_f, N = X.shape[0], self.n_bars
+        S = ((v[:, None] * self._row_weights).T @ np.swapaxes(phiY, 0, 1).reshape(self.n_term_rows, -1))
+        S = np.swapaxes(S.reshape(N, n_f, -1), 0, 1)  # (n_f, N, 2): one product over all frequencies
+        Xp = X[:, 1 : self.n_bars + 1, :]
+        H = Xp[:, :, a_idx] * S[:, :, b_idx] + S[:, :, a_idx] * Xp[:, :, b_idx]
+        return d_rows, -np.swapaxes(H, 1, 2)
+
+    def receptance_sensitivities(self, X: np.ndarray, params: dict[str, np.ndarray], omega: np.ndarray,
+                                 pairs) -> tuple[dict[str, np.ndarray], np.ndarray]:
+        """Derivatives of receptance elements with respect to every value and every length.
+
+        :meth:`stacked_sensitivities` with the rows of the terms of one value family summed.
+
+        Parameters
+        ----------
+        X, params, omega, pairs
+            As for :meth:`stacked_sensitivities`.
+
+        Returns
+        -------
         d_values : dict
             Per value family, ``d alpha_e / d v_r`` of shape (n_f, rows, n_elements).
         d_lengths : ndarray, shape (n_f, n_elements, N)
             ``d alpha_e / d L_j``.
         """
-        a_idx, b_idx = [a for a, _ in pairs], [b for _, b in pairs]
-        Y = self.projected_maps(X, params["L"])
-        phi = {"K": np.ones_like(omega, dtype=complex), "C": 1j * omega, "M": -(omega**2) + 0j}
-        Xp = X[:, 1 : self.n_bars + 1, :]
-        d_lengths = np.zeros((X.shape[0], len(a_idx), self.n_bars), dtype=complex)
+        d_rows, d_lengths = self.stacked_sensitivities(X, params, omega, pairs)
         d_values: dict[str, np.ndarray] = {}
-        for term in self.terms:
-            Yt, ph = Y[term.map], phi[term.kind]
-            Q = -ph[:, None, None] * (Yt[:, :, a_idx] * Yt[:, :, b_idx])  # (n_f, rows, n_elements)
+        for term, rows in zip(self.terms, self.term_rows):
+            Q = d_rows[:, rows, :]
             d_values[term.value] = Q if term.value not in d_values else d_values[term.value] + Q
-            W = self.length_weights.get(term.map)
-            if W is not None:
-                S = (params[term.value][:, None] * W).T[None] @ Yt  # (n_f, N, 2)
-                H = Xp[:, :, a_idx] * S[:, :, b_idx] + S[:, :, a_idx] * Xp[:, :, b_idx]
-                d_lengths -= ph[:, None, None] * np.swapaxes(H, 1, 2)
         return d_values, d_lengths
 
 

@@ -10,7 +10,7 @@ At the fit frequencies the residuals are ``Re(alpha_E - alpha)/|alpha|`` and
 diagonal scaling (:func:`~.assembly.scaled_solve`), shared by both for a given ``theta``. The
 Jacobian is analytic, ``d alpha = -X^T dZ X`` with ``X = Z^-1 E``, evaluated through the
 spring-elongation maps ``P`` (``Z`` is a sum of ``P^T diag(v) P`` terms,
-:meth:`~.assembly.Assembly.receptance_sensitivities`) in O(n_f N n_theta) operations; the
+:meth:`~.assembly.Assembly.stacked_sensitivities`) in O(n_f N n_theta) operations; the
 derivatives of the values ``v`` through the constraints come from a complex-step
 differentiation (exact to rounding).
 """
@@ -84,19 +84,17 @@ class Residuals:
         """Analytic Jacobian of :meth:`fun`, shape (2 n_f 3, n_theta).
 
         The receptance sensitivities to every value and length
-        (:meth:`~.assembly.Assembly.receptance_sensitivities`) chained with ``d p / d theta``
+        (:meth:`~.assembly.Assembly.stacked_sensitivities`) chained with ``d p / d theta``
         (complex step through the constraints; ``d L / d theta_L = L``).
         """
         model = self.model
         X = self._solve(theta)
         p = {k: np.real(v[0]) for k, v in model.params(theta[None, :]).items()}
-        dp = model.param_derivatives(theta)
-        d_values, d_lengths = model.assembly.receptance_sensitivities(X, p, self.omega, _PAIRS)
-        G = np.zeros((self.f.size, len(_PAIRS), model.n_theta), dtype=complex)
-        for value, Q in d_values.items():
-            d = dp[value]  # (n_theta, rows), non-zero in a few columns only
-            cols = np.flatnonzero(np.any(d != 0, axis=1))
-            G[:, :, cols] += np.swapaxes(Q, 1, 2) @ d[cols].T
+        dp = model.param_derivatives(theta)  # {value: (n_theta, rows)}
+        d_rows, d_lengths = model.assembly.stacked_sensitivities(X, p, self.omega, _PAIRS)
+        # d p_r / d theta for every stacked row: the rows of each term are those of its family.
+        D = np.concatenate([dp[term.value] for term in model.assembly.terms], axis=1)  # (n_theta, rows)
+        G = np.swapaxes(d_rows, 1, 2) @ D.T  # (n_f, n_elements, n_theta)
         G[:, :, model.slices["L"]] += d_lengths * p["L"][None, None, :]
         dalpha = G * self.scale[:, :, None]
         J = np.concatenate([dalpha.real.reshape(-1, model.n_theta), dalpha.imag.reshape(-1, model.n_theta)])
