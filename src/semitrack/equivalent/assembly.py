@@ -284,7 +284,7 @@ class Assembly:
 
         Returns
         -------
-        d_rows : ndarray, shape (n_f, n_term_rows, n_elements)
+        d_rows : ndarray, shape (n_f, n_elements, n_term_rows)
             ``d alpha_e / d v_r`` for the rows of every term, in the order of :attr:`terms`
             (term ``t`` holds the rows ``term_rows[t]`` of its value family).
         d_lengths : ndarray, shape (n_f, n_elements, N)
@@ -295,7 +295,8 @@ class Assembly:
         Y = np.concatenate([Y[term.map] for term in self.terms], axis=1)  # (n_f, rows, 2)
         phi = np.stack([np.ones_like(omega, dtype=complex), 1j * omega, -(omega**2) + 0j], axis=1)[:, self._row_kind]
         phiY = phi[:, :, None] * Y
-        d_rows = -(phiY[:, :, a_idx] * Y[:, :, b_idx])
+        d_rows = np.stack([phiY[:, :, a] * Y[:, :, b] for a, b in zip(a_idx, b_idx)], axis=1)
+        np.negative(d_rows, out=d_rows)
         v = np.concatenate([params[term.value] for term in self.terms])
         n_f, N = X.shape[0], self.n_bars
         S = ((v[:, None] * self._row_weights).T @ np.swapaxes(phiY, 0, 1).reshape(self.n_term_rows, -1))
@@ -325,7 +326,7 @@ class Assembly:
         d_rows, d_lengths = self.stacked_sensitivities(X, params, omega, pairs)
         d_values: dict[str, np.ndarray] = {}
         for term, rows in zip(self.terms, self.term_rows):
-            Q = d_rows[:, rows, :]
+            Q = np.swapaxes(d_rows[:, :, rows], 1, 2)
             d_values[term.value] = Q if term.value not in d_values else d_values[term.value] + Q
         return d_values, d_lengths
 
@@ -356,8 +357,15 @@ def dynamic_stiffness(M: np.ndarray, C: np.ndarray, K: np.ndarray, omega: np.nda
     -------
     ndarray of complex, shape (n_f, n, n)
     """
-    w = omega[:, None, None]
-    return K[None] + 1j * w * C[None] - w**2 * M[None]
+    w = np.asarray(omega, dtype=float)[:, None, None]
+    if any(np.iscomplexobj(X) for X in (M, C, K)):
+        return K[None] + 1j * w * C[None] - w**2 * M[None]
+    # Real and imaginary parts written directly: the same numbers as K + i w C - w^2 M, without
+    # the complex temporaries (this runs once per evaluation of a fit).
+    Z = np.empty((w.shape[0],) + np.shape(K), dtype=complex)
+    Z.real = K[None] - w**2 * M[None]
+    Z.imag = w * C[None]
+    return Z
 
 
 def end_loads(n_dof: int) -> np.ndarray:

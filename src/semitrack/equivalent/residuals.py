@@ -93,9 +93,14 @@ class Residuals:
         dp = model.param_derivatives(theta)  # {value: (n_theta, rows)}
         d_rows, d_lengths = model.assembly.stacked_sensitivities(X, p, self.omega, _PAIRS)
         # d p_r / d theta for every stacked row: the rows of each term are those of its family.
-        D = np.concatenate([dp[term.value] for term in model.assembly.terms], axis=1)  # (n_theta, rows)
-        G = np.swapaxes(d_rows, 1, 2) @ D.T  # (n_f, n_elements, n_theta)
-        G[:, :, model.slices["L"]] += d_lengths * p["L"][None, None, :]
-        dalpha = G * self.scale[:, :, None]
-        J = np.concatenate([dalpha.real.reshape(-1, model.n_theta), dalpha.imag.reshape(-1, model.n_theta)])
+        D = np.concatenate([dp[term.value] for term in model.assembly.terms], axis=1).T  # (rows, n_theta)
+        # d alpha / d theta, scaled like the residuals; D is real, so the real and imaginary
+        # rows of J are two real products, (n_f * n_elements, rows) @ (rows, n_theta).
+        n_rows = d_rows.shape[-1]
+        Q = (d_rows * self.scale[:, :, None]).reshape(-1, n_rows)
+        lengths = (d_lengths * (self.scale[:, :, None] * p["L"][None, None, :])).reshape(-1, model.N)
+        J = np.empty((2 * Q.shape[0], model.n_theta))
+        for part, rows in ((np.real, slice(0, Q.shape[0])), (np.imag, slice(Q.shape[0], None))):
+            J[rows] = part(Q) @ D
+            J[rows, model.slices["L"]] += part(lengths)
         return np.where(np.isfinite(J), J, 0.0)
