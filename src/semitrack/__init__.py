@@ -52,6 +52,7 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "continuous_foundation_receptance": ("methods.continuous", "continuous_foundation_receptance"),
     "error_band_grid": ("equivalent.metrics", "error_band_grid"),
     "error_summary": ("equivalent.metrics", "error_summary"),
+    "example_track": ("model.trackfile", "example_track"),
     "export_system": ("equivalent.io", "export_system"),
     "find_extrema": ("methods.features", "find_extrema"),
     "load_system_csv": ("equivalent.io", "load_system_csv"),

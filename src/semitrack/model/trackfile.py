@@ -8,15 +8,20 @@ The format mirrors :class:`semitrack.Track` (examples ship in ``semitrack/exampl
     [rail]    rho, E, G, A, I, kappa, eta_rail
     [pad]     kv, kphi, eta_pad, spacing
     [ballast] sleeper_mass, kb, eta_ballast      (ballasted only)
+    [slab]    length, fasteners, E, I, mass_per_length, support_stiffness, eta_support, eta_slab,
+              and optionally shear_stiffness, rotary_inertia, cut
+              (type = "slab" only, and optional: a flexible slab, semitrack.Slab, that couples
+              the fasteners it carries; without it the slab is rigid, as the paper's)
 
 Every error is a :class:`TrackFileError` (a ValueError) whose message names the file, the line
 where it can be found, the key, the value and the rule (the Track's own rules, including its
-bounds such as the largest spacing), and the file itself must be UTF-8 text of at most
-:data:`MAX_FILE_BYTES`.
+bounds such as the largest spacing, and the Slab's for ``[slab]``), and the file itself must be
+UTF-8 text of at most :data:`MAX_FILE_BYTES`.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import re
 import tomllib
@@ -26,15 +31,24 @@ from typing import NoReturn
 
 from ..base.checks import check_choice
 from ..base.files import read_text
+from .slab import Slab
 from .tracks import Track, check_track_field, require_track
 
+#: The tables of Track fields, with their keys (all required).
 SECTIONS = {
     "rail": ("rho", "E", "G", "A", "I", "kappa", "eta_rail"),
     "pad": ("kv", "kphi", "eta_pad", "spacing"),
     "ballast": ("sleeper_mass", "kb", "eta_ballast"),
 }
+#: Keys of the optional ``[slab]`` table, the fields of :class:`semitrack.Slab`: required ...
+SLAB_KEYS = ("length", "fasteners", "E", "I", "mass_per_length", "support_stiffness", "eta_support", "eta_slab")
+#: ... and optional (written by :func:`track_to_toml` only where they differ from the Slab's defaults).
+SLAB_OPTIONAL_KEYS = ("shear_stiffness", "rotary_inertia", "cut")
+_SLAB_DEFAULTS = {f.name: f.default for f in dataclasses.fields(Slab)}
 TYPES = ("slab", "ballasted")
-EXAMPLES = ("slab", "ballasted")
+#: The shipped example files, by name: the paper's two tracks, and the paper's rail and pads on the
+#: two flexible slabs of the book's flexible-slab chapter (a CA-mortar slab and a floating slab).
+EXAMPLES = ("slab", "ballasted", "mortar-slab", "floating-slab")
 
 #: Largest track file read (bytes): a track file holds some 20 lines; this refuses e.g. /dev/zero.
 MAX_FILE_BYTES = 1_000_000
@@ -46,9 +60,47 @@ class TrackFileError(ValueError):
 
 
 def example_path(name: str) -> Path:
-    """Path of a shipped example file, ``"slab"`` or ``"ballasted"``."""
+    """Path of a shipped example file, by its name in :data:`EXAMPLES` (``"floating-slab"`` is
+    ``floating_slab.toml``)."""
     check_choice("example", name, EXAMPLES)
-    return Path(str(resources.files("semitrack") / "examples" / f"{name}.toml"))
+    return Path(str(resources.files("semitrack") / "examples" / f"{name.replace('-', '_')}.toml"))
+
+
+def example_track(name: str) -> Track:
+    """The track of a shipped example file (what ``semitrack example NAME`` prints).
+
+    The files are where the example designs are defined, each value commented with its unit and
+    where it comes from; this reads one of them.
+
+    Parameters
+    ----------
+    name : {"slab", "ballasted", "mortar-slab", "floating-slab"}
+        The example (:data:`EXAMPLES`): the paper's slab track (Table 2) and ballasted track
+        (Table 5), and the paper's rail and pads (Table 2) on a flexible slab of 6.45 m with 10
+        fasteners, either 0.20 m thick on cement-asphalt mortar (``"mortar-slab"``) or 0.30 m
+        thick on an elastomer slab mat (``"floating-slab"``).
+
+    Returns
+    -------
+    Track
+
+    Raises
+    ------
+    ValueError
+        If ``name`` is not one of :data:`EXAMPLES`.
+
+    Examples
+    --------
+    >>> import semitrack as st
+    >>> track = st.example_track("floating-slab")
+    >>> track.slab.fasteners, track.slab.length, track.spacing
+    (10, 6.45, 0.65)
+    >>> track.slab.support_stiffness  # slab mat: 2e7 N/m^3 over 1.275 m of width (N/m^2)
+    25500000.0
+    >>> round(float(track.slab.natural_frequencies(1)[0]), 1)  # the free slab's bounce on the mat (Hz)
+    26.0
+    """
+    return load_track_toml(example_path(name))
 
 
 def _line_of(text: str, section: str | None, key: str) -> int | None:
@@ -149,13 +201,14 @@ def _parse_track_dict(data: dict, where: _Locator) -> dict[str, tuple[str | None
     """The structure of a track file: known sections and keys, none missing.
 
     Returns ``{key: (section, raw value)}`` for every Track field the file gives (``name``
-    at the top level), values not yet checked.
+    at the top level), values not yet checked; a ``[slab]`` table is the one entry
+    ``"slab": ("slab", table)``, its keys checked, its values not yet.
     """
-    unknown_top = sorted(set(data) - {"type", "name", "damping", *SECTIONS})
+    unknown_top = sorted(set(data) - {"type", "name", "damping", *SECTIONS, "slab"})
     if unknown_top:
         key = unknown_top[0]
         where.fail(None, key, f"unknown key {key!r}; allowed at the top level: type, name, damping, [rail], [pad], "
-                   "[ballast]")
+                   "[ballast], [slab]")
     kind = data.get("type")
     if kind is None:
         where.fail(None, "type", f'missing key "type"; it must be one of {TYPES}')
@@ -165,32 +218,47 @@ def _parse_track_dict(data: dict, where: _Locator) -> dict[str, tuple[str | None
         where.fail(None, "type", str(err))
     if kind == "slab" and "ballast" in data:
         where.fail("ballast", "", 'a [ballast] section needs type = "ballasted"; remove it for a slab track')
+    if kind == "ballasted" and "slab" in data:
+        where.fail("slab", "", 'a [slab] section (a flexible slab under the pads) needs type = "slab"; a ballasted '
+                   "track has sleepers on ballast instead: remove it")
     values: dict[str, tuple[str | None, object]] = {"name": (None, data.get("name", kind)),
                                                     "damping": (None, data.get("damping", "hysteretic"))}
     for section in ("rail", "pad", "ballast") if kind == "ballasted" else ("rail", "pad"):
         values.update({key: (section, value) for key, value in _section(data, section, where).items()})
+    if "slab" in data:  # the Slab's fields, under one key: E and I are the rail's names too
+        values["slab"] = ("slab", _section(data, "slab", where, SLAB_KEYS, SLAB_OPTIONAL_KEYS))
     return values
 
 
-def _section(data: dict, section: str, where: _Locator) -> dict:
-    """The table ``[section]`` of the file, with exactly the keys of :data:`SECTIONS`."""
-    allowed = SECTIONS[section]
+def _section(data: dict, section: str, where: _Locator, required: tuple[str, ...] | None = None,
+             optional: tuple[str, ...] = ()) -> dict:
+    """The table ``[section]`` of the file: all ``required`` keys (by default those of
+    :data:`SECTIONS`), any of ``optional``, no other."""
+    required = SECTIONS[section] if required is None else required
     table = data.get(section)
     if table is None:
-        where.fail(None, section, f"missing section [{section}] with keys {', '.join(allowed)}")
+        where.fail(None, section, f"missing section [{section}] with keys {', '.join(required)}")
     if not isinstance(table, dict):
         where.fail(None, section, f"{section} must be a table [{section}], got {table!r}")
-    unknown = sorted(set(table) - set(allowed))
+    unknown = sorted(set(table) - set(required) - set(optional))
     if unknown:
-        where.fail(section, unknown[0], f"unknown key {unknown[0]!r} in [{section}]; allowed: {', '.join(allowed)}")
-    missing = [key for key in allowed if key not in table]
+        allowed = ", ".join(required) + (f", and optionally {', '.join(optional)}" if optional else "")
+        where.fail(section, unknown[0], f"unknown key {unknown[0]!r} in [{section}]; allowed: {allowed}")
+    missing = [key for key in required if key not in table]
     if missing:
         where.fail(section, "", f"missing key {missing[0]!r} in [{section}]")
     return table
 
 
 def _check_track_values(values: dict[str, tuple[str | None, object]], where: _Locator) -> Track:
-    """Apply the Track's rules to each parsed value (located), then build the Track."""
+    """Apply the Track's rules to each parsed value (located), then build the Track.
+
+    A ``[slab]`` table becomes a :class:`Slab` by the Slab's own rules (:func:`_check_slab_values`);
+    the rules between slab and track (the slab must carry its fasteners at the track's spacing,
+    hysteretic damping) are the Track's, located at the ``[slab]`` header.
+    """
+    values = dict(values)
+    _, slab_table = values.pop("slab", (None, None))
     params = {}
     for key, (section, value) in values.items():
         try:
@@ -198,18 +266,48 @@ def _check_track_values(values: dict[str, tuple[str | None, object]], where: _Lo
         except (TypeError, ValueError) as err:
             where.fail(section, key, str(err))
     try:
-        return Track(**params)
+        track = Track(**params)
     except (TypeError, ValueError) as err:  # rules between fields
         raise TrackFileError(f"{where.source}: {err}") from None
+    if slab_table is None:
+        return track
+    slab = _check_slab_values(slab_table, where)
+    try:
+        return track.replace(slab=slab)
+    except (TypeError, ValueError) as err:  # rules between the slab and the rest of the track
+        where.fail("slab", "", f"[slab] {err}")
+
+
+def _check_slab_values(table: dict, where: _Locator) -> Slab:
+    """The :class:`Slab` of a ``[slab]`` table (keys already checked), by the Slab's own rules.
+
+    Each of the Slab's messages starts with the field it refuses (its checks name the parameter
+    first), so the message is located at that key's line; "[slab]" in front tells the slab's E
+    and I from the rail's.
+    """
+    try:
+        return Slab(**table)
+    except (TypeError, ValueError) as err:
+        key = re.match(r"\w*", str(err)).group()
+        where.fail("slab", key if key in table else "", f"[slab] {err}")
 
 
 def track_to_toml(track: Track) -> str:
     """The TOML text of a track description (a round trip of :func:`load_track_toml`).
 
+    Every float is written as its shortest repr, so the file reads back to the same Track, bit
+    for bit. A flexible slab becomes a ``[slab]`` table with its required keys and those of its
+    optional keys that differ from the :class:`Slab`'s defaults.
+
     Parameters
     ----------
     track : Track
         The track to describe.
+
+    Returns
+    -------
+    str
+        The file's text.
     """
     track = require_track(track)
     kind = "ballasted" if track.is_ballasted else "slab"
@@ -221,5 +319,13 @@ def track_to_toml(track: Track) -> str:
     for section in ("rail", "pad") + (("ballast",) if track.is_ballasted else ()):
         lines.append(f"[{section}]")
         lines += [f"{key} = {getattr(track, key)!r}" for key in SECTIONS[section]]
+        lines.append("")
+    if track.has_flexible_slab:
+        slab = track.slab
+        keys = SLAB_KEYS + tuple(k for k in SLAB_OPTIONAL_KEYS if getattr(slab, k) != _SLAB_DEFAULTS[k])
+        lines.append("[slab]")
+        # repr of a float or an int is TOML; cut may be a name (a TOML string) or a mid-span number.
+        lines += [f"{key} = {json.dumps(value) if isinstance(value := getattr(slab, key), str) else repr(value)}"
+                  for key in keys]
         lines.append("")
     return "\n".join(lines)
