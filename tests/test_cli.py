@@ -1,5 +1,6 @@
 """End-to-end tests of the command-line program through a subprocess."""
 
+import dataclasses
 import io
 import json
 import os
@@ -14,8 +15,8 @@ import scipy.io
 import semitrack as st
 from semitrack.base.conventions import ALL_ELEMENTS, ELEMENT_UNITS
 from semitrack.base.paper_values import TABLE3_SLAB_FREQUENCIES
-from semitrack.cli import receptance_csv, receptance_figure
-from semitrack.model.trackfile import EXAMPLES, example_path, load_track_toml, track_to_toml
+from semitrack.cli import paper_mode_names, receptance_csv, receptance_figure
+from semitrack.model.trackfile import EXAMPLES, example_path, example_track, load_track_toml, track_to_toml
 
 ENV = {**os.environ, "OPENBLAS_NUM_THREADS": "1"}
 # Line of "kv = ..." in the shipped ballasted example, where the located error must point.
@@ -105,6 +106,10 @@ def test_example_prints_a_track_file_that_loads(tmp_path, name):
 def test_example_list_and_bad_names():
     listed = run("example", "--list")
     assert listed.returncode == 0 and [line.split()[0] for line in listed.stdout.splitlines()] == list(EXAMPLES)
+    kinds = dict(line.split(maxsplit=1) for line in listed.stdout.splitlines())
+    assert kinds["slab"].endswith("(rigid slab)") and kinds["ballasted"].endswith("(sleepers on ballast)")
+    for name in ("mortar-slab", "floating-slab"):
+        assert kinds[name].endswith("(flexible slab, 10 fasteners per 6.45 m slab, cut at a slab joint)")
     assert_bad_input(run("example", "tram"), "unknown example 'tram'", "slab, ballasted")
     assert_bad_input(run("example"), "name an example", "slab, ballasted")
 
@@ -256,3 +261,86 @@ def test_bad_fit_and_export_inputs(slab_file, tmp_path):
     assert_bad_input(run("export", junk, "-o", tmp_path / "x.mat"), "cannot load the system")
     assert_bad_input(run("receptance", tmp_path / "missing.toml"), "cannot read the track file")
     assert not (tmp_path / "s.json").exists() and not (tmp_path / "x.mat").exists()
+
+
+# ---------------------------------------------------------------------------------------------
+# A flexible slab (a [slab] table): the floating-slab example through every command that reads a track.
+
+@pytest.fixture(scope="module")
+def slab_files(tmp_path_factory):
+    """``semitrack example floating-slab`` as written by the program, and the same with the cut at the centre."""
+    folder = tmp_path_factory.mktemp("floating")
+    result = run("example", "floating-slab")
+    assert result.returncode == 0, result.stderr
+    assert result.stdout == example_path("floating-slab").read_text()
+    joint, centre = folder / "floating.toml", folder / "centre.toml"
+    joint.write_text(result.stdout)
+    assert result.stdout.count('cut = "joint"') == 1
+    centre.write_text(result.stdout.replace('cut = "joint"', 'cut = "centre"'))
+    return joint, centre
+
+
+def test_slab_examples_print_the_shipped_designs(tmp_path):
+    result = run("example", "mortar-slab")
+    assert result.returncode == 0, result.stderr
+    path = tmp_path / "mortar.toml"
+    path.write_text(result.stdout)
+    track = load_track_toml(path)
+    assert track == example_track("mortar-slab") and track.has_flexible_slab
+
+
+def test_receptance_of_a_flexible_slab(slab_files, tmp_path):
+    """The CSV is the package's alpha of the slab track at its cut; the [slab] table did reach it."""
+    f = np.array([25.0, 50.0])
+    floating = example_track("floating-slab")
+    centre = floating.replace(slab=dataclasses.replace(floating.slab, cut="centre"))
+    alphas = {}
+    for path, track, where in zip(slab_files, (floating, centre), ("a slab joint", "the slab centre")):
+        out = tmp_path / f"{path.stem}.csv"
+        result = run("receptance", path, "--fmin", 25, "--fmax", 50, "--df", 25, "-o", out)
+        assert result.returncode == 0, result.stderr
+        assert f"(flexible slab, 10 fasteners per 6.45 m slab, cut at {where}; method=transfer)" in out.read_text()
+        data = pd.read_csv(out, comment="#")
+        np.testing.assert_allclose(data["f_Hz"], f)
+        alphas[where] = data["alpha11_re"] + 1j * data["alpha11_im"]
+        # 13 significant digits printed: agreement to 1e-11 relative
+        np.testing.assert_allclose(alphas[where], st.semi_infinite_receptance(track, f)[:, 0, 0], rtol=1e-11)
+    rigid = st.semi_infinite_receptance(st.slab_track(), f)[:, 0, 0]
+    assert abs(alphas["a slab joint"][0] / rigid[0]) > 3  # measured 4.77 at 25 Hz: the slab bounces on its mat
+    assert abs(alphas["the slab centre"][1] / alphas["a slab joint"][1]) > 1.2  # measured 1.31 at 50 Hz
+    # The paper's method cannot cut inside a slab: refused in one line.
+    assert_bad_input(run("receptance", slab_files[1], "--fmax", 30, "--method", "wavenumber"), "Eq. (14)")
+
+
+def test_features_of_a_flexible_slab(slab_files):
+    """Peaks and dips of the floating slab, none named with the paper's modes (its rail and pads are the
+    paper's, its slab is not rigid); a cut inside a slab is refused (Eq. 14 holds at a joint only)."""
+    result = run("features", slab_files[0], "--fmax", 45, "--csv")
+    assert result.returncode == 0, result.stderr
+    data = pd.read_csv(io.StringIO(result.stdout), keep_default_na=False)
+    assert (data["mode"] == "").all()
+    w1_peaks = data[(data.quantity == "w1") & (data.kind == "peak")]["f_Hz"]
+    bounce = example_track("floating-slab").slab.natural_frequencies(1)[0]  # 26.0 Hz, free slab on its mat
+    assert np.any(np.abs(w1_peaks - bounce) < 2.0)  # measured 24.9 Hz: the rail and pads load the slab
+    assert_bad_input(run("features", slab_files[1], "--fmax", 60), slab_files[1].name, "cut = 'centre'",
+                     'set it to "joint"', "semitrack receptance")
+
+
+def test_paper_mode_names_skip_a_flexible_slab():
+    """The paper's slab track with a slab under it: same rail and pads, no names (in process, exact table)."""
+    table = pd.DataFrame({"quantity": ["w1", "w1"], "kind": ["peak", "peak"], "f": [186.0, 942.0]})
+    assert all(paper_mode_names(st.slab_track(), table))
+    assert paper_mode_names(example_track("mortar-slab"), table) == ["", ""]
+
+
+def test_fit_to_a_flexible_slab(slab_files, tmp_path):
+    """The slab layout fitted to the floating slab: the file's system has the errors the program printed."""
+    out = tmp_path / "system.json"
+    result = run("fit", slab_files[0], "--bars", 2, "--band", 3, 300, "-o", out)
+    assert result.returncode == 0, result.stderr
+    assert ("fitted a slab equivalent system with 2 bars to 'floating slab on an elastomer mat' (flexible slab, "
+            "10 fasteners per 6.45 m slab, cut at a slab joint) over 3-300 Hz") in result.stdout
+    grid = st.error_band_grid((3.0, 300.0))
+    errors = st.error_summary(st.load_system_json(out).receptance(grid),
+                              st.semi_infinite_receptance(example_track("floating-slab"), grid))
+    assert f"median relative error {errors.median:.4f}, maximum {errors.max:.4f}" in result.stdout

@@ -129,6 +129,31 @@ def _track(path: str) -> Track:
         raise InputError(str(err)) from None
 
 
+def track_kind(track: Track) -> str:
+    """What carries the pads of ``track``, for the labels of the results.
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+
+    Returns
+    -------
+    str
+        ``"rigid slab"`` (the paper's slab track), ``"sleepers on ballast"``, or for a flexible
+        slab ``"flexible slab, S fasteners per L m slab, cut at ..."``: where alpha's cut sits
+        matters on a flexible slab (a slab joint, the slab's centre or the k-th mid-span inside).
+    """
+    if track.is_ballasted:
+        return "sleepers on ballast"
+    if not track.has_flexible_slab:
+        return "rigid slab"
+    slab = track.slab
+    k = slab.cut_span
+    cut = "a slab joint" if k == 0 else "the slab centre" if slab.cut == "centre" else f"mid-span {k} of the slab"
+    return f"flexible slab, {slab.fasteners} fasteners per {slab.length:g} m slab, cut at {cut}"
+
+
 def output_paths(*named: tuple[str, str | None]) -> list[Path | None]:
     """Check every output file before the work starts: each writable, no file named twice.
 
@@ -195,7 +220,7 @@ def receptance_csv(track: Track, f: np.ndarray, alpha: np.ndarray, method: str) 
     """
     buf = io.StringIO()
     buf.write(f"# semitrack {__version__}: receptance at the end of the semi-infinite track "
-              f"'{printable(track.name)}' (method={method})\n")
+              f"'{printable(track.name)}' ({track_kind(track)}; method={method})\n")
     units = ", ".join(f"{name} in {ELEMENT_UNITS[name]}" for name in ALL_ELEMENTS)
     buf.write(f"# units: f in Hz; {units} (alpha12 = w/M, alpha21 = psi/Q); phase in rad\n")
     buf.write("# sign convention: w downward, psi clockwise; end force Q downward, end moment M clockwise; "
@@ -291,8 +316,9 @@ def cmd_fit(args: argparse.Namespace) -> int:
     progress.update(1)
     progress.close()
     save_system_json(fit.system, out)
-    print(f"fitted a {layout} equivalent system with {args.bars} bars to '{printable(track.name)}' over "
-          f"{fmin:g}-{fmax:g} Hz")
+    bars = f"{args.bars} bar" + "s" * (args.bars != 1)
+    print(f"fitted a {layout} equivalent system with {bars} to '{printable(track.name)}' ({track_kind(track)}) "
+          f"over {fmin:g}-{fmax:g} Hz")
     print(f"median relative error {fit.median_error:.4f}, maximum {fit.max_error:.4f} ({', '.join(ELEMENTS)})")
     print(f"written to {out}")
     return 0
@@ -314,9 +340,8 @@ def _fit_boundary(args: argparse.Namespace, track: Track, band: tuple[float, flo
     progress.close()
     save_boundary(bnd, out)
     proof = "proven passive" if bnd.passivity else "NOT passive"
-    print(f"fitted a broadband boundary with {bnd.n_poles} poles to '{printable(track.name)}' over "
-          f"{band[0]:g}-{band[1]:g} Hz "
-          f"({proof})")
+    print(f"fitted a broadband boundary with {bnd.n_poles} poles to '{printable(track.name)}' "
+          f"({track_kind(track)}) over {band[0]:g}-{band[1]:g} Hz ({proof})")
     print(f"median relative error {bnd.median_error:.4f}, maximum {bnd.max_error:.4f} ({', '.join(ELEMENTS)})")
     print(f"written to {out}")
     return 0
@@ -368,7 +393,8 @@ def paper_mode_names(track: Track, table: pd.DataFrame) -> list[str]:
     The paper names the modes of its two tracks (Tables 3 and 6, Sec. 4-5); a row gets the name
     of each of the paper's entries of its quantity and kind whose nearest extremum it is (within
     10 %, as in :func:`semitrack.paper_frequency_table`). Any other track, even one changed
-    parameter away, gets no names: its modes may have moved or changed order.
+    parameter away, gets no names: its modes may have moved or changed order. A flexible slab is
+    another track too (the paper's slab is rigid): its slab adds modes of its own.
 
     Parameters
     ----------
@@ -386,7 +412,7 @@ def paper_mode_names(track: Track, table: pd.DataFrame) -> list[str]:
 
     preset = ballasted_track() if track.is_ballasted else slab_track()
     names = [[] for _ in range(len(table))]
-    if track.replace(name=preset.name) == preset:
+    if track.replace(name=preset.name) == preset:  # the whole Track: its slab (None for the paper's) too
         for f_paper, quantity, kind, source, mode in paper_frequencies(track):
             f = nearest_extremum(table, quantity, kind, f_paper, rel_window=0.1)
             rows = np.flatnonzero((table["quantity"] == quantity) & (table["kind"] == kind) & (table["f"] == f))
@@ -427,6 +453,10 @@ def features_table(track: Track, f: np.ndarray, df: float) -> pd.DataFrame:
 
 def cmd_features(args: argparse.Namespace) -> int:
     track = _track(args.track)
+    if track.has_flexible_slab and track.slab.cut_span != 0:
+        raise InputError(f"{args.track}: features needs det and alpha by the paper's Eq. (14), which holds at a "
+                         f"slab joint only, and this track's cut is inside a slab (cut = {track.slab.cut!r} in "
+                         "[slab]): remove cut or set it to \"joint\"; 'semitrack receptance' gives alpha at this cut")
     f = frequency_grid(args.fmin, args.fmax, args.df)
     if f.size < 3:
         raise InputError("the frequency grid needs at least 3 points to find peaks and dips")
@@ -435,8 +465,8 @@ def cmd_features(args: argparse.Namespace) -> int:
     if args.csv:
         emit(table.to_csv(index=False, float_format="%.6g"))
         return 0
-    lines = [f"peaks and dips of '{printable(track.name)}' between {f[0]:g} and {f[-1]:g} Hz (exact method, "
-             "refined), rows by frequency, each magnitude in its unit"]
+    lines = [f"peaks and dips of '{printable(track.name)}' ({track_kind(track)}) between {f[0]:g} and {f[-1]:g} Hz "
+             "(exact method, refined), rows by frequency, each magnitude in its unit"]
     if table["mode"].eq("").all():
         table = table.drop(columns="mode")
         lines.append("(modes are named for the paper's two tracks only, as the paper names them)")
@@ -453,8 +483,10 @@ def cmd_example(args: argparse.Namespace) -> int:
     names = ", ".join(EXAMPLES)
     stdout()
     if args.list:
+        width = max(map(len, EXAMPLES))
         for name in EXAMPLES:
-            print(f"{name:<10} {load_track_toml(example_path(name)).name}")
+            track = load_track_toml(example_path(name))
+            print(f"{name:<{width}}  {track.name} ({track_kind(track)})")
         return 0
     if args.name is None:
         raise InputError(f"name an example: {names} (e.g. semitrack example slab > slab.toml)")
@@ -482,9 +514,11 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"semitrack {__version__}")
     sub = parser.add_subparsers(dest="command", title="commands", metavar="COMMAND", parser_class=_Parser)
 
-    p = sub.add_parser("example", help="print a shipped example track file (the paper's tracks)",
+    p = sub.add_parser("example", help="print a shipped example track file (the paper's two tracks, and its "
+                                       "rail on two flexible slabs)",
                        formatter_class=argparse.RawDescriptionHelpFormatter,
-                       epilog="examples:\n  semitrack example slab > slab.toml\n  semitrack example --list")
+                       epilog="examples:\n  semitrack example slab > slab.toml\n"
+                              "  semitrack example floating-slab > floating_slab.toml\n  semitrack example --list")
     p.add_argument("name", nargs="?", help=f"which example: {', '.join(EXAMPLES)}")
     p.add_argument("--list", action="store_true", help="list the examples")
     p.set_defaults(func=cmd_example)
