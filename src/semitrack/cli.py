@@ -453,10 +453,6 @@ def features_table(track: Track, f: np.ndarray, df: float) -> pd.DataFrame:
 
 def cmd_features(args: argparse.Namespace) -> int:
     track = _track(args.track)
-    if track.has_flexible_slab and track.slab.cut_span != 0:
-        raise InputError(f"{args.track}: features needs det and alpha by the paper's Eq. (14), which holds at a "
-                         f"slab joint only, and this track's cut is inside a slab (cut = {track.slab.cut!r} in "
-                         "[slab]): remove cut or set it to \"joint\"; 'semitrack receptance' gives alpha at this cut")
     f = frequency_grid(args.fmin, args.fmax, args.df)
     if f.size < 3:
         raise InputError("the frequency grid needs at least 3 points to find peaks and dips")

@@ -19,7 +19,7 @@ from ..base.checks import MAX_FREQUENCIES, as_frequencies, check_band, check_cho
 from ..base.conventions import ELEMENTS
 from ..base.paper_values import PAPER_GRID_BAND, PAPER_GRID_STEP
 from ..model.tracks import PeriodicCell, Track
-from .receptance import CentralResponse, Method, central_response
+from .receptance import CentralResponse, Method, central_response, semi_infinite_receptance
 
 #: The curves of the paper's Fig. 4/10/5/11 in which peaks and dips are looked for: those of the
 #: complete track, then the distinct receptance elements of :data:`semitrack.base.conventions.ELEMENTS`.
@@ -50,13 +50,30 @@ def response_curves(track: Track | PeriodicCell, f: ArrayLike, method: Method = 
         One complex array of the shape of ``f`` per quantity, in the units of
         :class:`semitrack.CentralResponse` and :data:`semitrack.base.conventions.ELEMENT_UNITS`.
     """
-    return curves_of(central_response(track, f, method, **settings))
+    r = central_response(track, f, method, **settings)
+    if r.separable:
+        return curves_of(r)
+    # A cut inside a flexible slab: Eq. (14) and (18) do not hold there; alpha is that of the
+    # track with its slab cut at the cut, and det is its end stiffness's determinant.
+    return curves_of(r, semi_infinite_receptance(track, f, method, **settings))
 
 
-def curves_of(r: CentralResponse) -> dict[str, np.ndarray]:
-    """The :data:`QUANTITIES` curves of an already computed :class:`CentralResponse`."""
-    alpha = r.alpha
-    curves = {"w1": r.w1, "psi2": r.psi2, "Q2": r.Q2, "M1": r.M1, "det": r.det}
+def curves_of(r: CentralResponse, alpha: np.ndarray | None = None) -> dict[str, np.ndarray]:
+    """The :data:`QUANTITIES` curves of an already computed :class:`CentralResponse`.
+
+    Parameters
+    ----------
+    r : CentralResponse
+        The central responses.
+    alpha : ndarray, optional
+        The semi-infinite track's receptance, shape ``r.f.shape + (2, 2)``; by default Eq. (14)
+        from ``r``, and det(alpha^-1) by Eq. (18).
+    """
+    if alpha is None:
+        alpha, det = r.alpha, r.det
+    else:
+        det = 1.0 / np.linalg.det(alpha)
+    curves = {"w1": r.w1, "psi2": r.psi2, "Q2": r.Q2, "M1": r.M1, "det": det}
     return curves | {name: alpha[..., i, k] for name, (i, k) in ELEMENTS.items()}
 
 
