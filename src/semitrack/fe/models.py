@@ -33,7 +33,6 @@ from typing import Literal
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike
-from scipy.sparse.linalg import splu
 
 from ..base.checks import as_frequencies, check_choice, check_int_at_least, check_real, check_work
 from ..base.threads import serial_blas
@@ -106,17 +105,6 @@ class BoundaryAttachment:
     A: np.ndarray
     B: np.ndarray
     C: np.ndarray
-
-
-def _symmetric_lu(z: sp.csc_matrix):
-    """Sparse LU of a complex symmetric Z: minimum degree on ``Z^T + Z``, diagonal pivots preferred.
-
-    SuperLU's symmetric mode keeps a diagonal pivot unless it is below 0.1 times the largest
-    entry of its column. Plain partial pivoting picks off-diagonal pivots among the DOFs of an
-    attached ballasted system and fills the factors four times as much: 10 times slower on a
-    160-bay ballasted track, for the same result to 1e-12.
-    """
-    return splu(z, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.1, options={"SymmetricMode": True})
 
 
 class FETrack:
@@ -406,7 +394,7 @@ class FETrack:
         return self._csc(self._z_data(self._complex_k_data(f), omega, self._exact_blocks(np.array([omega])), 0))
 
     def solve(self, f: ArrayLike, rhs: ArrayLike) -> np.ndarray:
-        """Solve ``Z(f) u = rhs`` frequency by frequency with a sparse LU factorisation.
+        """Solve ``Z(f) u = rhs`` frequency by frequency (a band LU, :meth:`~.assembly.Pattern.solve`).
 
         Parameters
         ----------
@@ -432,10 +420,10 @@ class FETrack:
         exact = self._exact_blocks(omega)
         out = np.empty((f.size, self.n_dof, rhs.shape[1]), dtype=complex)
         rhs_c = np.ascontiguousarray(rhs, dtype=complex)
-        with serial_blas():  # one sparse LU per frequency: threads only contend
+        with serial_blas():  # one band (or sparse) LU per frequency: threads only contend
             for i, w in enumerate(omega):
                 k = k0 if hysteretic else self._complex_k_data(f[i])
-                out[i] = _symmetric_lu(self._csc(self._z_data(k, w, exact, i))).solve(rhs_c)
+                out[i] = self._parts.pattern.solve(self._z_data(k, w, exact, i), rhs_c)
         return out
 
     def receptance(self, f: ArrayLike, x: float = 0.0) -> np.ndarray:
