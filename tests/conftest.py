@@ -1,10 +1,19 @@
 """Shared fixtures: the paper's two tracks, frequency grids and the paper's N = 5 fits."""
 
+import contextlib
+import os
+from collections.abc import Mapping
+
 import numpy as np
 import pytest
 
 import semitrack as st
 from semitrack.base.paper_values import FIT_BANDS
+
+try:  # POSIX: the test workers of one run take turns at the shared fit cache
+    import fcntl
+except ImportError:  # pragma: no cover - elsewhere each worker computes the fits it needs itself
+    fcntl = None
 
 #: The paper's tracks by layout (Table 2 slab, Table 5 ballasted).
 PAPER_TRACKS = {"slab": st.slab_track, "ballasted": st.ballasted_track}
@@ -23,12 +32,62 @@ def paper_grid():
 
 
 @pytest.fixture(scope="session")
-def paper_fits():
-    """The paper's fits, computed once per test session: ``{layout: FitResult}``.
+def fit_cache_dir(tmp_path_factory):
+    """A cache folder of :func:`semitrack.cached_fit` for this test run, shared by its workers.
+
+    The suite runs in parallel processes (pytest-xdist, ``-n`` in pyproject.toml); each has its
+    own base temporary folder below one folder of the run, where the cache lives, so a fit one
+    worker computed is read back by the others. Without xdist it is a folder of the session.
+    """
+    base = tmp_path_factory.getbasetemp()
+    folder = (base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base) / "fit-cache"
+    folder.mkdir(exist_ok=True)
+    return folder
+
+
+@contextlib.contextmanager
+def _exclusive(path):
+    """Hold the lock file ``path`` (one worker computes a shared fit while the others wait)."""
+    if fcntl is None:
+        yield
+        return
+    with open(path, "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
+
+
+class _PaperFits(Mapping):
+    """``{layout: FitResult}``, each fit computed (or read from the run's cache) when first asked for."""
+
+    def __init__(self, folder):
+        self._folder, self._fits = folder, {}
+
+    def __getitem__(self, layout):
+        if layout not in self._fits:
+            make = PAPER_TRACKS[layout]
+            with _exclusive(self._folder / f".lock-{layout}"):
+                self._fits[layout] = st.cached_fit(make(), layout, n_bars=5, band=FIT_BANDS[layout], seed=0,
+                                                   cache_dir=self._folder)
+        return self._fits[layout]
+
+    def __iter__(self):
+        return iter(PAPER_TRACKS)
+
+    def __len__(self):
+        return len(PAPER_TRACKS)
+
+
+@pytest.fixture(scope="session")
+def paper_fits(fit_cache_dir):
+    """The paper's fits, computed once per test run: ``{layout: FitResult}``.
 
     One constrained fit per track as in the paper: N = 5, the paper's band
-    (``FIT_BANDS[layout]``), seed 0, default fit frequencies and 20 starts. They go through
-    :func:`semitrack.cached_fit`, so any other caller in the session shares them.
+    (``FIT_BANDS[layout]``), seed 0, default fit frequencies and 20 starts. Each is computed
+    when a test first asks for it, through :func:`semitrack.cached_fit` with the run's shared
+    cache folder: any other caller in the process shares it, and a parallel worker reads what
+    another one computed (waiting while it is being computed).
     """
-    return {layout: st.cached_fit(make(), layout, n_bars=5, band=FIT_BANDS[layout], seed=0)
-            for layout, make in PAPER_TRACKS.items()}
+    return _PaperFits(fit_cache_dir)

@@ -14,7 +14,6 @@ import numpy as np
 import pytest
 
 import semitrack as st
-from semitrack.base.paper_values import FIT_BANDS
 from semitrack.boundary.fitting import track_end_limits
 from semitrack.boundary.passivity import enforce_passivity, hamiltonian_crossings, passivity_report
 from semitrack.boundary.rational import RationalEndStiffness, symmetric_from_columns
@@ -156,9 +155,9 @@ def test_fitted_boundary_error_over_the_full_band(fitted, name):
     assert bnd.median_error <= median and bnd.max_error <= largest
 
 
-def test_boundary_beats_the_n5_systems_beyond_their_band(fitted):
+def test_boundary_beats_the_n5_systems_beyond_their_band(fitted, paper_fits):
     """Above the paper's fit band the N = 5 systems fail; the broadband end does not."""
-    fit5 = st.fit_equivalent(st.slab_track(), "slab", 5, band=FIT_BANDS["slab"], seed=0)
+    fit5 = paper_fits["slab"]  # N = 5 over the paper's band, seed 0 (conftest.py)
     g = error_band_grid((900.0, 3000.0), 3.0)
     exact = st.semi_infinite_receptance(st.slab_track(), g)
     assert error_summary(fitted["slab"].receptance(g), exact).max < 0.5 * error_summary(

@@ -530,3 +530,51 @@ def test_cache_key_follows_the_package_source(monkeypatch, tmp_path):
     key = cache.fit_cache_key(st.slab_track(), "slab")
     monkeypatch.setattr(cache, "package_source_digest", lambda root=None: "0" * 64)
     assert cache.fit_cache_key(st.slab_track(), "slab") != key
+
+
+# --- sweeps computed once (cache.py): the book's paper-method sweeps ------------------------------------
+SWEEP_F = np.array([3.0, 183.0, 945.0])
+
+
+def test_cached_central_response_is_central_response_computed_once(monkeypatch, tmp_path):
+    calls = []
+    real = cache.central_response
+
+    def counting(*args, **kwargs):
+        calls.append(args)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(cache, "central_response", counting)
+    cache.clear_fit_memo()
+    folder = tmp_path / "cache"
+    track = st.slab_track()
+    sweep = cache.cached_central_response(track, SWEEP_F, cache_dir=folder)
+    direct = st.central_response(track, SWEEP_F, method="wavenumber")
+    for name in ("f", "w1", "psi2", "Q2", "M1"):  # the same numbers, bit for bit
+        np.testing.assert_array_equal(getattr(sweep.response, name), getattr(direct, name))
+    assert sweep.response.method == "wavenumber" and sweep.elapsed > 0
+    assert cache.cached_central_response(track, list(SWEEP_F), "wavenumber", cache_dir=folder) is sweep
+    files = list(folder.glob("response-*.pkl"))
+    assert [f.name for f in files] == [f"response-{cache.response_cache_key(track, SWEEP_F)}.pkl"]
+    cache.clear_fit_memo()  # a new process: only the folder remembers, elapsed included
+    back = cache.cached_central_response(track, SWEEP_F, cache_dir=folder)
+    np.testing.assert_array_equal(back.response.alpha, sweep.response.alpha)
+    assert back.elapsed == sweep.elapsed and len(calls) == 1
+    files[0].write_bytes(b"not a pickle")  # unreadable: computed again
+    cache.clear_fit_memo()
+    np.testing.assert_array_equal(cache.cached_central_response(track, SWEEP_F, cache_dir=folder).response.w1,
+                                  direct.w1)
+    assert len(calls) == 2
+    cache.clear_fit_memo()
+
+
+def test_response_cache_keys_tell_arguments_apart():
+    track = st.slab_track()
+    key = cache.response_cache_key(track, SWEEP_F)
+    assert key == cache.response_cache_key(track.replace(name="mine"), list(SWEEP_F), "wavenumber")
+    others = [cache.response_cache_key(track, SWEEP_F[:2]),
+              cache.response_cache_key(track, SWEEP_F, "transfer"),
+              cache.response_cache_key(track, SWEEP_F, beta_max=785.4),
+              cache.response_cache_key(track.replace(kv=1.01 * track.kv), SWEEP_F),
+              cache.fit_cache_key(track, "slab")]
+    assert len(set(others + [key])) == len(others) + 1

@@ -1,9 +1,12 @@
-"""Fits computed once: an in-process memo and, for the book build, a cache folder.
+"""Fits and sweeps computed once: an in-process memo and, for the book build, a cache folder.
 
 The N = 5 fits of the paper's two tracks take seconds each, and several chapters of the book
 (and the tests) use them. :func:`cached_fit` returns the :class:`~.fitting.FitResult` of
 :func:`~.fitting.fit_equivalent` for the same arguments, computing it at most once per process
-and, when ``cache_dir`` is given, at most once per cache folder.
+and, when ``cache_dir`` is given, at most once per cache folder. :func:`cached_central_response`
+does the same for a frequency sweep of :func:`~semitrack.methods.receptance.central_response`:
+the paper's wavenumber method takes ~13 s for the paper's 500 frequencies, and the derivation
+and slab chapters both show the slab track's.
 
 **Key.** The SHA-256 of
 
@@ -13,16 +16,17 @@ and, when ``cache_dir`` is given, at most once per cache folder.
 * the track's parameters (every field of the :class:`~semitrack.model.tracks.Track` but its
   ``name``, a label);
 * every argument of :func:`~.fitting.fit_equivalent`, defaults filled in and ``band=None``
-  resolved to the paper's band of the layout.
+  resolved to the paper's band of the layout (a sweep: its frequencies, method and settings).
 
 Arrays (``fit_freqs``, a sampled ``target``) enter by dtype, shape and bytes, an ``initial``
 system by its layout and parameters. A callable ``target`` cannot be keyed (its code and state
 are not part of any stable identity) and is refused; call :func:`~.fitting.fit_equivalent`.
 
-**Files.** With ``cache_dir``, the result is pickled to ``<cache_dir>/fit-<key>.pkl``, written
-atomically (a temporary file in the folder, then :func:`os.replace`), and read back by later
-processes. A file that cannot be read (truncated, corrupt, written by an incompatible version)
-is ignored: the fit is recomputed and the file rewritten.
+**Files.** With ``cache_dir``, the result is pickled to ``<cache_dir>/fit-<key>.pkl`` (a sweep:
+``response-<key>.pkl``), written atomically (a temporary file in the folder, then
+:func:`os.replace`), and read back by later processes. A file that cannot be read (truncated,
+corrupt, written by an incompatible version) is ignored: the result is recomputed and the file
+rewritten.
 
 **For the book build only.** The notebooks call ``st.cached_fit(track, layout, band=...,
 seed=0, cache_dir="../_build/.semitrack-cache")``; ``_build`` is git-ignored and removed by CI
@@ -30,7 +34,7 @@ before each build, so the cache lives for one build and is never committed. Load
 runs code: point ``cache_dir`` only at a folder your own build writes.
 
 A cached result is the very object the first call returned: its ``elapsed`` is the time of that
-fit, and warnings of the fit (poor or unconverged) are issued only when it is computed.
+fit (or sweep), and warnings of the fit (poor or unconverged) are issued only when it is computed.
 """
 
 from __future__ import annotations
@@ -42,12 +46,15 @@ import inspect
 import json
 import os
 import pickle
+import time
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
-from ..base.checks import check_band
+from ..base.checks import as_frequencies, check_band
 from ..base.paper_values import FIT_BANDS
+from ..methods.receptance import CentralResponse, Method, central_response
 from ..model.slab import Slab
 from ..model.tracks import Track, require_track
 from .assembly import Layout, check_layout
@@ -55,12 +62,13 @@ from .fitting import FitResult, fit_equivalent
 from .io import atomic_write
 from .systems import EquivalentSystem
 
-__all__ = ["cached_fit", "fit_cache_key", "package_source_digest", "clear_fit_memo"]
+__all__ = ["cached_fit", "fit_cache_key", "package_source_digest", "clear_fit_memo", "CachedResponse",
+           "cached_central_response", "response_cache_key"]
 
 # The package directory: semitrack/, two levels above this file.
 _PACKAGE_DIR = Path(__file__).resolve().parent.parent
 
-_MEMO: dict[str, FitResult] = {}
+_MEMO: dict[str, object] = {}
 
 # Bound once, so that the arguments are those of the real fit_equivalent even where a test
 # replaces the module's fit_equivalent to count calls.
@@ -174,8 +182,8 @@ def fit_cache_key(track: Track, layout: Layout, n_bars: int = 5, band: tuple[flo
     return hashlib.sha256(json.dumps(description, sort_keys=True).encode()).hexdigest()
 
 
-def _load(path: Path) -> FitResult | None:
-    """The result stored at ``path``, or None when it is absent or cannot be read."""
+def _load(path: Path, kind: type = FitResult):
+    """The result (of type ``kind``) stored at ``path``, or None when it is absent or cannot be read."""
     try:
         with open(path, "rb") as fh:
             result = pickle.load(fh)
@@ -183,7 +191,21 @@ def _load(path: Path) -> FitResult | None:
         return None
     except Exception:  # truncated, corrupt or incompatible: recompute and rewrite
         return None
-    return result if isinstance(result, FitResult) else None
+    return result if isinstance(result, kind) else None
+
+
+def _computed_once(key: str, path: Path | None, kind: type, compute):
+    """The memoised result of ``key``, else the one stored at ``path``, else ``compute()`` (stored)."""
+    if key in _MEMO:
+        return _MEMO[key]
+    result = None if path is None else _load(path, kind)
+    if result is None:
+        result = compute()
+        if path is not None:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            atomic_write(path, lambda fh: pickle.dump(result, fh, protocol=pickle.HIGHEST_PROTOCOL), binary=True)
+    _MEMO[key] = result
+    return result
 
 
 def cached_fit(track: Track, layout: Layout, n_bars: int = 5, band: tuple[float, float] | None = None,
@@ -232,19 +254,101 @@ def cached_fit(track: Track, layout: Layout, n_bars: int = 5, band: tuple[float,
     True
     """
     key = fit_cache_key(track, layout, n_bars, band, seed, **options)
-    if key in _MEMO:
-        return _MEMO[key]
     path = None if cache_dir is None else Path(cache_dir) / f"fit-{key}.pkl"
-    result = None if path is None else _load(path)
-    if result is None:
-        result = fit_equivalent(**_bound_arguments(track, layout, n_bars, band, seed, options))
-        if path is not None:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            atomic_write(path, lambda fh: pickle.dump(result, fh, protocol=pickle.HIGHEST_PROTOCOL), binary=True)
-    _MEMO[key] = result
-    return result
+    return _computed_once(key, path, FitResult,
+                          lambda: fit_equivalent(**_bound_arguments(track, layout, n_bars, band, seed, options)))
+
+
+class CachedResponse(NamedTuple):
+    """A sweep of :func:`~semitrack.methods.receptance.central_response` and the time it took.
+
+    Attributes
+    ----------
+    response : CentralResponse
+        The central responses (and through them alpha) at the frequencies of the sweep.
+    elapsed : float
+        Wall-clock time of the computation (s), when it was computed (a cached sweep keeps the
+        time of its first computation).
+    """
+
+    response: CentralResponse
+    elapsed: float
+
+
+def response_cache_key(track: Track, f, method: Method = "wavenumber", **settings) -> str:
+    """The key of :func:`cached_central_response`: SHA-256 (hex) of the package source, the
+    track, the frequencies, the method and its settings.
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+    f : array_like
+        Frequencies (Hz).
+    method : {"transfer", "wavenumber"}
+        The method.
+    **settings
+        Settings of the wavenumber method (``beta_max``, ``dx``, ...), as for
+        :func:`~semitrack.methods.receptance.central_response`.
+
+    Returns
+    -------
+    str
+        64 hexadecimal digits.
+    """
+    track = require_track(track)
+    arguments = {"track": track, "f": np.atleast_1d(as_frequencies(f)), "method": method, "settings": settings}
+    description = {"source": package_source_digest(), "kind": "central_response",
+                   "arguments": [[name, _canonical(value)] for name, value in sorted(arguments.items())]}
+    return hashlib.sha256(json.dumps(description, sort_keys=True).encode()).hexdigest()
+
+
+def cached_central_response(track: Track, f, method: Method = "wavenumber",
+                            cache_dir: str | os.PathLike | None = None, **settings) -> CachedResponse:
+    """:func:`~semitrack.methods.receptance.central_response`, computed once per process and, with
+    ``cache_dir``, once per folder (see the module docstring).
+
+    Meant for the book build, where the paper's wavenumber method over the paper's grid (~13 s)
+    appears in more than one chapter.
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+    f : array_like
+        Frequencies (Hz).
+    method : {"transfer", "wavenumber"}
+        The method; the paper's wavenumber method by default.
+    cache_dir : str or os.PathLike, optional
+        Folder of the pickled results (created if missing); None: the in-process memo only.
+    **settings
+        Settings of the wavenumber method, as for
+        :func:`~semitrack.methods.receptance.central_response`.
+
+    Returns
+    -------
+    CachedResponse
+        The response and the time its computation took (s).
+
+    Examples
+    --------
+    >>> import semitrack as st
+    >>> from semitrack.equivalent.cache import cached_central_response
+    >>> sweep = cached_central_response(st.slab_track(), [100.0, 200.0], "transfer")
+    >>> sweep.response.alpha.shape, cached_central_response(st.slab_track(), [100.0, 200.0], "transfer") is sweep
+    ((2, 2, 2), True)
+    """
+    key = response_cache_key(track, f, method, **settings)
+    path = None if cache_dir is None else Path(cache_dir) / f"response-{key}.pkl"
+
+    def compute() -> CachedResponse:
+        start = time.perf_counter()
+        response = central_response(track, f, method, **settings)
+        return CachedResponse(response, time.perf_counter() - start)
+
+    return _computed_once(key, path, CachedResponse, compute)
 
 
 def clear_fit_memo() -> None:
-    """Forget the results memoised in this process (the files of a cache folder stay)."""
+    """Forget the results (fits and sweeps) memoised in this process (the files of a cache folder stay)."""
     _MEMO.clear()
