@@ -58,6 +58,19 @@ def test_fit_error_table_matches_error_summary():
     assert table.attrs["caption"].startswith("Element error: |α_E − α|/|α| of α11, α12 and α22")
 
 
+def test_fit_error_table_reuses_a_paper_method_sweep():
+    """A sweep on the paper's 6 Hz grid gives half of a 3 Hz grid: the same table, bit for bit;
+    a sweep of another track is refused (one shared frequency is recomputed)."""
+    track, band, systems = st.slab_track(), (3.0, 60.0), {"paper (Table 4)": st.paper_table4()}
+    sweep = st.central_response(track, np.arange(3.0, 40.0, 6.0), method="wavenumber")  # 3-39 Hz: some of the grid
+    direct = fit_error_table(track, systems, band)
+    pd.testing.assert_frame_equal(fit_error_table(track, systems, band, wavenumber_response=sweep), direct)
+    with pytest.raises(ValueError, match="not this track's paper-method sweep"):
+        fit_error_table(st.slab_track(kv=1e8), systems, band, wavenumber_response=sweep)
+    with pytest.raises(ValueError, match="method='wavenumber'"):
+        fit_error_table(track, systems, band, wavenumber_response=st.central_response(track, [3.0]))
+
+
 def test_mirrored_pair_and_its_table():
     track, band = st.ballasted_track(), FIT_BANDS["ballasted"]
     f = np.arange(3.0, 1000.0, 30.0)

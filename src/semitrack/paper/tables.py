@@ -25,7 +25,7 @@ from ..base.checks import as_frequencies, check_band
 from ..base.paper_values import TABLE2_SLAB, TABLE5_BALLASTED
 from ..equivalent.metrics import ELEMENT_ERROR, error_band_grid, error_summary
 from ..equivalent.systems import EquivalentSystem
-from ..methods.receptance import central_response, semi_infinite_receptance
+from ..methods.receptance import CentralResponse, central_response, semi_infinite_receptance
 from ..model.tracks import PARAMETER_INFO, Track, parameter_table, require_track
 from .convergence import alpha_relative_error
 from .systems import PAPER_FREQUENCIES, paper_table7, table4_consistency, table7_consistency
@@ -200,8 +200,31 @@ def system_comparison(paper: EquivalentSystem, ours: EquivalentSystem, paper_lab
     return table
 
 
+def _wavenumber_alpha(track: Track, f: np.ndarray, known: CentralResponse | None) -> np.ndarray:
+    """The paper's-method alpha at ``f``, taken from ``known`` where it holds the frequency."""
+    if known is None:
+        return semi_infinite_receptance(track, f, method="wavenumber")
+    if not isinstance(known, CentralResponse) or known.method != "wavenumber":
+        raise ValueError("wavenumber_response must be a CentralResponse of method='wavenumber', got "
+                         f"{getattr(known, 'method', type(known).__name__)!r}")
+    order = np.argsort(known.f, kind="stable")
+    pos = order[np.searchsorted(known.f[order], f).clip(0, known.f.size - 1)]
+    have = known.f[pos] == f
+    alpha = np.empty((f.size, 2, 2), dtype=complex)
+    if np.any(~have):
+        alpha[~have] = semi_infinite_receptance(track, f[~have], method="wavenumber")
+    if np.any(have):
+        alpha[have] = known.alpha[pos[have]]
+        first = int(np.flatnonzero(have)[0])
+        if not np.allclose(semi_infinite_receptance(track, f[first:first + 1], method="wavenumber")[0],
+                           alpha[first], rtol=1e-12, atol=0):
+            raise ValueError(f"wavenumber_response is not this track's paper-method sweep (it differs at "
+                             f"{f[first]:g} Hz); pass central_response(track, f, method='wavenumber')")
+    return alpha
+
+
 def fit_error_table(track: Track, systems: Mapping[str, EquivalentSystem], band: tuple[float, float],
-                    df: float = 3.0) -> pd.DataFrame:
+                    df: float = 3.0, wavenumber_response: CentralResponse | None = None) -> pd.DataFrame:
     """Median and maximum error of equivalent systems against the track over a band.
 
     Each system's receptance is compared on the grid of :func:`semitrack.error_band_grid` with
@@ -218,6 +241,13 @@ def fit_error_table(track: Track, systems: Mapping[str, EquivalentSystem], band:
         ``(f_lo, f_hi)`` (Hz), e.g. ``FIT_BANDS["slab"]``.
     df : float
         Grid step (Hz).
+    wavenumber_response : CentralResponse, optional
+        A sweep of this track by the paper's method with its settings
+        (``central_response(track, f, method="wavenumber")``, e.g. the chapter's sweep over
+        ``PAPER_GRID``): its alpha is used at the grid frequencies it holds (half of a 3 Hz grid
+        lies on the paper's 6 Hz grid), and only the others are computed (the method is
+        per-frequency, so the numbers are the same). One shared frequency is recomputed to
+        check that it is this track's: a ValueError otherwise.
 
     Returns
     -------
@@ -228,7 +258,7 @@ def fit_error_table(track: Track, systems: Mapping[str, EquivalentSystem], band:
     band = check_band(band)
     grid = error_band_grid(band, df=df)
     targets = dict(zip(FIT_ERROR_TARGETS, (semi_infinite_receptance(require_track(track), grid),
-                                           semi_infinite_receptance(track, grid, method="wavenumber"))))
+                                           _wavenumber_alpha(track, grid, wavenumber_response))))
     rows = []
     for label, system in systems.items():
         approx = system.receptance(grid)
