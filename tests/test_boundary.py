@@ -219,12 +219,14 @@ OTHER_TRACKS = {
 }
 
 
-@pytest.mark.parametrize("make", [st.slab_track, st.ballasted_track, *OTHER_TRACKS.values()],
-                         ids=["slab", "ballasted", *OTHER_TRACKS])
-def test_causal_damping_makes_the_boundary_near_exact(make):
+@pytest.mark.parametrize("name", ["slab", "ballasted", *OTHER_TRACKS])
+def test_causal_damping_makes_the_boundary_near_exact(request, name):
     """With viscous (causal) damping a rational model can be exact; measured 0.1-0.16 % median,
-    0.28-0.37 % max over 3-3000 Hz."""
-    bnd = st.fit_boundary(make().replace(damping="viscous"), band=BAND)
+    0.28-0.37 % max over 3-3000 Hz. (The paper's two tracks: the fits of ``viscous_fits``.)"""
+    if name in OTHER_TRACKS:
+        bnd = st.fit_boundary(OTHER_TRACKS[name]().replace(damping="viscous"), band=BAND)
+    else:
+        bnd = request.getfixturevalue("viscous_fits")[name]
     assert bnd.is_passive()
     assert bnd.median_error <= 0.002 and bnd.max_error <= 0.005
 
