@@ -75,7 +75,7 @@ __all__ = [
 #: Tables 4 and 7 reach about 0.15-0.17 on the dense grid of their bands.
 POOR_MEDIAN_ERROR = 0.25
 #: Most bars a fit accepts: beyond it the multi-start least squares runs for many minutes (its
-#: unknowns and its Jacobian grow with N; N = 12 already takes ~20 s on one core).
+#: unknowns and its Jacobian grow with N; N = 12 already takes ~8 s on one core).
 MAX_BARS = 20
 
 # The paper's constraint equations of each layout, as :class:`FitResult` names them.
@@ -129,7 +129,8 @@ class FitResult:
     n_starts : int
         Number of starts tried.
     start_costs : ndarray
-        Cost of every start after the short screening run (-), in start order.
+        Cost of every start after the short screening run (-), in start order (a run stopped
+        early because it could not reach the best three: its cost when it stopped).
     best_start : int
         Index of the start that gave the result (0 is the deterministic track-based guess).
     free_parameters : tuple of str
@@ -358,7 +359,7 @@ def fit_equivalent(track: Track, layout: Layout | None = None, n_bars: int = 5,
         track with sleepers and ``"slab"`` otherwise.
     n_bars : int
         Number of bars N >= 1 (the paper uses 5), at most :data:`MAX_BARS` (20): the fit's time
-        grows fast with N (slab track, one core: N = 5 ~4 s, 8 ~6 s, 12 ~20 s).
+        grows fast with N (slab track, one core: N = 5 ~1.5 s, 8 ~2.3 s, 12 ~8 s).
     band : (float, float), optional
         Frequency band (Hz) of the error measures and of the default fit frequencies; default
         the paper's, :data:`~semitrack.base.paper_values.FIT_BANDS` (3-900 Hz slab, 3-750 Hz
@@ -379,7 +380,8 @@ def fit_equivalent(track: Track, layout: Layout | None = None, n_bars: int = 5,
     n_starts : int
         Number of starts >= 1: start 0 is the track-based guess (or ``initial``), the others
         random perturbations of it. Each is run for 100 evaluations; the best 3 are continued
-        to convergence (at most ``max_nfev`` evaluations) and polished.
+        to convergence (at most ``max_nfev`` evaluations) and polished. A run that cannot reach
+        the best ones at its rate of descent stops early (:mod:`.multistart`).
     target : None, callable or (f, alpha), optional
         The receptance to fit. None: the exact receptance of ``track``
         (:func:`~semitrack.methods.receptance.semi_infinite_receptance`). A callable ``alpha(f)``

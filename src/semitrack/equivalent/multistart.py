@@ -9,6 +9,16 @@ evaluations); the best three are continued to convergence (trust-region reflecti
 only creeps towards the lower bound (the "zero" dampers) at the bound and so certifies
 convergence in a few steps. The lowest cost wins.
 
+**Hopeless runs stop early.** A run that would still end above the cost it has to beat even if
+its cost went on falling twice as fast as over its last 10 iterations is stopped: a screening
+run must beat the third-best screening cost so far (else it is not continued), a continued run
+the best polished cost so far (else it does not win). A stopped screening run's entry of
+``start_costs`` is its cost when it stopped. Measured on the fits of the book, the README and the
+tests (the paper's two tracks with seeds 0 and 1, a soft-pad slab, the floating slab, N = 3-10,
+the paper's fit frequencies, unconstrained): every fitted system is the same to the last bit,
+and a fit takes 35-55 % less time (the paper's ballasted track: 9.0 -> 3.9 s). What it cannot
+rule out is a run that would leave a long plateau late in its budget and then win.
+
 BLAS runs single-threaded during the runs: the matrices are tiny, so threads only cost, and on
 a loaded 2-core machine a threaded LAPACK call waits for preempted workers (the SVD inside
 ``least_squares`` was measured 100-300 times slower). A ``threadpoolctl`` limit holds for the
@@ -37,6 +47,39 @@ _POLISH_NFEV = 300
 _START_SPREAD = 1.0
 # Distance of the start points from the bounds: strictly inside, as trf requires.
 _START_MARGIN = 1e-6
+# Iterations over which a run's rate of descent is measured before it may be stopped as hopeless.
+_PRUNE_WINDOW = 10
+# ... and the factor on that rate: a run is stopped only if it would not reach its target even
+# falling twice as fast (a run's descent slows as it converges, but may also leave a plateau).
+_OPTIMISM = 2.0
+
+
+class _Hopeless:
+    """Callback of ``least_squares``: stop the run when, at :data:`_OPTIMISM` times the rate its cost
+    fell over its last :data:`_PRUNE_WINDOW` iterations, it would still be above ``target`` at
+    ``budget`` evaluations."""
+
+    def __init__(self, target: float, budget: int):
+        self.target, self.budget, self.history = target, budget, []
+        self.stopped = False
+
+    def __call__(self, intermediate_result: OptimizeResult) -> None:
+        self.history.append((intermediate_result.nfev, intermediate_result.cost))
+        if len(self.history) <= _PRUNE_WINDOW:
+            return
+        (n0, c0), (n1, c1) = self.history[-1 - _PRUNE_WINDOW], self.history[-1]
+        rate = max(c0 - c1, 0.0) / max(n1 - n0, 1)
+        if c1 - _OPTIMISM * rate * max(self.budget - n1, 0) > self.target:
+            self.stopped = True
+            raise StopIteration
+
+
+def _run(fun, x0, target: float | None, max_nfev: int, kw: dict) -> tuple[OptimizeResult, bool]:
+    """``least_squares`` from ``x0``, stopped early when hopeless against ``target`` (None: never)."""
+    if target is None:
+        return least_squares(fun, x0, max_nfev=max_nfev, **kw), False
+    hopeless = _Hopeless(target, max_nfev)
+    return least_squares(fun, x0, max_nfev=max_nfev, callback=hopeless, **kw), hopeless.stopped
 
 
 @dataclass(frozen=True)
@@ -76,13 +119,17 @@ def start_points(model: FitParametrisation, n_starts: int, seed: int,
     return [model.inside(s, _START_MARGIN) for s in starts]
 
 
-def _refine(problem: Residuals, screened: OptimizeResult, max_nfev: int, kw: dict) -> OptimizeResult:
-    """Continue a screening run to convergence with trf, then polish it with dogbox."""
+def _refine(problem: Residuals, screened: OptimizeResult, max_nfev: int, kw: dict,
+            to_beat: float | None = None) -> OptimizeResult | None:
+    """Continue a screening run to convergence with trf, then polish it with dogbox; None when
+    the continued run was stopped as unable to beat ``to_beat``."""
     model = problem.model
     nfev, njev = screened.nfev, screened.njev or 0
     r = screened
     if screened.status == 0:  # continue the screening run to convergence
-        r = least_squares(problem.fun, model.inside(screened.x), max_nfev=max_nfev, **kw)
+        r, stopped = _run(problem.fun, model.inside(screened.x), to_beat, max_nfev, kw)
+        if stopped:
+            return None
         nfev, njev = nfev + r.nfev, njev + (r.njev or 0)
     # Final dogbox run: it holds the parameters that trf drives slowly towards the lower bound
     # (the "zero" springs and dampers) at the bound, so it certifies convergence within a few
@@ -109,12 +156,16 @@ def run_multistart(problem: Residuals, starts: list[np.ndarray], max_nfev: int) 
     """
     model = problem.model
     kw = dict(jac=problem.jac, bounds=(model.lower, model.upper), method="trf", x_scale="jac")
+    screen_nfev = min(_SCREEN_NFEV, max_nfev)
     with serial_blas():
-        screened = [least_squares(problem.fun, s, max_nfev=min(_SCREEN_NFEV, max_nfev), **kw) for s in starts]
+        screened = []
+        for s in starts:  # a run stops early once it cannot reach the best _N_REFINE so far
+            to_beat = np.sort([r.cost for r in screened])[_N_REFINE - 1] if len(screened) >= _N_REFINE else None
+            screened.append(_run(problem.fun, s, to_beat, screen_nfev, kw)[0])
         start_costs = np.array([r.cost for r in screened])
         best, best_i = None, -1
         for i in np.argsort(start_costs, kind="stable")[:_N_REFINE]:
-            r = _refine(problem, screened[i], max_nfev, kw)
-            if best is None or r.cost < best.cost:
+            r = _refine(problem, screened[i], max_nfev, kw, None if best is None else best.cost)
+            if r is not None and (best is None or r.cost < best.cost):
                 best, best_i = r, int(i)
     return MultiStartOutcome(best=best, best_start=best_i, start_costs=start_costs)
