@@ -211,8 +211,6 @@ def _wavenumber_alpha(track: Track, f: np.ndarray, known: CentralResponse | None
     pos = order[np.searchsorted(known.f[order], f).clip(0, known.f.size - 1)]
     have = known.f[pos] == f
     alpha = np.empty((f.size, 2, 2), dtype=complex)
-    if np.any(~have):
-        alpha[~have] = semi_infinite_receptance(track, f[~have], method="wavenumber")
     if np.any(have):
         alpha[have] = known.alpha[pos[have]]
         first = int(np.flatnonzero(have)[0])
@@ -220,6 +218,8 @@ def _wavenumber_alpha(track: Track, f: np.ndarray, known: CentralResponse | None
                            alpha[first], rtol=1e-12, atol=0):
             raise ValueError(f"wavenumber_response is not this track's paper-method sweep (it differs at "
                              f"{f[first]:g} Hz); pass central_response(track, f, method='wavenumber')")
+    if np.any(~have):
+        alpha[~have] = semi_infinite_receptance(track, f[~have], method="wavenumber")
     return alpha
 
 
