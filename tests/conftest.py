@@ -18,6 +18,39 @@ except ImportError:  # pragma: no cover - elsewhere each worker computes the fit
 #: The paper's tracks by layout (Table 2 slab, Table 5 ballasted).
 PAPER_TRACKS = {"slab": st.slab_track, "ballasted": st.ballasted_track}
 
+# The suite runs on parallel workers (pytest-xdist, ``-n auto --dist loadgroup`` in pyproject.toml).
+# Tests are handed out one by one, in collection order, to whichever worker runs low, except the
+# modules below, whose module-scoped fixtures are expensive (boundary fits, the unconstrained fit,
+# every figure drawn): each goes whole to one worker. The longest tests start first, so that the
+# workers finish together: the README test (~25 s), then those modules.
+_WHOLE_MODULES = ("test_boundary.py", "test_fitting.py", "test_plotting.py")
+_FIRST = ("test_readme.py", *_WHOLE_MODULES)
+
+
+def pytest_collection_modifyitems(items):
+    """Long tests first; a stable sort keeps every module's own order."""
+    rank = {name: i for i, name in enumerate(_FIRST)}
+    items.sort(key=lambda item: rank.get(item.path.name, len(_FIRST)))
+
+
+@pytest.hookimpl(optionalhook=True)  # a hook of pytest-xdist: ignored when it is not installed
+def pytest_xdist_make_scheduler(config, log):
+    """``--dist loadgroup``: one test at a time, but :data:`_WHOLE_MODULES` whole, in collection order.
+
+    xdist's own loadgroup reads ``xdist_group`` marks through the test ids, which it rewrites in a
+    way pytest 9 ignores (every test went alone); the grouping here needs neither.
+    """
+    if config.getvalue("dist") != "loadgroup":
+        return None
+    from xdist.scheduler import LoadScopeScheduling
+
+    class WholeModules(LoadScopeScheduling):
+        def _split_scope(self, nodeid):
+            module = nodeid.split("::", 1)[0]
+            return module if module.rsplit("/", 1)[-1] in _WHOLE_MODULES else nodeid
+
+    return WholeModules(config, log)
+
 
 @pytest.fixture(params=["slab", "ballasted"])
 def track(request):

@@ -115,9 +115,11 @@ def test_enforcement_makes_a_model_passive_with_a_small_change():
 
 @pytest.fixture(scope="module")
 def fitted():
-    """The paper's two tracks fitted once (about 10-30 s each)."""
-    return {name: st.fit_boundary(track(), band=BAND, seed=0)
-            for name, track in (("slab", st.slab_track), ("ballasted", st.ballasted_track))}
+    """The paper's two tracks fitted once: the slab by the automatic order search (which fits 24
+    and 36 poles and keeps 36), the ballasted track at the 36 poles the search also keeps there
+    (measured; the same deterministic fit, without refitting 24 poles)."""
+    return {"slab": st.fit_boundary(st.slab_track(), band=BAND, seed=0),
+            "ballasted": st.fit_boundary(st.ballasted_track(), band=BAND, n_poles=36, seed=0)}
 
 
 @pytest.mark.parametrize("name", ["slab", "ballasted"])
