@@ -6,7 +6,7 @@ import pytest
 
 import semitrack as st
 from semitrack.base.paper_values import FIT_BANDS
-from semitrack.fe.truncation import bays_needed, truncation_study
+from semitrack.fe.truncation import bays_needed, central_w1_by_ends, truncation_study
 
 TRACKS = {"slab": st.slab_track, "ballasted": st.ballasted_track}
 
@@ -43,3 +43,24 @@ def test_bays_needed():
                           "median error": [0.2, 0.04, 0.01, 0.2, 0.1], "max error": [0.5, 0.2, 0.05, 0.9, 0.3]})
     needed = bays_needed(study, median=0.05, maximum=0.10)
     assert needed["a"] == 10 and np.isnan(needed["b"])
+
+
+@pytest.mark.parametrize("layout", ["slab", "ballasted"])
+@pytest.mark.parametrize("damping", ["hysteretic", "viscous"])
+def test_one_condensed_solve_gives_every_kind_of_end(layout, damping):
+    """central_w1_by_ends (the free model condensed to its centre and end DOFs, then closed by each
+    kind of end) against each TruncatedTrack's own solve: measured within 5e-13."""
+    track = TRACKS[layout](damping=damping)
+    system = st.paper_table4() if layout == "slab" else st.paper_table7()
+    ends = {"pinned": ("pinned", None), "free": ("free", None), "exact": ("exact", None),
+            "equivalent": ("equivalent", system), "boundary": ("boundary", st.fit_boundary(track, n_poles=12))}
+    f = np.array([3.0, 117.0, 183.0, 480.0, 1500.0, 2700.0])
+    w1 = central_w1_by_ends(track, f, 2, ends, elements_per_bay=8)
+    assert list(w1) == list(ends)
+    for label, (kind, system) in ends.items():
+        direct = st.TruncatedTrack(track, 2, kind, system=system, elements_per_bay=8).central_receptance(f)[:, 0, 0]
+        np.testing.assert_allclose(w1[label], direct, rtol=1e-10, atol=0)
+    with pytest.raises(TypeError, match="EquivalentSystem"):
+        central_w1_by_ends(track, f, 2, {"bad": ("equivalent", None)})
+    with pytest.raises(ValueError, match="ends"):
+        central_w1_by_ends(track, f, 2, {"bad": ("clamped", None)})
