@@ -364,13 +364,15 @@ def test_fit_result_prints_as_a_readable_summary(paper_fits, layout):
 
 
 def test_fit_leaves_blas_threading_as_it_found_it():
-    """The fit limits BLAS to one thread only for its own duration."""
-    from threadpoolctl import threadpool_info
+    """The fit limits BLAS to one thread only for its own duration (two threads before it here,
+    whatever the test process runs with, so that a fit that kept its one thread is caught)."""
+    from threadpoolctl import threadpool_info, threadpool_limits
 
-    before = [lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"]
-    fit_equivalent(st.slab_track(), layout="slab", n_bars=1, band=(3.0, 200.0), n_starts=1, max_nfev=5)
-    after = [lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"]
-    assert before == after
+    with threadpool_limits(limits=2, user_api="blas"):
+        before = [lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"]
+        fit_equivalent(st.slab_track(), layout="slab", n_bars=1, band=(3.0, 200.0), n_starts=1, max_nfev=5)
+        after = [lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"]
+    assert before == after and set(before) == {2}
 
 
 @pytest.mark.parametrize(
