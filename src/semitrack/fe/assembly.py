@@ -49,7 +49,7 @@ from ..model.tracks import Track
 from .element import rail_element
 from .mesh import SIDES, DofMap, Mesh, Side, rail_dof
 
-__all__ = ["FAMILIES", "Pattern", "TrackMatrices", "assemble"]
+__all__ = ["FAMILIES", "Pattern", "TrackMatrices", "assemble", "band_order"]
 
 #: The matrix families of a track model, see the module docstring.
 FAMILIES = ("K_rail", "K_pad", "K_ballast", "K_end", "C_end", "M")
@@ -145,14 +145,11 @@ class Pattern:
         if self.n == 0:
             return None
         rows, cols = self.indices.astype(np.int64), self.keys // self.n
-        graph = sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=(self.n, self.n))
-        perm = reverse_cuthill_mckee(graph, symmetric_mode=False).astype(np.int64)
-        where = np.empty(self.n, dtype=np.int64)
-        where[perm] = np.arange(self.n)
-        r, c = where[rows], where[cols]
-        width = int(np.max(np.abs(r - c)))
-        if (2 * width + 1) * self.n > _BAND_FILL * self.keys.size:
+        order = band_order(rows, cols, self.n)
+        if order is None:
             return None
+        perm, where, width = order
+        r, c = where[rows], where[cols]
         return perm, width, (width + r - c) * self.n + c
 
     def solve(self, data: np.ndarray, rhs: np.ndarray) -> np.ndarray:
@@ -185,6 +182,34 @@ class Pattern:
 
 #: Largest band storage, as a multiple of the stored entries, that :meth:`Pattern.solve` accepts.
 _BAND_FILL = 20
+
+
+def band_order(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, int] | None:
+    """The reverse Cuthill-McKee order of an ``n x n`` sparsity pattern and its half-bandwidth.
+
+    Parameters
+    ----------
+    rows, cols : ndarray of int
+        The stored entries.
+    n : int
+        Matrix size.
+
+    Returns
+    -------
+    (perm, where, width) or None
+        ``perm[k]``: the original index of position k; ``where``: its inverse; ``width``: the
+        half-bandwidth in that order. None when the band would hold more than
+        :data:`_BAND_FILL` times the stored entries (not a chain).
+    """
+    rows, cols = np.asarray(rows, dtype=np.int64), np.asarray(cols, dtype=np.int64)
+    graph = sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=(n, n))
+    perm = reverse_cuthill_mckee(graph, symmetric_mode=False).astype(np.int64)
+    where = np.empty(n, dtype=np.int64)
+    where[perm] = np.arange(n)
+    width = int(np.max(np.abs(where[rows] - where[cols]))) if rows.size else 0
+    if (2 * width + 1) * n > _BAND_FILL * max(rows.size, 1):
+        return None
+    return perm, where, width
 
 
 def _symmetric_lu(z: sp.csc_matrix):
