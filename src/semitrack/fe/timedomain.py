@@ -43,6 +43,7 @@ from scipy.sparse.linalg import splu
 from ..base.checks import check_int_at_least, check_positive, check_real, check_work
 from ..base.threads import serial_blas
 from .assembly import band_order
+from .element import shear_parameter, timoshenko_shape_functions
 from .models import BoundaryAttachment, FETrack
 
 __all__ = [
@@ -449,9 +450,14 @@ def moving_load_response(model: FETrack, positions: ArrayLike = (0.0,), *, load:
     positions = np.atleast_1d(np.asarray(positions, dtype=float))
     fixed = model.output_matrix(positions) if positions.size else None
 
+    # The load's element DOFs and shape-function weights at every step, at once (the same numbers
+    # as FETrack.shape_weights position by position).
+    times = dt * np.arange(n_steps + 1)  # the step times of newmark
+    step_dofs, step_weights = _shape_weights_along(model, np.minimum(x_start + speed * times, x_end))
+
     def weights(tk):
-        xp = min(x_start + speed * tk, x_end)
-        return model.shape_weights(xp, name="load position")
+        k = int(round(tk / dt))
+        return step_dofs[k], step_weights[k]
 
     def force(tk):
         idx, nw = weights(tk)
@@ -472,6 +478,17 @@ def moving_load_response(model: FETrack, positions: ArrayLike = (0.0,), *, load:
     hist = newmark(M, C, K, force, dt, n_steps, outputs=record, attachments=model.boundary_states())
     labels = ("w under the load",) + tuple(f"w(x={x:g} m)" for x in positions)
     return TimeHistory(hist.t, hist.u, labels)
+
+
+def _shape_weights_along(model: FETrack, xs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:meth:`FETrack.shape_weights` (``w``) at every position of ``xs`` (on the rail), vectorised:
+    DOFs and weights, each ``(xs.size, 4)``."""
+    mesh, tr = model.mesh, model.track
+    h = mesh.element_length
+    e = np.clip(np.floor((xs - mesh.x[0]) / h).astype(np.int64), 0, mesh.n_elements - 1)
+    xi = np.clip((xs - mesh.x[e]) / h, 0.0, 1.0)
+    n_w, _ = timoshenko_shape_functions(xi, h, shear_parameter(tr.E * tr.I, tr.kappa * tr.A * tr.G, h))
+    return model.dofs.index[2 * e[:, None] + np.arange(4)], n_w
 
 
 def relative_l2_error(u: ArrayLike, u_ref: ArrayLike) -> np.ndarray:
