@@ -473,3 +473,55 @@ def test_relative_l2_error():
     with pytest.raises(ValueError, match="x_end must lie on the rail"):
         moving_load_response(m, x_start=0.0, x_end=5.0)
     assert isinstance(m, FETrack)
+
+
+# ------------------------------------------------------------------------------------------------
+# The solvers behind the sweeps and the time steps: band LU for chains, sparse LU otherwise
+# ------------------------------------------------------------------------------------------------
+def _pattern_of(A):
+    from semitrack.fe.assembly import Pattern
+
+    coo = sp.coo_matrix(A)
+    pattern = Pattern.union(A.shape[0], [coo.row], [coo.col])
+    data = np.asarray(sp.csc_matrix(A)[pattern.indices, pattern.keys // A.shape[0]]).ravel()
+    return pattern, data
+
+
+def test_a_chain_is_solved_as_a_band_and_anything_else_by_a_sparse_lu():
+    """A shuffled tridiagonal matrix (a chain numbered at random) is a band of half-width 1 in
+    reverse Cuthill-McKee order; an arrow (one DOF tied to all) is no band and goes to SuperLU;
+    both solve to round-off, complex or real."""
+    rng = np.random.default_rng(4)
+    n = 300
+    chain = sp.diags([rng.uniform(1, 2, n - 1), rng.uniform(4, 5, n) + 1j, rng.uniform(1, 2, n - 1)], [-1, 0, 1])
+    shuffle = rng.permutation(n)
+    chain = sp.csc_matrix(chain)[shuffle][:, shuffle]
+    arrow = sp.lil_matrix(np.diag(rng.uniform(4, 5, n)))
+    arrow[0, :] = arrow[:, 0] = 0.5
+    arrow[0, 0] = 2.0 * n
+    rhs = rng.standard_normal((n, 2)) + 0j
+    for A, band in ((chain, True), (sp.csc_matrix(arrow), False)):
+        pattern, data = _pattern_of(A)
+        assert (pattern.band is not None) is band
+        if band:
+            assert pattern.band[1] == 1
+        x = pattern.solve(data, rhs)
+        assert np.abs(A @ x - rhs).max() < 1e-12 * np.abs(rhs).max()
+
+
+def test_newmark_band_factor_matches_a_dense_solve():
+    """The effective stiffness of a time step, factorised as a band (gbtrf) and solved (gbtrs),
+    against a dense solve; an arrow matrix falls back to SuperLU."""
+    from semitrack.fe.timedomain import _BandLU, _factor
+
+    model = TruncatedTrack(st.ballasted_track(), 3, "pinned", elements_per_bay=4)
+    M, C, K = model.matrices()
+    A = sp.csc_matrix(K + 1e4 * C + 1e8 * M)
+    lu = _factor(A)
+    assert isinstance(lu, _BandLU)
+    b = np.random.default_rng(5).standard_normal(A.shape[0])
+    np.testing.assert_allclose(lu.solve(b), np.linalg.solve(A.toarray(), b), rtol=1e-10, atol=0)
+    arrow = sp.lil_matrix(np.diag(np.full(200, 4.0)))
+    arrow[0, :] = arrow[:, 0] = 0.5
+    arrow[0, 0] = 400.0
+    assert not isinstance(_factor(sp.csc_matrix(arrow)), _BandLU)

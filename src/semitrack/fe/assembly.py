@@ -171,7 +171,7 @@ class Pattern:
         ndarray, shape (n, n_rhs)
         """
         if self.band is None:
-            return _symmetric_lu(self.csc(data)).solve(rhs)
+            return _symmetric_lu(self.csc(np.asarray(data, dtype=np.result_type(data, rhs)))).solve(rhs)
         perm, width, flat = self.band
         ab = np.zeros((2 * width + 1, self.n), dtype=np.result_type(data, rhs))
         ab.flat[flat] = data
