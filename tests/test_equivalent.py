@@ -558,3 +558,15 @@ def test_repr_lists_each_parameter_with_its_unit(system):
     assert dt in lines[-1]
     assert "array(" not in text and "nan" not in text
     assert max(len(line) for line in lines) <= 90
+
+
+def test_dynamic_stiffness_is_k_plus_i_omega_c_minus_omega_squared_m():
+    """Assembled by real and imaginary parts for real matrices (the fit's hot path), by the
+    complex formula otherwise (a complex K keeps its imaginary part); both equal the formula."""
+    rng = np.random.default_rng(2)
+    M, C, K = (rng.standard_normal((3, 3)) for _ in range(3))
+    omega = np.array([0.0, 2.0, 1e3])
+    w = omega[:, None, None]
+    np.testing.assert_array_equal(dynamic_stiffness(M, C, K, omega), K + 1j * w * C - w**2 * M)
+    K_lossy = K * (1 + 0.1j)
+    np.testing.assert_array_equal(dynamic_stiffness(M, C, K_lossy, omega), K_lossy + 1j * w * C - w**2 * M)
