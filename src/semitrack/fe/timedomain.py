@@ -104,7 +104,8 @@ def newmark(M: ArrayLike | sp.spmatrix, C: ArrayLike | sp.spmatrix, K: ArrayLike
             outputs: Sequence[int] | ArrayLike | sp.spmatrix | Callable | None = None,
             u0: ArrayLike | None = None, v0: ArrayLike | None = None,
             gamma: float = 0.5, beta: float = 0.25,
-            attachments: Sequence[BoundaryAttachment] = ()) -> TimeHistory:
+            attachments: Sequence[BoundaryAttachment] = (),
+            correction: Callable | None = None) -> TimeHistory:
     """Integrate ``M a + C v + K u = F(t)`` with Newmark's method (default: average acceleration).
 
     Parameters
@@ -138,6 +139,12 @@ def newmark(M: ArrayLike | sp.spmatrix, C: ArrayLike | sp.spmatrix, K: ArrayLike
         integrated with the trapezoidal rule, which is the same discretisation as average
         acceleration (so these need ``gamma = 1/2, beta = 1/4``). Each adds only a 2x2 block
         to the effective stiffness at its end DOFs; see :class:`_StateCoupling`.
+    correction : callable, optional
+        ``correction(k, u_free, solve) -> u``: a force that depends on the new state (a wheel's
+        contact, :mod:`semitrack.fe.contact`). Each step's new displacement is linear in such a
+        force ``F`` along a load vector ``b``: ``u = u_free + solve(b) F``, where ``u_free`` is
+        the step's solution without it and ``solve`` applies the inverse of the constant
+        effective stiffness; ``correction`` finds ``F`` at step ``k`` and returns ``u``.
 
     Returns
     -------
@@ -203,6 +210,8 @@ def newmark(M: ArrayLike | sp.spmatrix, C: ArrayLike | sp.spmatrix, K: ArrayLike
             for c in couplings:
                 c.add_history(rhs, u)
             u_new = lu.solve(rhs)
+            if correction is not None:
+                u_new = correction(k, u_new, lu.solve)
             for c in couplings:
                 c.advance(u, u_new)
             a_new = a0 * (u_new - u) - a2 * v - a3 * a
