@@ -70,6 +70,15 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "slab_track": ("model.tracks", "slab_track"),
     "unit_cell_frequencies": ("equivalent.constraints", "unit_cell_frequencies"),
     "wheel_rail_force": ("methods.wheelrail", "wheel_rail_force"),
+    "ContactResponse": ("fe.contact", "ContactResponse"),
+    "ContactTransfer": ("fe.contact", "ContactTransfer"),
+    "contact_transfer": ("fe.contact", "contact_transfer"),
+    "wheel_rail_response": ("fe.contact", "wheel_rail_response"),
+    "ISO3095_ROUGHNESS_LIMIT": ("fe.roughness", "ISO3095_ROUGHNESS_LIMIT"),
+    "Roughness": ("fe.roughness", "Roughness"),
+    "corrugation": ("fe.roughness", "corrugation"),
+    "roughness_from_spectrum": ("fe.roughness", "roughness_from_spectrum"),
+    "third_octave_bands": ("fe.roughness", "third_octave_bands"),
 }
 
 __all__ = list(_EXPORTS)

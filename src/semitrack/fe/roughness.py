@@ -1,0 +1,320 @@
+"""Roughness inputs of the wheel-rail contact: broadband from a band spectrum, or one corrugation.
+
+A roughness r(x) of the running surface (downward, so r > 0 is a dip, the convention of
+:func:`semitrack.wheel_rail_force`) is passed at a speed v: at the contact it is the time signal
+r(t) = r(v t), a wavelength lambda becoming the frequency f = v / lambda. Roughness spectra are
+stated as levels in one-third-octave bands of wavelength, ``L = 20 log10(r_rms / 1 um)`` dB
+(EN 15610, ISO 3095). :class:`Roughness` holds such a signal as a multisine,
+
+    r(t) = sum_k a_k cos(2 pi f_k t + phi_k),   f_k = j_k / period (integers j_k),
+
+which is periodic in ``period``: a record of whole periods has all its power on the lines f_k,
+so that the force per roughness on those lines follows from one discrete Fourier transform
+without leakage (:func:`semitrack.fe.contact.contact_transfer`).
+
+:func:`roughness_from_spectrum` spreads each band's mean square over the lines in that band, in
+equal parts, with random phases from a ``seed``; the band levels of the result equal the
+spectrum's exactly. The default spectrum is the rail roughness limit of ISO 3095:2013 (its
+Figure 2, 0.4 m to 3.15 mm; the limit a test track for pass-by noise must stay below),
+:data:`ISO3095_ROUGHNESS_LIMIT`. :func:`corrugation` is a single wavelength. Neither includes
+the contact filter (the averaging of short wavelengths over the contact patch).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from types import MappingProxyType
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..base.checks import check_int_at_least, check_nonnegative, check_positive, check_real, check_work
+
+__all__ = ["ISO3095_ROUGHNESS_LIMIT", "Roughness", "roughness_from_spectrum", "corrugation",
+           "third_octave_bands", "MAX_LINES"]
+
+#: The rail roughness limit of ISO 3095:2013 ("Acoustics - Railway applications - Measurement of
+#: noise emitted by railbound vehicles"), Figure 2: one-third-octave band level (dB re 1 um) by
+#: nominal band-centre wavelength (m), 0.4 m to 3.15 mm. The same 22 values are listed as the
+#: "2007 TSI limit" in EN 15610:2009, Annex B. Transcribed as printed beside the figure's points.
+ISO3095_ROUGHNESS_LIMIT = MappingProxyType({
+    0.4: 17.1, 0.315: 15.0, 0.25: 13.0, 0.2: 11.0, 0.16: 9.0, 0.125: 7.0, 0.1: 4.9, 0.08: 2.9,
+    0.063: 0.9, 0.05: -1.1, 0.04: -3.2, 0.0315: -5.0, 0.025: -5.6, 0.02: -6.2, 0.016: -6.8,
+    0.0125: -7.4, 0.01: -8.0, 0.008: -8.6, 0.0063: -9.2, 0.005: -9.8, 0.004: -10.4, 0.00315: -11.0,
+})
+#: Reference of the roughness levels (m): 1 um.
+REFERENCE_ROUGHNESS = 1e-6
+#: Most lines of a multisine (each costs one cosine per time step).
+MAX_LINES = 100_000
+#: Half the width of a one-third-octave band on a log10 scale (base-10 bands, IEC 61260).
+_HALF_BAND = 0.05
+#: Times x lines evaluated at once by :meth:`Roughness.__call__` (memory of one chunk, 8 bytes each).
+_CHUNK = 2_000_000
+
+
+def third_octave_bands(lo: float, hi: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The base-10 one-third-octave bands whose centres lie in ``[lo, hi]`` (within half a band).
+
+    Centres are ``10^(n/10)`` for integers n (50 Hz is 10^1.7 = 50.12 Hz), edges a factor
+    ``10^(+-1/20)`` away; the same series serves frequencies (Hz) and wavelengths (m).
+
+    Parameters
+    ----------
+    lo, hi : float
+        The lowest and highest band centre wanted (Hz or m), ``0 < lo <= hi``; nominal values
+        such as 50 or 2500 select the band they name.
+
+    Returns
+    -------
+    centres, lower, upper : ndarray
+        Exact band centres and their lower and upper edges, ascending (units of ``lo``).
+
+    Examples
+    --------
+    >>> c, lower, upper = third_octave_bands(50.0, 100.0)
+    >>> c.round(1).tolist(), round(float(upper[0] / lower[0]), 4)
+    ([50.1, 63.1, 79.4, 100.0], 1.2589)
+    """
+    lo, hi = check_positive("lo", lo), check_positive("hi", hi)
+    if not lo <= hi:
+        raise ValueError(f"hi must be >= lo={lo!r}, got {hi!r}")
+    n = np.arange(round(10 * np.log10(lo)), round(10 * np.log10(hi)) + 1)
+    check_work(n.size, MAX_LINES, f"lo={lo!r} to hi={hi!r} give {n.size} bands", "ask for a narrower range")
+    centres = 10.0 ** (n / 10)
+    return centres, centres * 10**-_HALF_BAND, centres * 10**_HALF_BAND
+
+
+@dataclass(frozen=True, eq=False)
+class Roughness:
+    """A periodic roughness signal at the contact, ``r(t) = sum_k a_k cos(2 pi f_k t + phi_k)``.
+
+    Parameters
+    ----------
+    frequencies : array_like
+        Line frequencies f_k (Hz), positive, each a whole multiple of ``1 / period``.
+    amplitudes : array_like
+        Amplitudes a_k (m), non-negative, one per line.
+    phases : array_like
+        Phases phi_k (rad), one per line.
+    speed : float
+        The speed (m/s) at which the roughness passes the contact; the line of wavelength
+        lambda sits at ``speed / lambda``.
+    period : float
+        The signal's period (s).
+    label : str
+        A description (for tables and figures).
+
+    Examples
+    --------
+    >>> r = corrugation(speed=100.0, wavelength=0.05, amplitude=1e-6)
+    >>> float(r.frequencies[0]), round(float(r.rms) * 1e6, 4)
+    (2000.0, 0.7071)
+    """
+
+    frequencies: np.ndarray
+    amplitudes: np.ndarray
+    phases: np.ndarray
+    speed: float
+    period: float
+    label: str = field(default="", compare=False)
+
+    def __post_init__(self):
+        speed, period = check_positive("speed", self.speed), check_positive("period", self.period)
+        arrays = [np.atleast_1d(np.asarray(getattr(self, k), dtype=float)).copy()
+                  for k in ("frequencies", "amplitudes", "phases")]
+        f, a, phi = arrays
+        if f.ndim != 1 or a.shape != f.shape or phi.shape != f.shape:
+            raise ValueError(f"frequencies, amplitudes and phases must be 1-D arrays of one length, got shapes "
+                             f"{f.shape}, {a.shape}, {phi.shape}")
+        check_work(f.size, MAX_LINES, f"the roughness holds {f.size} lines", "use a shorter period or fewer bands")
+        if not (np.all(np.isfinite(f)) and np.all(f > 0)):
+            raise ValueError(f"frequencies must be positive and finite (Hz), got {f[~(np.isfinite(f) & (f > 0))][:3]}")
+        j = f * period
+        if np.any(np.abs(j - np.round(j)) > 1e-6 * np.maximum(j, 1.0)):
+            raise ValueError(f"frequencies must be whole multiples of 1/period = {1 / period:.6g} Hz, "
+                             f"got e.g. {f[np.argmax(np.abs(j - np.round(j)))]!r}")
+        if not (np.all(np.isfinite(a)) and np.all(a >= 0) and np.all(np.isfinite(phi))):
+            raise ValueError("amplitudes must be non-negative and finite (m) and phases finite (rad)")
+        for key, value in (("frequencies", f), ("amplitudes", a), ("phases", phi), ("speed", speed),
+                           ("period", period)):
+            object.__setattr__(self, key, value)
+        for value in (f, a, phi):
+            value.setflags(write=False)
+
+    @property
+    def wavelengths(self) -> np.ndarray:
+        """``speed / frequencies``: the wavelength of each line (m)."""
+        return self.speed / self.frequencies
+
+    @property
+    def rms(self) -> float:
+        """Root-mean-square roughness ``sqrt(sum a_k^2 / 2)`` (m)."""
+        return float(np.sqrt(0.5 * np.sum(self.amplitudes**2)))
+
+    def scaled(self, factor: float) -> Roughness:
+        """The same roughness with every amplitude times ``factor``.
+
+        Parameters
+        ----------
+        factor : float
+            Non-negative scale factor (-).
+
+        Returns
+        -------
+        Roughness
+        """
+        factor = check_nonnegative("factor", factor)
+        return replace(self, amplitudes=self.amplitudes * factor)
+
+    def band_levels(self, centres: ArrayLike) -> np.ndarray:
+        """Levels in one-third-octave bands of wavelength (dB re 1 um); -inf where a band holds no line.
+
+        Parameters
+        ----------
+        centres : array_like
+            Band-centre wavelengths (m), each within 3 % of a base-10 centre ``10^(n/10)``
+            (nominal values such as 0.0315 m are accepted).
+
+        Returns
+        -------
+        ndarray
+            ``10 log10(sum over the band's lines of a_k^2 / 2 / (1 um)^2)``, one per centre.
+        """
+        n = _band_numbers(centres)
+        lam = 10 * np.log10(self.wavelengths)
+        power = np.array([np.sum(self.amplitudes[np.abs(lam - k) <= 10 * _HALF_BAND] ** 2) / 2 for k in n])
+        with np.errstate(divide="ignore"):
+            return 10 * np.log10(power / REFERENCE_ROUGHNESS**2)
+
+    def __call__(self, t: ArrayLike) -> np.ndarray:
+        """The roughness at times ``t`` (s): ``sum_k a_k cos(2 pi f_k t + phi_k)`` (m).
+
+        Parameters
+        ----------
+        t : array_like
+            Times (s), any shape.
+
+        Returns
+        -------
+        ndarray
+            r(t) (m), the shape of ``t``.
+        """
+        t = np.asarray(t, dtype=float)
+        flat = t.ravel()
+        out = np.empty(flat.size)
+        step = max(1, _CHUNK // max(1, self.frequencies.size))
+        omega = 2 * np.pi * self.frequencies
+        for i in range(0, flat.size, step):
+            out[i:i + step] = np.cos(np.outer(flat[i:i + step], omega) + self.phases) @ self.amplitudes
+        return out.reshape(t.shape)
+
+
+def _band_numbers(centres: ArrayLike, name: str = "centres") -> np.ndarray:
+    """The integers n of base-10 one-third-octave centres 10^(n/10) (within 3 %), checked."""
+    c = np.atleast_1d(np.asarray(centres, dtype=float))
+    if c.ndim != 1 or c.size == 0 or not np.all(np.isfinite(c) & (c > 0)):
+        raise ValueError(f"{name} must be a non-empty 1-D array of positive band-centre wavelengths (m), "
+                         f"got {centres!r}")
+    n = np.round(10 * np.log10(c)).astype(int)
+    off = np.abs(c / 10.0 ** (n / 10) - 1) > 0.03
+    if np.any(off):
+        raise ValueError(f"{name} must be one-third-octave band centres 10^(n/10) m (within 3 %, e.g. 0.0315), "
+                         f"got {c[off][0]!r}")
+    if np.unique(n).size != n.size:
+        raise ValueError(f"{name} must name each band once, got {centres!r}")
+    return n
+
+
+def roughness_from_spectrum(speed: float, wavelengths: ArrayLike | None = None, levels: ArrayLike | None = None,
+                            *, period: float = 0.1, seed: int = 0) -> Roughness:
+    """A broadband roughness with given one-third-octave band levels, random phases.
+
+    Each band of wavelength, passed at ``speed``, covers a band of frequency; its mean square
+    ``(1 um)^2 10^(L/10)`` is shared equally by the lines ``j / period`` that fall in it, each
+    with a phase drawn uniformly from [0, 2 pi) (``numpy.random.default_rng(seed)``). The band
+    levels of the result are the given ones exactly (:meth:`Roughness.band_levels`).
+
+    Parameters
+    ----------
+    speed : float
+        Speed (m/s), e.g. ``300 / 3.6``.
+    wavelengths : array_like, optional
+        Band-centre wavelengths (m) of the spectrum (one-third-octave, base 10, nominal values
+        accepted). Default: those of :data:`ISO3095_ROUGHNESS_LIMIT`.
+    levels : array_like, optional
+        Band levels (dB re 1 um), one per wavelength; required with ``wavelengths``.
+    period : float
+        Period of the signal (s): the line spacing is ``1 / period``; every band must hold at
+        least one line.
+    seed : int
+        Seed of the random phases (>= 0).
+
+    Returns
+    -------
+    Roughness
+
+    Examples
+    --------
+    The ISO 3095 limit at 100 m/s spans 250 Hz (0.4 m) to 31.7 kHz (3.15 mm):
+
+    >>> r = roughness_from_spectrum(100.0)
+    >>> bool(np.allclose(r.band_levels(list(ISO3095_ROUGHNESS_LIMIT)), list(ISO3095_ROUGHNESS_LIMIT.values())))
+    True
+    """
+    speed, period = check_positive("speed", speed), check_positive("period", period)
+    seed = check_int_at_least("seed", seed, 0)
+    if wavelengths is None and levels is None:
+        wavelengths, levels = list(ISO3095_ROUGHNESS_LIMIT), list(ISO3095_ROUGHNESS_LIMIT.values())
+    elif wavelengths is None or levels is None:
+        raise ValueError("wavelengths and levels must be given together (or neither, for the ISO 3095 limit)")
+    n = _band_numbers(wavelengths, "wavelengths")
+    levels = np.atleast_1d(np.asarray(levels, dtype=float))
+    if levels.shape != n.shape or not np.all(np.isfinite(levels)):
+        raise ValueError(f"levels must be finite, one per wavelength ({n.size}), got {levels!r}")
+    lines, amplitudes = [], []
+    for k, level in zip(n, levels):
+        lam_lo, lam_hi = 10.0 ** (k / 10 - _HALF_BAND), 10.0 ** (k / 10 + _HALF_BAND)
+        j = np.arange(np.ceil(speed / lam_hi * period), np.floor(speed / lam_lo * period) + 1)
+        if j.size == 0:
+            raise ValueError(f"period={period!r} s leaves no line (spacing {1 / period:.4g} Hz) in the band of "
+                             f"wavelength {10 ** (k / 10):.4g} m, {speed / lam_hi:.4g}-{speed / lam_lo:.4g} Hz at "
+                             f"speed {speed:.4g} m/s; use a longer period")
+        check_work(len(lines) + j.size, MAX_LINES, f"period={period!r} s gives more than {MAX_LINES} lines",
+                   "use a shorter period or fewer bands")
+        lines.extend(j / period)
+        amplitudes.extend(np.full(j.size, REFERENCE_ROUGHNESS * 10 ** (level / 20) * np.sqrt(2.0 / j.size)))
+    order = np.argsort(lines)
+    phases = np.random.default_rng(seed).uniform(0.0, 2 * np.pi, len(lines))
+    return Roughness(np.asarray(lines)[order], np.asarray(amplitudes)[order], phases, speed, period,
+                     label=f"{n.size}-band spectrum at {speed:.4g} m/s, seed {seed}")
+
+
+def corrugation(speed: float, wavelength: float, amplitude: float, *, phase: float = 0.0) -> Roughness:
+    """A single-wavelength roughness ``amplitude cos(2 pi speed t / wavelength + phase)``.
+
+    Parameters
+    ----------
+    speed : float
+        Speed (m/s).
+    wavelength : float
+        Corrugation wavelength (m).
+    amplitude : float
+        Amplitude (m), half the peak-to-trough depth; non-negative.
+    phase : float
+        Phase (rad) at t = 0.
+
+    Returns
+    -------
+    Roughness
+        One line at ``speed / wavelength`` (Hz); its period is one cycle.
+
+    Examples
+    --------
+    >>> corrugation(100.0, 0.05, 1e-5).period
+    0.0005
+    """
+    speed, wavelength = check_positive("speed", speed), check_positive("wavelength", wavelength)
+    amplitude, phase = check_nonnegative("amplitude", amplitude), check_real("phase", phase)
+    f = speed / wavelength
+    return Roughness(np.array([f]), np.array([amplitude]), np.array([phase]), speed, 1.0 / f,
+                     label=f"corrugation {wavelength:.4g} m at {speed:.4g} m/s")
