@@ -23,16 +23,13 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..base.checks import (
-    MAX_FREQUENCIES,
     as_frequencies,
     check_band,
     check_int_at_least,
-    check_positive,
-    check_work,
 )
 from ..base.conventions import ELEMENTS
 from ..base.paper_values import TABLE4_FIT_FREQUENCIES, TABLE7_FIT_FREQUENCIES
-from ..methods.features import find_extrema
+from ..methods.features import find_extrema, search_grid
 from ..methods.receptance import central_response, semi_infinite_receptance
 from ..model.tracks import Track, require_track
 from .assembly import Layout, check_layout
@@ -146,26 +143,12 @@ def check_characteristic(layout: Layout, characteristic: Mapping[str, float]) ->
     return out
 
 
-def _search_grid(band: tuple[float, float], df) -> np.ndarray:
-    """The search grid ``band[0], band[0] + df, ...`` up to ``band[1]`` (Hz), as
-    :func:`~semitrack.methods.features.characteristic_frequencies` builds it, with its checks."""
-    lo, hi = band
-    df = check_positive("df", df)
-    n_grid = np.floor((hi - lo) / df + 1e-9) + 1
-    check_work(n_grid, MAX_FREQUENCIES, f"df={df!r} over band {(lo, hi)} gives {n_grid:.0f} grid frequencies",
-               "use a larger df")
-    f = np.arange(lo, hi + 1e-9, df)
-    if f.size < 3:
-        raise ValueError(f"band {band!r} with df={df!r} gives fewer than 3 grid points; use a smaller df")
-    return f
-
-
 def _det_extrema(track, target, search_band, df):
     """Peaks and dips of |det(alpha^-1)| as a DataFrame (see features.find_extrema)."""
     if target is None:
         # Only det's extrema are needed: refining those of the other curves too
         # (characteristic_frequencies) cost ~0.8 s of a ~4 s fit. Same grid, same refinement.
-        f = _search_grid(search_band, df)
+        f = search_grid(search_band, df)
 
         def det_at(x: float) -> dict[str, complex]:
             return {"det": central_response(track, np.array([x])).det[0]}

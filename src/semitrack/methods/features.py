@@ -185,7 +185,31 @@ def characteristic_frequencies(track: Track | PeriodicCell, band: tuple[float, f
     pandas.DataFrame
         As :func:`find_extrema`: ``quantity, kind, f_grid, f (refined, Hz), magnitude``.
     """
-    lo, hi = check_band(band)
+    f = search_grid(check_band(band), df)
+
+    def evaluate(x: float) -> dict[str, complex]:
+        return {k: v[0] for k, v in response_curves(track, np.array([x])).items()}
+
+    return find_extrema(f, response_curves(track, f), evaluate)
+
+
+def search_grid(band: tuple[float, float], df: float) -> np.ndarray:
+    """The search grid ``band[0], band[0] + df, ...`` up to ``band[1]`` (Hz), checked.
+
+    Parameters
+    ----------
+    band : tuple of float
+        Lowest and highest frequency (Hz), already checked (:func:`semitrack.base.checks.check_band`).
+    df : float
+        Grid step (Hz), positive; the grid may hold at most
+        :data:`semitrack.base.checks.MAX_FREQUENCIES` frequencies and needs at least 3.
+
+    Returns
+    -------
+    ndarray
+        The grid (Hz).
+    """
+    lo, hi = band
     df = check_positive("df", df)
     n_grid = np.floor((hi - lo) / df + 1e-9) + 1
     check_work(n_grid, MAX_FREQUENCIES, f"df={df!r} over band {(lo, hi)} gives {n_grid:.0f} grid frequencies",
@@ -193,8 +217,4 @@ def characteristic_frequencies(track: Track | PeriodicCell, band: tuple[float, f
     f = np.arange(lo, hi + 1e-9, df)
     if f.size < 3:
         raise ValueError(f"band {band!r} with df={df!r} gives fewer than 3 grid points; use a smaller df")
-
-    def evaluate(x: float) -> dict[str, complex]:
-        return {k: v[0] for k, v in response_curves(track, np.array([x])).items()}
-
-    return find_extrema(f, response_curves(track, f), evaluate)
+    return f
