@@ -65,6 +65,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--notebooks", nargs="*", default=toc_notebooks())
     parser.add_argument("--threads", choices=("default", "one", "both"), default="both")
+    parser.add_argument("--cells-over", type=float, default=None, metavar="SECONDS",
+                        help="also list every cell slower than this (first mode)")
     args = parser.parse_args()
     modes = ("default", "one") if args.threads == "both" else (args.threads,)
     print(f"{os.cpu_count()} CPUs; load average {os.getloadavg()[0]:.2f} at the start")
@@ -77,7 +79,11 @@ def main() -> None:
             totals[mode] += wall
             slow = max(range(len(cells)), key=cells.__getitem__)
             row += f"{wall:14.1f}{f'cell {slow}: {cells[slow]:.1f} s':>22}"
+            if mode == modes[0] and args.cells_over is not None:
+                slow_cells = [f"{i}: {t:.1f}" for i, t in enumerate(cells) if t > args.cells_over]
         print(row, flush=True)
+        if args.cells_over is not None and slow_cells:
+            print(f"{'':<12}cells over {args.cells_over:g} s: " + ", ".join(slow_cells), flush=True)
     print(f"{'total':<12}" + "".join(f"{totals[m]:14.1f}{'':>22}" for m in modes))
     print("(default: BLAS thread variables unset, as the README's commands run; one: set to 1, as .ci/run)")
 

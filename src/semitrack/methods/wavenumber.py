@@ -85,7 +85,7 @@ class WavenumberSettings:
 
 def displacement_fields(cell: PeriodicCell, omega: ArrayLike, x_rel: ArrayLike,
                         settings: WavenumberSettings | None = None, x0: float | None = None,
-                        chunk_bytes: float = 192e6) -> np.ndarray:
+                        chunk_bytes: float = 6e6) -> np.ndarray:
     """Rail displacement of the infinite track due to a unit force and a unit moment, Eq. (12).
 
     Parameters
@@ -188,17 +188,26 @@ class _Grid:
         """
         n_beta = self.beta.size
         block = n_beta if beta_block is None else beta_block
-        total = sum(self._partial_sum(omega, slice(start, min(start + block, n_beta)))
+        # One workspace for D(beta_j)^-1 of every block (see operator_inverse).
+        work = np.empty(4 * omega.size * self.beta_j.shape[0] * min(block, n_beta), dtype=complex)
+        total = sum(self._partial_sum(omega, slice(start, min(start + block, n_beta)), work)
                     for start in range(0, n_beta, block))
         return (self.dbeta / (2 * np.pi)) * total
 
-    def _partial_sum(self, omega: np.ndarray, b: slice, points_per_block: int = 8) -> np.ndarray:
-        """The terms of Eq. (12) (without dbeta / 2 pi) of the wavenumbers ``beta[b]``."""
+    def _partial_sum(self, omega: np.ndarray, b: slice, work: np.ndarray,
+                     points_per_block: int = 8) -> np.ndarray:
+        """The terms of Eq. (12) (without dbeta / 2 pi) of the wavenumbers ``beta[b]``.
+
+        ``work`` is a flat complex workspace of at least 4 x (frequencies x J x wavenumbers).
+        """
         cell, n_s = self.cell, self.pos.size
         n_w, n_p = omega.size, self.x_rel.size
         n_beta = b.stop - b.start
-        comps = operator_inverse(cell.track, omega[:, None, None], self.beta_j[None, :, b])  # 4 x (w, J, n)
-        d0 = np.stack([c[:, self.j0] for c in comps], -1).reshape(n_w, n_beta, 2, 2)  # D(beta)^-1
+        shape = (4, n_w, self.beta_j.shape[0], n_beta)
+        comps = operator_inverse(cell.track, omega[:, None, None], self.beta_j[None, :, b],
+                                 work=work[: np.prod(shape)].reshape(shape))  # d11, d12, d22: (w, J, n)
+        d11, d12, d22 = (c[:, self.j0] for c in comps)
+        d0 = np.stack([d11, d12, -d12, d22], -1).reshape(n_w, n_beta, 2, 2)  # D(beta)^-1
 
         # R(beta) of Eq. (10) as (w, N, 2S, 2S) with DOFs (w_1, psi_1, w_2, ...).
         r_sum = self._sum_over_j(comps, slice(0, self.n_r)) * self.phase_r[None, :, b, None, None]
@@ -227,7 +236,9 @@ class _Grid:
         """sum_j coef[row, j] D(beta_j)^-1 for the given rows, shape (w, rows, N, 2, 2)."""
         coef = self.coef[rows]
         n_w, n_beta = comps[0].shape[:1] + comps[0].shape[2:]
-        return np.stack([coef @ c for c in comps], -1).reshape(n_w, -1, n_beta, 2, 2)
+        d11, d12, d22 = comps
+        s12 = coef @ d12  # D^-1 has d21 = -d12: three products instead of four
+        return np.stack([coef @ d11, s12, -s12, coef @ d22], -1).reshape(n_w, -1, n_beta, 2, 2)
 
 
 def central_quantities(cell: PeriodicCell, omega: ArrayLike, settings: WavenumberSettings | None = None,
