@@ -13,8 +13,8 @@ by any causal model, and without re-weighting the whole misfit piles up at the b
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import least_squares
 
+from .levenberg import levenberg_marquardt
 from .rational import SYMMETRIC_ELEMENTS, RationalEndStiffness
 from .vector_fitting import pole_basis
 
@@ -111,7 +111,7 @@ def refine_coefficients(model: RationalEndStiffness, f: np.ndarray, alpha: np.nd
     c = model.coefficients.ravel()
     for round_ in range(n_balance + 1):
         problem = _AlphaProblem(model, f, alpha, weights)
-        c = least_squares(problem.fun, c, jac=problem.jac, method="lm", max_nfev=max_nfev).x
+        c = levenberg_marquardt(problem.fun, problem.jac, c, max_nfev=max_nfev).x
         if round_ < n_balance:
             err = np.abs(_alpha_columns(problem.alpha(c)) - problem.target) / np.abs(problem.target)
             inside = weights[~guard] * np.sqrt(err[~guard] / np.median(err[~guard]))
