@@ -25,9 +25,9 @@ import dataclasses
 import functools
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 from numpy.typing import ArrayLike
 
 from ..base.checks import (
@@ -40,6 +40,9 @@ from ..base.checks import (
 )
 from ..base.paper_values import TABLE2_SLAB, TABLE5_BALLASTED
 from .slab import Slab
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 #: Damping models of a Track: the paper's loss factors, or their causal viscous equivalents.
 DAMPING_MODELS = ("hysteretic", "viscous")
@@ -736,6 +739,8 @@ def parameter_table(track: Track) -> pd.DataFrame:
     pandas.DataFrame
         Columns ``symbol, description, value, unit`` (values in SI units), indexed 0, 1, ...
     """
+    import pandas as pd  # here, not at the top: the CLI's start-up need not pay for pandas
+
     track = require_track(track)
     rows = [(sym, desc, getattr(track, key), unit) for key, sym, desc, unit in PARAMETER_INFO
             if not (key in ("sleeper_mass", "kb", "eta_ballast") and not track.is_ballasted)]
