@@ -274,6 +274,11 @@ def cmd_receptance(args: argparse.Namespace) -> int:
     from .methods.receptance import semi_infinite_receptance
 
     track = _track(args.track)
+    if args.method == "wavenumber" and track.has_flexible_slab and track.slab.cut_span != 0:
+        # the package says this in Python's words (method=, cut=): say it in the CLI's
+        raise InputError(f"--method wavenumber cannot give alpha at a cut inside the slab (cut = {track.slab.cut!r} "
+                         "in [slab]): the paper's Eq. (14) ignores the slab the two halves share; use "
+                         "--method transfer, or cut = \"joint\" in the track file")
     f = frequency_grid(args.fmin, args.fmax, args.df)
     out, plot = output_paths(("-o", None if args.output == "-" else args.output), ("--plot", args.plot))
     if plot is not None:
