@@ -63,7 +63,9 @@ def study(name: str, roughness, max_bays: int) -> None:
     track = (st.slab_track if name == "slab" else st.ballasted_track)(damping="viscous")
     dt, duration = RUNS[name]
     start = time.perf_counter()
-    bnd = st.fit_boundary(track, band=(3.0, 3000.0))
+    # 24 poles on both tracks (tests/test_contact.py): the order search keeps 24 on the slab track
+    # and 48 on the ballasted one, where 24 move the contact force by 0.001 dB at half the states
+    bnd = st.fit_boundary(track, band=(3.0, 3000.0), n_poles=24)
     fit_time = time.perf_counter() - start
     print(f"\n{name} track (viscous), dt {dt * 1e6:g} us, {duration:g} s; boundary fit {bnd.n_poles} poles "
           f"in {fit_time:.1f} s (once per track)")
