@@ -79,6 +79,8 @@ def measure(mode: str, skip_book: bool, skip_tests: bool) -> dict[str, float]:
     with tempfile.TemporaryDirectory(prefix="semitrack-bench-") as tmp:
         copy = Path(tmp) / "semitrack"
         shutil.copytree(ROOT, copy, ignore=NOT_COPIED)
+        # the copy's package, not this tree's editable install (pytest's doctests of src/ insist)
+        env = {**env, "PYTHONPATH": str(copy / "src")}
         if not skip_book:
             out["book"], _ = timed([str(BIN / "jupyter-book"), "build", ".", "--all"], copy, env)
         if not skip_tests:
