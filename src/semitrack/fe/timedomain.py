@@ -292,6 +292,7 @@ class _StateCoupling:
         block = P_C @ self.Phi_P  # the constant end stiffness (per end motion, u at the end DOFs)
         rows, cols = np.meshgrid(self.dofs, self.dofs, indexing="ij")
         self.stiffness = sp.csc_matrix((block.ravel(), (rows.ravel(), cols.ravel())), shape=(n, n))
+        self.stiffness.eliminate_zeros()  # no coupling between the ends: keep the step's band narrow
         self.block = block
         self.x = np.zeros(self.E.shape[0])
 
