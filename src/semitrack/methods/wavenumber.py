@@ -206,8 +206,7 @@ class _Grid:
         shape = (4, n_w, self.beta_j.shape[0], n_beta)
         comps = operator_inverse(cell.track, omega[:, None, None], self.beta_j[None, :, b],
                                  work=work[: np.prod(shape)].reshape(shape))  # d11, d12, d22: (w, J, n)
-        d11, d12, d22 = (c[:, self.j0] for c in comps)
-        d0 = np.stack([d11, d12, -d12, d22], -1).reshape(n_w, n_beta, 2, 2)  # D(beta)^-1
+        d0 = _entries_2x2(*(c[:, self.j0] for c in comps)).reshape(n_w, n_beta, 2, 2)  # D(beta)^-1
 
         # R(beta) of Eq. (10) as (w, N, 2S, 2S) with DOFs (w_1, psi_1, w_2, ...).
         r_sum = self._sum_over_j(comps, slice(0, self.n_r)) * self.phase_r[None, :, b, None, None]
@@ -236,9 +235,12 @@ class _Grid:
         """sum_j coef[row, j] D(beta_j)^-1 for the given rows, shape (w, rows, N, 2, 2)."""
         coef = self.coef[rows]
         n_w, n_beta = comps[0].shape[:1] + comps[0].shape[2:]
-        d11, d12, d22 = comps
-        s12 = coef @ d12  # D^-1 has d21 = -d12: three products instead of four
-        return np.stack([coef @ d11, s12, -s12, coef @ d22], -1).reshape(n_w, -1, n_beta, 2, 2)
+        return _entries_2x2(*(coef @ c for c in comps)).reshape(n_w, -1, n_beta, 2, 2)  # 3 products, not 4
+
+
+def _entries_2x2(d11: np.ndarray, d12: np.ndarray, d22: np.ndarray) -> np.ndarray:
+    """The four entries of a matrix shaped like D^-1 (d21 = -d12) along a new last axis."""
+    return np.stack([d11, d12, -d12, d22], -1)
 
 
 def central_quantities(cell: PeriodicCell, omega: ArrayLike, settings: WavenumberSettings | None = None,
