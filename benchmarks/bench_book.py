@@ -49,11 +49,17 @@ def toc_notebooks() -> list[str]:
     return [Path(f).name for f in files if (ROOT / f"{f}.ipynb").is_file()]
 
 
-def run_notebook(name: str, threads: str) -> tuple[float, list[float]]:
-    """Wall time (s) of one notebook in a fresh kernel, and the time of each of its cells (s)."""
+def thread_environment(threads: str) -> dict[str, str]:
+    """This process's environment with the BLAS thread variables unset (``default``) or 1 (``one``)."""
     env = {k: v for k, v in os.environ.items() if k not in THREAD_VARIABLES}
     if threads == "one":
         env.update(dict.fromkeys(THREAD_VARIABLES, "1"))
+    return env
+
+
+def run_notebook(name: str, threads: str) -> tuple[float, list[float]]:
+    """Wall time (s) of one notebook in a fresh kernel, and the time of each of its cells (s)."""
+    env = thread_environment(threads)
     start = time.perf_counter()
     done = subprocess.run([sys.executable, "-c", _CHILD, str(ROOT / "book" / f"{name}.ipynb"), str(ROOT / "book")],
                           env=env, capture_output=True, text=True, check=True)

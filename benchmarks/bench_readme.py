@@ -26,9 +26,10 @@ import tempfile
 import time
 from pathlib import Path
 
+from bench_book import thread_environment  # this folder is on sys.path when run as a script
+
 ROOT = Path(__file__).resolve().parents[1]
 BIN = Path(sys.executable).parent
-THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 #: What a clean checkout does not have: build output, caches, virtual environments.
 NOT_COPIED = shutil.ignore_patterns("_build", ".git", ".venv", "venv", "__pycache__", ".pytest_cache",
                                     "*.egg-info", ".ruff_cache")
@@ -54,11 +55,10 @@ print("sweep", best(lambda: st.semi_infinite_receptance(slab, PAPER_GRID), 20))
 
 
 def environment(mode: str) -> dict[str, str]:
-    """This process's environment with the BLAS thread variables unset or set to 1."""
-    env = {k: v for k, v in os.environ.items() if k not in THREAD_VARIABLES}
-    env["PATH"] = f"{BIN}{os.pathsep}{env.get('PATH', '')}"  # as after `source .venv/bin/activate`
-    if mode == "one":
-        env.update(dict.fromkeys(THREAD_VARIABLES, "1"))
+    """:func:`bench_book.thread_environment`, with this Python's folder first on PATH (as after
+    ``source .venv/bin/activate``)."""
+    env = thread_environment(mode)
+    env["PATH"] = f"{BIN}{os.pathsep}{env.get('PATH', '')}"
     return env
 
 
