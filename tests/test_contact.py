@@ -195,10 +195,7 @@ def test_a_rolling_wheel_shows_the_support_passing_frequency(boundaries, kmh):
     model = st.TruncatedTrack(track, 10, "boundary", system=boundaries["slab"])
     res = st.wheel_rail_response(model, st.Wheel(), speed=speed, x_contact=-6.0, dt=2e-5, duration=12.0 / speed)
     assert res.x[-1] == pytest.approx(6.0) and not res.lost_contact
-    late = res.t >= 0.02  # past the start, where the wheel's bounce (64 Hz) is set off
-    force = res.force[late] - res.force[late].mean()
-    spectrum = np.abs(np.fft.rfft(force * np.hanning(force.size)))
-    f = np.fft.rfftfreq(force.size, res.dt)
+    f, spectrum = res.force_spectrum(after=0.02)  # past the start, where the wheel's bounce (64 Hz) is set off
     band = (f > 100.0) & (f < 1000.0)
     peak = f[band][np.argmax(spectrum[band])]
     assert abs(peak - speed / track.spacing) <= f[1]
@@ -232,6 +229,21 @@ def test_a_roughness_too_long_to_evaluate_is_refused(small_model):
     rough = st.roughness_from_spectrum(SPEED, period=2.0)  # 31 600 lines
     with pytest.raises(ValueError, match="roughness lines give .* more than the limit"):
         st.wheel_rail_response(small_model, st.Wheel(), rough, dt=1e-6, duration=0.1)
+
+
+def test_force_spectrum_reads_a_line_s_amplitude():
+    """A small 2 kHz corrugation on a short track: the force is nearly one sinusoid, whose amplitude
+    the windowed spectrum returns at its line (the Hann window's scalloping is zero on a bin)."""
+    model = st.TruncatedTrack(st.slab_track(damping="viscous"), 2, elements_per_bay=4)
+    res = st.wheel_rail_response(model, st.Wheel(), st.corrugation(SPEED, SPEED / 2000.0, 1e-8), dt=1e-5,
+                                 duration=0.1, ramp=0.01)
+    f, amplitude = res.force_spectrum(after=0.05)
+    late = res.t >= 0.05
+    swing = (res.force[late].max() - res.force[late].min()) / 2
+    assert f[np.argmax(amplitude)] == pytest.approx(2000.0, abs=f[1])
+    assert amplitude.max() == pytest.approx(swing, rel=0.05)
+    with pytest.raises(ValueError, match="fewer than two samples"):
+        res.force_spectrum(after=1.0)
 
 
 def test_wheel_rail_response_needs_an_fe_model():

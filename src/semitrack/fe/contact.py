@@ -205,6 +205,31 @@ class ContactResponse:
         """Whether contact was lost at any time."""
         return bool(np.any(~self.in_contact))
 
+    def force_spectrum(self, after: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+        """One-sided amplitude spectrum of the force's fluctuation from time ``after`` on.
+
+        The record from ``after`` (s) has its mean removed and a Hann window applied (amplitudes
+        corrected for the window's coherent gain of 1/2), so a line of amplitude A reads about A.
+
+        Parameters
+        ----------
+        after : float
+            Start of the analysed record (s), e.g. past a start-up transient.
+
+        Returns
+        -------
+        f : ndarray
+            Frequencies (Hz), spaced 1 / (analysed duration).
+        amplitude : ndarray
+            Force amplitude at each frequency (N).
+        """
+        late = self.t >= after
+        if np.count_nonzero(late) < 2:
+            raise ValueError(f"after={after!r} s leaves fewer than two samples of a {self.t[-1]:.6g} s record")
+        force = self.force[late] - self.force[late].mean()
+        amplitude = np.abs(np.fft.rfft(force * np.hanning(force.size))) * 4 / force.size
+        return np.fft.rfftfreq(force.size, self.dt), amplitude
+
     @property
     def x_from_support(self) -> np.ndarray:
         """The contact position measured from a support (m), in ``[0, spacing)``, as
