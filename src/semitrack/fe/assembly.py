@@ -28,9 +28,10 @@ dynamic stiffness at one frequency is a linear combination of data vectors on a 
 
 A track is a chain: renumbered once by reverse Cuthill-McKee, the pattern is a narrow band
 (3-7 off-diagonals for the paper's tracks, ends included), and a dynamic stiffness is solved
-as a band matrix (LAPACK ``gbsv``, partial pivoting) instead of a general sparse LU, whose
-fill-reducing ordering is recomputed at every frequency: measured 2-3 times faster per
-frequency on a 200-bay track, the same solution to 1e-13 (:meth:`Pattern.solve`).
+as a band matrix (LAPACK ``gbsv``, partial pivoting, :mod:`semitrack.dynamics.factor`, the
+factorisation the time steps use too) instead of a general sparse LU, whose fill-reducing
+ordering is recomputed at every frequency: measured 2-3 times faster per frequency on a
+200-bay track, the same solution to 1e-13 (:meth:`Pattern.solve`).
 """
 
 from __future__ import annotations
@@ -40,16 +41,14 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
-import scipy.linalg as sl
 import scipy.sparse as sp
-from scipy.sparse.csgraph import reverse_cuthill_mckee
-from scipy.sparse.linalg import splu
 
+from ..dynamics.factor import BandOrder, SparseLU, band_solve
 from ..model.tracks import Track
 from .element import rail_element
 from .mesh import SIDES, DofMap, Mesh, Side, rail_dof
 
-__all__ = ["FAMILIES", "Pattern", "TrackMatrices", "assemble", "band_order"]
+__all__ = ["FAMILIES", "Pattern", "TrackMatrices", "assemble"]
 
 #: The matrix families of a track model, see the module docstring.
 FAMILIES = ("K_rail", "K_pad", "K_ballast", "K_end", "C_end", "M")
@@ -137,20 +136,13 @@ class Pattern:
         return sp.csc_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
 
     @cached_property
-    def band(self) -> tuple[np.ndarray, int, np.ndarray] | None:
-        """``(perm, width, flat)``: the reverse Cuthill-McKee order, the half-bandwidth in it and
-        the position of each stored entry in LAPACK's band storage ``(2 width + 1, n)``; None
-        when the band would hold more than :data:`_BAND_FILL` times the stored entries (not a
-        chain: :meth:`solve` falls back to a sparse LU)."""
-        if self.n == 0:
-            return None
-        rows, cols = self.indices.astype(np.int64), self.keys // self.n
-        order = band_order(rows, cols, self.n)
-        if order is None:
-            return None
-        perm, where, width = order
-        r, c = where[rows], where[cols]
-        return perm, width, (width + r - c) * self.n + c
+    def band(self) -> tuple[BandOrder, np.ndarray] | None:
+        """``(order, positions)``: the reverse Cuthill-McKee order of the pattern and the position of
+        each stored entry in LAPACK's band storage (:mod:`semitrack.dynamics.factor`); None when the
+        pattern is not a narrow band (not a chain: :meth:`solve` falls back to a sparse LU)."""
+        rows, cols = self.indices.astype(np.int64), self.keys // max(self.n, 1)
+        order = BandOrder.of(rows, cols, self.n)
+        return None if order is None else (order, order.general_positions(rows, cols))
 
     def solve(self, data: np.ndarray, rhs: np.ndarray) -> np.ndarray:
         """Solve ``A x = rhs`` for the matrix ``A`` with ``data`` on this pattern.
@@ -171,56 +163,8 @@ class Pattern:
         ndarray, shape (n, n_rhs)
         """
         if self.band is None:
-            return _symmetric_lu(self.csc(np.asarray(data, dtype=np.result_type(data, rhs)))).solve(rhs)
-        perm, width, flat = self.band
-        ab = np.zeros((2 * width + 1, self.n), dtype=np.result_type(data, rhs))
-        ab.flat[flat] = data
-        x = np.empty(rhs.shape, dtype=ab.dtype)
-        x[perm] = sl.solve_banded((width, width), ab, rhs[perm], overwrite_ab=True, check_finite=False)
-        return x
-
-
-#: Largest band storage, as a multiple of the stored entries, that :meth:`Pattern.solve` accepts.
-_BAND_FILL = 20
-
-
-def band_order(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, int] | None:
-    """The reverse Cuthill-McKee order of an ``n x n`` sparsity pattern and its half-bandwidth.
-
-    Parameters
-    ----------
-    rows, cols : ndarray of int
-        The stored entries.
-    n : int
-        Matrix size.
-
-    Returns
-    -------
-    (perm, where, width) or None
-        ``perm[k]``: the original index of position k; ``where``: its inverse; ``width``: the
-        half-bandwidth in that order. None when the band would hold more than
-        :data:`_BAND_FILL` times the stored entries (not a chain).
-    """
-    rows, cols = np.asarray(rows, dtype=np.int64), np.asarray(cols, dtype=np.int64)
-    graph = sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=(n, n))
-    perm = reverse_cuthill_mckee(graph, symmetric_mode=False).astype(np.int64)
-    where = np.empty(n, dtype=np.int64)
-    where[perm] = np.arange(n)
-    width = int(np.max(np.abs(where[rows] - where[cols]))) if rows.size else 0
-    if (2 * width + 1) * n > _BAND_FILL * max(rows.size, 1):
-        return None
-    return perm, where, width
-
-
-def _symmetric_lu(z: sp.csc_matrix):
-    """Sparse LU of a complex symmetric Z: minimum degree on ``Z^T + Z``, diagonal pivots preferred.
-
-    SuperLU's symmetric mode keeps a diagonal pivot unless it is below 0.1 times the largest
-    entry of its column. Plain partial pivoting picks off-diagonal pivots among the DOFs of an
-    attached ballasted system and fills the factors four times as much: 10 times slower on a
-    160-bay ballasted track, for the same result to 1e-12.
-    """
-    return splu(z, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.1, options={"SymmetricMode": True})
+            return SparseLU(self.csc(np.asarray(data, dtype=np.result_type(data, rhs)))).solve(rhs)
+        return band_solve(*self.band, data, rhs)
 
 
 @dataclass(frozen=True)

@@ -40,30 +40,35 @@ linear frequency-domain theory ``-1 / (alpha_W + alpha_C + alpha_R)``.
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
 
 from ..base.checks import check_int_at_least, check_nonnegative, check_positive, check_real, check_work
+from ..dynamics.contact import MAX_NEWTON, HertzContacts, solve_hertz
+from ..dynamics.factor import factorise
+from ..dynamics.newmark import Newmark
+from ..dynamics.points import PointSet
+from ..dynamics.simulate import simulate
+from ..dynamics.system import SecondOrderSystem, union
 from ..methods.wheelrail import wheel_rail_force
 from ..model.tracks import Track
 from ..model.wheel import Wheel
-from .models import FETrack
+from .models import FETrack, require_model
 from .roughness import Roughness, third_octave_bands
-from .timedomain import _check_model, _factor, _shape_weights_along, newmark
+from .timedomain import sin2_ramp
 
 __all__ = ["ContactResponse", "ContactTransfer", "wheel_rail_response", "contact_transfer", "hertz_contact_force"]
 
-#: Newton iterations allowed for one contact force (each step needs 1-3 on the paper's tracks).
-MAX_NEWTON = 100
 #: Most roughness values x lines evaluated for one run (cosines, ~10 ns each: 2e9 ~ 20 s).
 MAX_ROUGHNESS_WORK = 2_000_000_000
 
 
 def hertz_contact_force(c_h: float, a: float, beta: float) -> float:
-    """The force F >= 0 (N) with ``F = c_h max(a - beta F, 0)^(3/2)``: one step's contact equation.
+    """The force F >= 0 (N) with ``F = c_h max(a - beta F, 0)^(3/2)``: one wheel's contact equation in a step.
+
+    The one-wheel case of :func:`semitrack.dynamics.contact.solve_hertz`.
 
     Parameters
     ----------
@@ -86,50 +91,10 @@ def hertz_contact_force(c_h: float, a: float, beta: float) -> float:
     >>> bool(abs(f - 9.3e10 * (1e-4 - 1e-9 * f) ** 1.5) < 1e-6 * f)
     True
     """
-    if a <= 0.0:
-        return 0.0
-    k = beta * c_h
-    delta = a  # convex increasing residual delta + k delta^1.5 - a: Newton from above falls monotonically
-    for _ in range(MAX_NEWTON):
-        root = math.sqrt(delta)
-        step = (delta + k * delta * root - a) / (1.0 + 1.5 * k * root)
-        delta -= step
-        if step <= 4e-16 * delta:
-            break
-    return c_h * delta * math.sqrt(delta)
-
-
-class _ContactStep:
-    """The correction hook of :func:`newmark`: the contact force of each step, and what it records."""
-
-    def __init__(self, c_h: float, wheel_dof: int, dofs: np.ndarray, weights: np.ndarray, r: np.ndarray):
-        self.c_h, self.wheel_dof, self.r = c_h, wheel_dof, r
-        self.dofs, self.weights = dofs, weights  # (n_steps + 1, 4) each, or (1, 4) for a fixed contact
-        self.moving = dofs.shape[0] > 1
-        self.g = None
-        n = r.size
-        self.force, self.w_wheel, self.w_rail = np.zeros(n), np.zeros(n), np.zeros(n)
-
-    def _load_vector(self, k: int, solve) -> None:
-        idx, w = self.dofs[k], self.weights[k]
-        ok = idx >= 0
-        self.idx, self.w = idx[ok], w[ok]
-        b = np.zeros(self.wheel_dof + 1)
-        b[self.idx] = self.w
-        b[self.wheel_dof] = -1.0
-        self.g = solve(b)
-        self.beta = float(b @ self.g)
-        if not self.beta > 0:
-            raise RuntimeError(f"the contact's step compliance must be positive, got {self.beta!r} m/N")
-
-    def __call__(self, k: int, u_free: np.ndarray, solve) -> np.ndarray:
-        if self.moving or self.g is None:
-            self._load_vector(k if self.moving else 0, solve)
-        a = u_free[self.wheel_dof] - self.w @ u_free[self.idx] - self.r[k]
-        f = hertz_contact_force(self.c_h, a, self.beta)
-        u = u_free + self.g * f if f > 0 else u_free
-        self.force[k], self.w_wheel[k], self.w_rail[k] = f, u[self.wheel_dof], self.w @ u[self.idx]
-        return u
+    force = np.zeros(1)
+    if solve_hertz(np.array([float(c_h)]), np.array([float(a)]), np.array([[float(beta)]]), force) > MAX_NEWTON:
+        raise RuntimeError(f"the contact force did not converge in {MAX_NEWTON} Newton steps")
+    return float(force[0])
 
 
 @dataclass(frozen=True, eq=False)
@@ -240,7 +205,7 @@ class ContactResponse:
 
 def _check_inputs(model, wheel, roughness, x_contact, speed, dt, duration, ramp):
     """The checked scalars of :func:`wheel_rail_response`, and the contact's path along the rail."""
-    _check_model(model)
+    require_model(model)
     if not isinstance(wheel, Wheel):
         raise TypeError(f"wheel must be a semitrack Wheel (e.g. st.Wheel()), got {type(wheel).__name__}")
     if roughness is not None and not isinstance(roughness, Roughness):
@@ -266,34 +231,22 @@ def _check_inputs(model, wheel, roughness, x_contact, speed, dt, duration, ramp)
     return dt, ramp, n_steps, x
 
 
-def _with_wheel(matrices: tuple, wheel: Wheel) -> tuple[sp.csc_matrix, ...]:
-    """A model's ``M, C, K`` with the wheel appended as the last DOF (suspension to ground)."""
-    M, C, K = matrices
-    return tuple(sp.block_diag((X, sp.csc_matrix([[v]])), format="csc") for X, v in
-                 ((M, wheel.mass), (C, wheel.primary_damping), (K, wheel.primary_stiffness)))
+def _wheel_system(wheel: Wheel) -> SecondOrderSystem:
+    """The wheel as one DOF (m, downward) on its primary suspension to a bogie held still."""
+    return SecondOrderSystem([[wheel.mass]], [[wheel.primary_damping]], [[wheel.primary_stiffness]])
 
 
-def _static_start(model: FETrack, wheel: Wheel, K: sp.csc_matrix, x0: float) -> tuple[np.ndarray, np.ndarray, float]:
-    """The static equilibrium under the preload with the contact at ``x0``.
+def _static_start(model: FETrack, wheel: Wheel, K: sp.csc_matrix, contact: PointSet) -> tuple[np.ndarray, float]:
+    """The static equilibrium under the preload with the contact at its first position.
 
-    Returns the state ``u0`` (model DOFs, then the wheel's), the contact's load vector
-    ``b = [N^T; -1]`` there and the constant load on the wheel, ``P0 + k1 w0`` (w0 the wheel's
-    static deflection: the suspension carries none of the preload).
+    Returns the state ``u0`` (model DOFs, then the wheel's) and the constant load on the wheel,
+    ``P0 + k1 w0`` (w0 the wheel's static deflection: the suspension carries none of the preload).
     """
-    idx, w = model.shape_weights(x0, name="x_contact")
-    ok = idx >= 0
-    b = np.zeros(model.n_dof + 1)
-    b[idx[ok]] = w[ok]
-    b[-1] = -1.0
     u0 = np.zeros(model.n_dof + 1)
-    u0[:-1] = _factor(K).solve(b[:-1] * wheel.preload)
-    u0[-1] = float(w[ok] @ u0[idx[ok]]) + wheel.static_approach
-    return u0, b, wheel.preload + wheel.primary_stiffness * u0[-1]
-
-
-def _fade(s: np.ndarray, ramp: float) -> np.ndarray:
-    """``sin^2(pi s / (2 ramp))`` on ``[0, ramp]``, 0 before, 1 after."""
-    return np.where(s <= 0, 0.0, np.where(s >= ramp, 1.0, np.sin(0.5 * np.pi * np.clip(s, 0, ramp) / ramp) ** 2))
+    rail_load = contact.matrix(model.n_dof, 0).T @ np.array([wheel.preload])
+    u0[:-1] = factorise(K).solve(rail_load)
+    u0[-1] = contact.values(u0[:-1], 0)[0] + wheel.static_approach
+    return u0, wheel.preload + wheel.primary_stiffness * u0[-1]
 
 
 def wheel_rail_response(model: FETrack, wheel: Wheel, roughness: Roughness | None = None, *, x_contact: float = 0.0,
@@ -323,7 +276,7 @@ def wheel_rail_response(model: FETrack, wheel: Wheel, roughness: Roughness | Non
         ``tan(pi f dt) / (pi dt)``: +0.2 % at 2.5 kHz with the default 10 us.
     duration : float
         Simulated time (s), more than ``ramp``. Steps times DOFs are limited as in
-        :func:`semitrack.fe.timedomain.newmark`.
+        :func:`semitrack.dynamics.simulate.simulate`.
     ramp : float
         Duration (s) of the roughness's ``sin^2`` fade-in.
     f_ref : None, float or dict
@@ -344,28 +297,20 @@ def wheel_rail_response(model: FETrack, wheel: Wheel, roughness: Roughness | Non
     (True, False)
     """
     dt, ramp, n_steps, x = _check_inputs(model, wheel, roughness, x_contact, speed, dt, duration, ramp)
-    matrices = model.matrices(f_ref)
+    track = model.time_domain_system(f_ref)
+    system = union({"track": track, "wheel": _wheel_system(wheel)})
     t = dt * np.arange(n_steps + 1)
-    u0, b0, wheel_load = _static_start(model, wheel, matrices[2], x[0])
-    r = np.zeros(t.size) if roughness is None else roughness(t) * _fade(t, ramp)
-    if speed > 0:
-        dofs, weights = _shape_weights_along(model, x)
-    else:
-        dofs, weights = (v[None, :] for v in model.shape_weights(x[0], name="x_contact"))
-    step = _ContactStep(wheel.hertz_constant, model.n_dof, dofs, weights, r)
-    step.force[0], step.w_wheel[0], step.w_rail[0] = wheel.preload, u0[-1], u0[-1] - wheel.static_approach
-    # Loads: the wheel's, constant; the static contact force, at t = 0 only (later steps find it).
-    B = sp.csr_matrix(np.column_stack((np.arange(model.n_dof + 1) == model.n_dof, b0)).astype(float))
-    g = np.zeros((n_steps + 1, 2))
-    g[:, 0], g[0, 1] = wheel_load, wheel.preload
-    start = time.perf_counter()
-    newmark(*_with_wheel(matrices, wheel), (B, g), dt, n_steps, outputs=[model.n_dof], u0=u0,
-            attachments=model.boundary_states(), correction=step)
-    elapsed = time.perf_counter() - start
-    return ContactResponse(t=t, force=step.force, w_wheel=step.w_wheel, w_rail=step.w_rail, roughness=r, x=x,
-                           track=model.track, wheel=wheel, speed=float(speed), ramp=ramp,
+    contact = model.points(x, moving=True, name="x_contact") if speed > 0 else model.points(x[:1], name="x_contact")
+    u0, wheel_load = _static_start(model, wheel, track.K, contact)
+    r = np.zeros(t.size) if roughness is None else roughness(t) * sin2_ramp(t, ramp)
+    wheel_dof = system.dofs("wheel")
+    contacts = HertzContacts(wheel_dof, contact, [wheel.hertz_constant], r[:, None])
+    res = simulate(system, Newmark(dt), n_steps, loads=[(PointSet.on_dofs(wheel_dof), np.full(t.size, wheel_load))],
+                   contacts=contacts, u0=u0)
+    return ContactResponse(t=t, force=res["contact force"][:, 0], w_wheel=res["wheel"][:, 0], w_rail=res["rail"][:, 0],
+                           roughness=r, x=x, track=model.track, wheel=wheel, speed=float(speed), ramp=ramp,
                            period=None if roughness is None else roughness.period, n_dof=model.n_dof + 1,
-                           elapsed=elapsed)
+                           elapsed=res.elapsed)
 
 
 @dataclass(frozen=True, eq=False)

@@ -69,16 +69,16 @@ class Mesh:
         """Index of the node at the ``"left"`` or ``"right"`` end."""
         return 0 if side == "left" else self.n_nodes - 1
 
-    def locate(self, xp: float) -> tuple[int, float]:
-        """The element that holds position ``xp`` (m) and the local coordinate ``xi`` in [0, 1] there.
+    def locate(self, xp: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The element that holds each position of ``xp`` (m) and the local coordinate ``xi`` in [0, 1] there.
 
-        ``xp`` must lie on the rail (the caller checks); a node between two elements belongs to
+        Positions must lie on the rail (the caller checks); a node between two elements belongs to
         the element on its right, the last node to the last element.
         """
         h = self.element_length
-        e = min(max(int(np.floor((xp - self.x[0]) / h)), 0), self.n_elements - 1)
-        xi = min(max((xp - self.x[e]) / h, 0.0), 1.0)
-        return e, xi
+        xp = np.asarray(xp, dtype=float)
+        e = np.clip(np.floor((xp - self.x[0]) / h).astype(np.int64), 0, self.n_elements - 1)
+        return e, np.clip((xp - self.x[e]) / h, 0.0, 1.0)
 
 
 def bay_mesh(spacing: float, n_left: int, n_right: int, elements_per_bay: int) -> Mesh:

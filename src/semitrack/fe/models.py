@@ -27,7 +27,6 @@ their viscous equivalents (``damping="viscous"``), which are exactly the dampers
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
@@ -37,6 +36,9 @@ from numpy.typing import ArrayLike
 from ..base.checks import as_frequencies, check_choice, check_int_at_least, check_real, check_work
 from ..base.threads import serial_blas
 from ..boundary.fitting import BroadbandBoundary
+from ..dynamics.points import PointSet
+from ..dynamics.states import StateBlock
+from ..dynamics.system import SecondOrderSystem
 from ..equivalent.systems import EquivalentSystem
 from ..methods.transfer import end_stiffness
 from ..model.tracks import Track, require_track
@@ -48,11 +50,11 @@ from .mesh import KINDS, SIDES, DofMap, Kind, Mesh, bay_mesh, dof_map, rail_dof
 __all__ = [
     "ENDS",
     "End",
-    "BoundaryAttachment",
     "FarEnd",
     "FAR_ENDS",
     "FETrack",
     "TruncatedTrack",
+    "require_model",
     "fe_semi_infinite_receptance",
     "fe_central_receptance",
 ]
@@ -84,27 +86,6 @@ def _check_system(left: str, right: str, system, n_bays: int) -> None:
     if n_bays == 0 and not (ends <= {"equivalent", "exact", "boundary"}):
         raise ValueError(f"a model with zero bays needs 'equivalent', 'boundary' or 'exact' ends, got ends "
                          f"({left!r}, {right!r})")
-
-
-@dataclass(frozen=True)
-class BoundaryAttachment:
-    """The states of a broadband boundary at one end of an FE model (for time integration).
-
-    Attributes
-    ----------
-    dofs : ndarray of int, shape (2,)
-        The model DOFs (w, psi) of the end.
-    mirror : ndarray, shape (2, 2)
-        ``diag(1, -1)`` at a left end, the identity at a right end.
-    A, B, C : ndarray
-        The boundary's state space (:class:`semitrack.boundary.rational.BoundaryStateSpace`).
-    """
-
-    dofs: np.ndarray
-    mirror: np.ndarray
-    A: np.ndarray
-    B: np.ndarray
-    C: np.ndarray
 
 
 class FETrack:
@@ -260,6 +241,19 @@ class FETrack:
             raise ValueError(f"the {kind} DOF at x={x!r} is removed by a pinned end")
         return i
 
+    def _weights(self, xs: np.ndarray, kind: Kind, name: str) -> tuple[np.ndarray, np.ndarray]:
+        """Model DOFs (-1 where removed) and shape-function weights of ``kind`` at every position of
+        ``xs``, each ``(xs.size, 4)``: the one place where the rail's shape weights are computed."""
+        kind = check_choice("kind", kind, KINDS)
+        lo, hi = self.x[0], self.x[-1]
+        bad = ~(np.isfinite(xs) & (xs >= lo - 1e-12) & (xs <= hi + 1e-12))
+        if np.any(bad):
+            raise ValueError(f"{name} must lie on the rail, {lo:.6g} <= x <= {hi:.6g} m, got {xs[bad][0]!r}")
+        e, xi = self.mesh.locate(xs)
+        h, tr = self.element_length, self.track
+        n_w, n_psi = timoshenko_shape_functions(xi, h, shear_parameter(tr.E * tr.I, tr.kappa * tr.A * tr.G, h))
+        return self.dofs.index[2 * e[:, None] + np.arange(4)], (n_w if kind == "w" else n_psi)
+
     def shape_weights(self, x: float, kind: Kind = "w", *, name: str = "x") -> tuple[np.ndarray, np.ndarray]:
         """The DOFs and shape-function weights that give ``w`` (or ``psi``) at a point of the rail.
 
@@ -283,13 +277,36 @@ class FETrack:
         weights : ndarray, shape (4,)
             Shape-function values there (-, or m per rad and rad per m across w and psi).
         """
-        if not (np.isfinite(x) and self.x[0] - 1e-12 <= x <= self.x[-1] + 1e-12):
-            raise ValueError(f"{name} must lie on the rail, {self.x[0]:.6g} <= x <= {self.x[-1]:.6g} m, got {x!r}")
-        kind = check_choice("kind", kind, KINDS)
-        e, xi = self.mesh.locate(x)
-        h, tr = self.element_length, self.track
-        n_w, n_psi = timoshenko_shape_functions(xi, h, shear_parameter(tr.E * tr.I, tr.kappa * tr.A * tr.G, h))
-        return self.dofs.index[2 * e + np.arange(4)], (n_w if kind == "w" else n_psi)
+        dofs, weights = self._weights(np.array([x], dtype=float), kind, name)
+        return dofs[0], weights[0]
+
+    def points(self, positions: ArrayLike, kind: Kind = "w", *, moving: bool = False, name: str = "x") -> PointSet:
+        """Points of the rail as a :class:`~semitrack.dynamics.points.PointSet` (loads act, responses are read).
+
+        Parameters
+        ----------
+        positions : array_like
+            Positions on the rail (m from the centre), ``x[0] <= x <= x[-1]``.
+        kind : {"w", "psi"}
+            The displacement (a vertical force acts there) or the rotation (a moment).
+        moving : bool
+            False: one fixed point per position. True: one point that moves, at ``positions[k]``
+            at step k.
+        name : str
+            The parameter name quoted in errors.
+
+        Returns
+        -------
+        PointSet
+            DOFs removed by a pinned end carry weight 0.
+        """
+        xs = np.atleast_1d(np.asarray(positions, dtype=float)).ravel()
+        dofs, weights = self._weights(xs, kind, name)
+        removed = dofs < 0
+        dofs, weights = np.where(removed, 0, dofs), np.where(removed, 0.0, weights)
+        if moving:
+            return PointSet(dofs[:, None, :], weights[:, None, :], (f"{kind} on the moving point",))
+        return PointSet(dofs[None], weights[None], tuple(f"{kind}(x={x:g} m)" for x in xs))
 
     def output_matrix(self, positions: ArrayLike, kind: Kind = "w") -> sp.csr_matrix:
         """Sparse matrix mapping the DOF vector to ``w`` (or ``psi``) at arbitrary positions.
@@ -314,16 +331,7 @@ class FETrack:
         >>> model.output_matrix([0.0, 0.1]).shape == (2, model.n_dof)
         True
         """
-        kind = check_choice("kind", kind, KINDS)
-        xs = np.atleast_1d(np.asarray(positions, dtype=float))
-        rows, cols, vals = [], [], []
-        for r, xp in enumerate(xs):
-            idx, n = self.shape_weights(xp, kind, name="positions")
-            ok = idx >= 0
-            rows.extend([r] * int(ok.sum()))
-            cols.extend(idx[ok])
-            vals.extend(n[ok])
-        return sp.csr_matrix((vals, (rows, cols)), shape=(xs.size, self.n_dof))
+        return self.points(positions, kind, name="positions").matrix(self.n_dof)
 
     # --------------------------------------------------------------------------------------------
     def complex_stiffness(self, f: float | None = None) -> sp.csc_matrix:
@@ -500,14 +508,14 @@ class FETrack:
             np.add.at(C, self._parts.exact[side], (mirror @ self.system.model.D @ mirror).ravel())
         return self._csc(d["M"].copy()), self._csc(C), self._csc(K)
 
-    def boundary_states(self) -> list[BoundaryAttachment]:
-        """The first-order states of the ``"boundary"`` ends, for :func:`semitrack.fe.timedomain.newmark`.
+    def boundary_states(self) -> list[StateBlock]:
+        """The first-order states of the ``"boundary"`` ends (see :mod:`semitrack.dynamics.states`).
 
         Returns
         -------
-        list of BoundaryAttachment
-            One per boundary end (empty without such ends): the end's two model DOFs, the
-            mirror (identity at the right end) and the boundary's state space. The end loads
+        list of StateBlock
+            One per boundary end (empty without such ends), on the end's two model DOFs
+            ``(w, psi)``, with the mirror ``diag(1, -1)`` as its port at the left end. The end loads
             on the rail are ``-P (K0 P u + D P du/dt + C x)`` with ``dx/dt = A x + B P du/dt``;
             :meth:`matrices` already holds the ``K0`` and ``D`` parts.
         """
@@ -516,13 +524,36 @@ class FETrack:
             ss = self.system.state_space()
             node = self.mesh.end_node(side)
             dofs = self.dofs.index[[rail_dof(node, "w"), rail_dof(node, "psi")]]
-            out.append(BoundaryAttachment(dofs=dofs, mirror=MIRROR if side == "left" else np.eye(2),
-                                          A=ss.A, B=ss.B, C=ss.C))
+            out.append(StateBlock(dofs=dofs, A=ss.A, B=ss.B, C=ss.C, port=MIRROR if side == "left" else np.eye(2),
+                                  label=f"broadband boundary, {side} end"))
         return out
+
+    def time_domain_system(self, f_ref: float | dict | None = None) -> SecondOrderSystem:
+        """The model as a second-order system for the time domain: :meth:`matrices` and :meth:`boundary_states`.
+
+        Parameters
+        ----------
+        f_ref : None, float or dict
+            Reference frequencies of the viscous damping (Hz), see :meth:`matrices`.
+
+        Returns
+        -------
+        SecondOrderSystem
+            One DOF block, ``"track"``.
+        """
+        M, C, K = self.matrices(f_ref)
+        return SecondOrderSystem(M, C, K, {"track": slice(0, self.n_dof)}, tuple(self.boundary_states()))
 
     def __repr__(self):
         return (f"{type(self).__name__}({self.track.name!r}, bays {self.n_left}+{self.n_right}, ends "
                 f"({self.left!r}, {self.right!r}), elements_per_bay={self.elements_per_bay}, n_dof={self.n_dof})")
+
+
+def require_model(model: object) -> FETrack:
+    """``model`` if it is an :class:`FETrack`, else a TypeError that names it."""
+    if not isinstance(model, FETrack):
+        raise TypeError(f"model must be an FETrack (e.g. TruncatedTrack), got {type(model).__name__}")
+    return model
 
 
 class TruncatedTrack(FETrack):

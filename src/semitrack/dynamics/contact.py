@@ -1,0 +1,193 @@
+"""Hertzian contacts of k wheels: the nonlinear element of a wheel-rail step.
+
+Within a time step the new displacement is linear in the contact forces ``F`` (N, compression,
+one per wheel): with ``b_i`` the load vector of contact i (the shape weights of the rail under
+it, and -1 at its wheel's DOF) and ``g_i = K_eff^-1 b_i``,
+
+    u = u_free + sum_i g_i F_i,      delta = a - G F,      G_ij = b_i . g_j,
+
+where ``delta`` are the contacts' approaches (m, positive in contact), ``a`` the approaches the
+step would have without contact forces and ``G`` the (symmetric positive definite) compliance
+the forces see through the structure within the step. The forces solve
+
+    F_i = c_i max(delta_i, 0)^(3/2),     i.e.   delta + G h(delta) = a,   h_i = c_i max(delta_i, 0)^(3/2),
+
+(:func:`solve_hertz`). ``h`` is continuously differentiable, so Newton's method on ``delta``
+converges quadratically; it starts from the upper bound ``delta = a`` (``G`` couples wheels
+through the rail with non-negative entries, so no force makes an approach larger). A contact
+with ``a_i <= 0`` carries no force (loss of contact: the force is never negative). With one
+wheel the residual is convex and increasing and the iterates fall monotonically to the root
+within ``[0, a]``; with several, a step that would not reduce the residual is halved.
+
+The same source runs as plain Python in the NumPy loop and compiled in the fast one.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .points import PointSet
+
+__all__ = ["MAX_NEWTON", "HertzContacts", "solve_hertz"]
+
+#: Newton iterations allowed for one step's contact forces (1-3 on the paper's tracks).
+MAX_NEWTON = 100
+
+
+def solve_hertz(c_h: np.ndarray, a: np.ndarray, G: np.ndarray, force: np.ndarray) -> int:  # noqa: C901
+    """Solve ``F = c_h max(a - G F, 0)^(3/2)`` for the contact forces of one step, in place.
+
+    Long by design: the elimination and the step halving are written out so that the one source
+    compiles as it stands (numba resolves the helpers a jitted function calls among its module's
+    globals, which here would be plain Python) and also runs as plain Python.
+
+    Parameters
+    ----------
+    c_h : ndarray, shape (k,)
+        Hertz constants (N/m^1.5), positive.
+    a : ndarray, shape (k,)
+        The approaches without contact forces (m).
+    G : ndarray, shape (k, k)
+        The step's compliance (m/N), symmetric positive definite.
+    force : ndarray, shape (k,)
+        Receives the forces (N), >= 0.
+
+    Returns
+    -------
+    int
+        Newton iterations taken (0 when no contact is closed); ``MAX_NEWTON + 1`` if it did not
+        converge.
+
+    Examples
+    --------
+    >>> F = np.zeros(1)
+    >>> n = solve_hertz(np.array([9.3e10]), np.array([1e-4]), np.array([[1e-9]]), F)
+    >>> bool(abs(F[0] - 9.3e10 * (1e-4 - 1e-9 * F[0]) ** 1.5) < 1e-6 * F[0])
+    True
+    """
+    k = a.size
+    scale = 0.0
+    for i in range(k):
+        force[i] = 0.0
+        scale = max(scale, a[i])
+    if scale <= 0.0:
+        return 0
+    delta, h, hp = a.copy(), np.zeros(k), np.zeros(k)
+    J, r, step = np.zeros((k, k)), np.zeros(k), np.zeros(k)
+    norm = math.inf
+    for iteration in range(1, MAX_NEWTON + 1):
+        for j in range(k):
+            root = math.sqrt(delta[j]) if delta[j] > 0.0 else 0.0
+            h[j], hp[j] = c_h[j] * delta[j] * root, 1.5 * c_h[j] * root
+        new_norm = 0.0
+        for i in range(k):
+            r[i] = delta[i] - a[i]
+            for j in range(k):
+                r[i] += G[i, j] * h[j]
+            new_norm = max(new_norm, abs(r[i]))
+        if k > 1 and new_norm > norm and iteration < MAX_NEWTON:
+            for i in range(k):  # the last step grew the residual: take half of it back
+                step[i] *= 0.5
+                delta[i] += step[i]
+            continue
+        norm = new_norm
+        for i in range(k):
+            for j in range(k):
+                J[i, j] = G[i, j] * hp[j] + (1.0 if i == j else 0.0)
+            step[i] = r[i]
+        for p in range(k):  # Gaussian elimination with partial pivoting on J step = r
+            q = p
+            for i in range(p + 1, k):
+                if abs(J[i, p]) > abs(J[q, p]):
+                    q = i
+            for j in range(k):
+                J[p, j], J[q, j] = J[q, j], J[p, j]
+            step[p], step[q] = step[q], step[p]
+            for i in range(p + 1, k):
+                m = J[i, p] / J[p, p]
+                for j in range(p, k):
+                    J[i, j] -= m * J[p, j]
+                step[i] -= m * step[p]
+        for p in range(k - 1, -1, -1):
+            for j in range(p + 1, k):
+                step[p] -= J[p, j] * step[j]
+            step[p] /= J[p, p]
+        done = True
+        for i in range(k):
+            delta[i] -= step[i]
+            if abs(step[i]) > 4e-16 * max(abs(delta[i]), scale):
+                done = False
+        if done:
+            for i in range(k):
+                force[i] = c_h[i] * delta[i] * math.sqrt(delta[i]) if delta[i] > 0.0 else 0.0
+            return iteration
+    return MAX_NEWTON + 1
+
+
+@dataclass(frozen=True)
+class HertzContacts:
+    """k wheels in Hertzian contact with a structure, each at a point that may move.
+
+    Parameters
+    ----------
+    wheel_dofs : array_like of int, shape (k,)
+        The vertical DOF of each wheel (m, downward).
+    points : PointSet
+        The contact point of each wheel on the structure (k points, fixed or per step).
+    hertz_constants : array_like, shape (k,)
+        C_H of each contact (N/m^1.5), positive.
+    irregularity : ndarray, shape (n_steps + 1, k)
+        The rail surface's downward displacement under each wheel at every step (m): the
+        roughness, a dip or a joint; the approach is ``w_wheel - w_rail - irregularity``.
+    labels : tuple of str
+        A label per wheel.
+    """
+
+    wheel_dofs: np.ndarray
+    points: PointSet
+    hertz_constants: np.ndarray
+    irregularity: np.ndarray
+    labels: tuple = ()
+
+    def __post_init__(self):
+        wheels = np.asarray(self.wheel_dofs, dtype=np.int64).ravel()
+        c_h = np.asarray(self.hertz_constants, dtype=float).ravel()
+        r = np.asarray(self.irregularity, dtype=float)
+        k = wheels.size
+        if self.points.n_points != k or c_h.shape != (k,) or r.ndim != 2 or r.shape[1] != k:
+            raise ValueError(f"{k} contacts need {k} points, {k} Hertz constants and an irregularity of shape "
+                             f"(n_steps + 1, {k}); got {self.points.n_points}, {c_h.shape} and {r.shape}")
+        if not np.all(np.isfinite(c_h) & (c_h > 0)):
+            raise ValueError(f"hertz_constants must be positive and finite (N/m^1.5), got {c_h.tolist()}")
+        object.__setattr__(self, "wheel_dofs", wheels)
+        object.__setattr__(self, "hertz_constants", c_h)
+        object.__setattr__(self, "irregularity", np.ascontiguousarray(r))
+        object.__setattr__(self, "labels", tuple(self.labels) or tuple(f"wheel {i}" for i in range(k)))
+
+    @property
+    def n_contacts(self) -> int:
+        """Number of wheels."""
+        return self.wheel_dofs.size
+
+    def approach(self, u: np.ndarray, k: int) -> np.ndarray:
+        """The approaches ``w_wheel - w_rail - irregularity`` (m) in state ``u`` at step ``k``."""
+        return u[self.wheel_dofs] - self.points.values(u, k) - self.irregularity[k]
+
+    def forces(self, u: np.ndarray, k: int) -> np.ndarray:
+        """The contact forces (N) of the state ``u`` at step ``k`` (no step compliance: ``G = 0``)."""
+        delta = np.maximum(self.approach(u, k), 0.0)
+        return self.hertz_constants * delta * np.sqrt(delta)
+
+    def load_vectors(self, n: int, k: int):
+        """The sparse ``(n, k)`` matrix of the contacts' load vectors ``b_i`` at step ``k``."""
+        B = self.points.matrix(n, k).T.tolil()
+        B[self.wheel_dofs, np.arange(self.n_contacts)] = -1.0
+        return B.tocsc()
+
+    def renumbered(self, where: np.ndarray) -> HertzContacts:
+        """The same contacts on DOFs renamed ``where[i]``."""
+        return HertzContacts(where[self.wheel_dofs], self.points.renumbered(where), self.hertz_constants,
+                             self.irregularity, self.labels)

@@ -1,0 +1,329 @@
+"""One loop for every simulation: a system, a stepper, loads, state blocks, contacts and probes, over arrays.
+
+:func:`simulate` integrates ``M a + C v + K u = f(t) + f_contacts - f_states`` from an initial
+state at a constant step, and returns a :class:`~.response.TimeResponse` with named channels.
+What it needs is given as arrays, known before the loop: loads as point sets with an amplitude
+per step (a pulse, a moving load, a wheel's weight), contacts with their irregularity per step,
+probes as point sets (fixed or moving). Nothing is called back inside the loop, so the loop can
+be compiled (:mod:`semitrack.dynamics.compiled`, numba) and the NumPy loop
+(:mod:`semitrack.dynamics.loop`) is its reference; the two agree to round-off (tested to 1e-12).
+
+The compiled loop needs a banded Cholesky factor (a real symmetric positive definite effective
+stiffness in band order, which every track model with its wheels and ends has) and numba; else,
+or with ``compiled=False``, the NumPy loop runs.
+
+Limits, checked before any work: steps times DOFs :data:`MAX_STEP_DOFS`, recorded values
+:data:`MAX_RECORDED`.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import replace
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.linalg import splu
+
+from ..base.checks import check_int_at_least, check_work
+from ..base.threads import serial_blas
+from .contact import HertzContacts
+from .factor import BandCholesky, factorise
+from .loop import Outputs, StepArrays, run_numpy
+from .newmark import Newmark
+from .points import PointSet
+from .response import TimeResponse
+from .states import TrapezoidalStates
+from .system import SecondOrderSystem
+
+__all__ = ["MAX_STEP_DOFS", "MAX_RECORDED", "simulate", "compiled_available"]
+
+#: Most steps x DOFs of one integration (compiled ~12 ns each, NumPy ~50 ns: 5e9 ~ 1-4 min).
+MAX_STEP_DOFS = 5_000_000_000
+#: Most recorded values, (n_steps + 1) x outputs (8 bytes each: 2e8 ~ 1.6 GB).
+MAX_RECORDED = 200_000_000
+
+
+def compiled_available() -> bool:
+    """Whether numba is installed, so that the compiled loop can run."""
+    try:
+        from . import compiled  # noqa: F401  (imports numba: deferred to the first simulation)
+    except ImportError:
+        return False
+    return True
+
+
+def _initial_acceleration(M: sp.spmatrix, r0: np.ndarray) -> np.ndarray:
+    """``M^-1 r0``: the acceleration at t = 0 from the initial residual force ``r0``."""
+    if not np.any(r0 != 0):
+        return np.zeros(r0.size)
+    try:
+        return splu(sp.csc_matrix(M)).solve(r0)
+    except RuntimeError:
+        raise ValueError("M is singular: the initial acceleration is undefined for a non-zero initial "
+                         "force; start from rest with zero load at t = 0") from None
+
+
+def _check_loads(loads, n: int, rows: int) -> list:
+    out = []
+    for i, item in enumerate(loads):
+        try:
+            points, amplitude = item
+        except (TypeError, ValueError):
+            raise TypeError(f"loads[{i}] must be a pair (PointSet, amplitudes), got {type(item).__name__}") from None
+        amplitude = np.asarray(amplitude, dtype=float)
+        if amplitude.ndim == 1 and points.n_points == 1:
+            amplitude = amplitude[:, None]
+        if amplitude.shape != (rows, points.n_points):
+            raise ValueError(f"loads[{i}] amplitudes must have shape ({rows}, {points.n_points}), "
+                             f"got {amplitude.shape}")
+        if points.moving and points.dofs.shape[0] != rows:
+            raise ValueError(f"loads[{i}] moves: its points need {rows} rows (one per step), "
+                             f"got {points.dofs.shape[0]}")
+        if points.dofs.size and points.dofs.max() >= n:
+            raise ValueError(f"loads[{i}] acts on DOF {points.dofs.max()} of a system of {n}")
+        out.append((points, amplitude))
+    return out
+
+
+def _prepare(system, stepper, n_steps, loads, contacts, probes, record, u0, v0) -> StepArrays:
+    """The loop's inputs in the system's numbering, the initial acceleration included.
+
+    The loop integrates the motion about the initial displacement, ``u = u0 + u~``: under a
+    preload ``u0`` is the static deflection (a millimetre under a wheel), thousands of times the
+    motion, and integrating ``u`` itself would carry its round-off into every approach of the
+    contact. The constant load ``-K u0`` and the contacts' irregularity shifted by their initial
+    approach make the equations of ``u~`` the same equations; the outputs add ``u0`` back.
+    """
+    n = system.n_dof
+    states = TrapezoidalStates(system.states, stepper.dt, n) if system.states else None
+    if states is not None and not stepper.is_average_acceleration:
+        raise ValueError("state blocks need the average-acceleration rule (gamma=1/2, beta=1/4), got "
+                         f"gamma={stepper.gamma!r}, beta={stepper.beta!r}")
+    K_eff = stepper.effective_stiffness(system.M, system.C, system.K)
+    factor = factorise(K_eff if states is None else K_eff + states.stiffness)
+    u_ref = np.zeros(n) if u0 is None else _vector("u0", u0, n)
+    v = np.zeros(n) if v0 is None else _vector("v0", v0, n)
+    r0 = -(system.C @ v) - system.K @ u_ref
+    for points, amplitude in loads:
+        dofs, weights = points.at(0)
+        np.add.at(r0, dofs.ravel(), (amplitude[0][:, None] * weights).ravel())
+    if contacts is not None:
+        r0 += contacts.load_vectors(n, 0) @ contacts.forces(u_ref, 0)
+        initial = u_ref[contacts.wheel_dofs] - _on_points(contacts.points, u_ref, n_steps + 1)
+        contacts = replace(contacts, irregularity=contacts.irregularity - initial)
+    MC = sp.hstack([system.M, system.C]).tocsr()
+    offset = -(system.K @ u_ref) if np.any(u_ref != 0) else np.zeros(0)
+    return StepArrays(stepper, n_steps, MC, factor, loads, states, contacts, dict(probes), record, np.zeros(n), v,
+                      _initial_acceleration(system.M, r0), offset, u_ref)
+
+
+def _on_points(points: PointSet, u: np.ndarray, rows: int) -> np.ndarray:
+    """The values of ``u`` at the points at every step, ``(rows, n_points)``."""
+    values = np.einsum("kpw,kpw->kp", points.weights, u[points.dofs])
+    return np.broadcast_to(values, (rows, points.n_points))
+
+
+def _vector(name, x, n):
+    x = np.asarray(x, dtype=float)
+    if x.shape != (n,):
+        raise ValueError(f"{name} must have shape ({n},), got {x.shape}")
+    return x.copy()
+
+
+def simulate(system: SecondOrderSystem, stepper: Newmark, n_steps: int, *,
+             loads: Sequence[tuple[PointSet, np.ndarray]] = (), contacts: HertzContacts | None = None,
+             probes: Mapping[str, PointSet] | None = None, record: Sequence[int] | None = (),
+             u0: np.ndarray | None = None, v0: np.ndarray | None = None,
+             compiled: bool | None = None) -> TimeResponse:
+    """Integrate a system in time from an initial state.
+
+    Parameters
+    ----------
+    system : SecondOrderSystem
+        ``M, C, K`` and the state blocks.
+    stepper : Newmark
+        The scheme and its step ``dt`` (s).
+    n_steps : int
+        Steps to take; the channels hold ``n_steps + 1`` rows from t = 0. Steps times DOFs may
+        not exceed :data:`MAX_STEP_DOFS`, nor recorded values :data:`MAX_RECORDED`.
+    loads : sequence of (PointSet, ndarray)
+        External forces: at each point, ``amplitude[k, p] * weights`` on its DOFs at step k
+        (N, N m); amplitudes of shape ``(n_steps + 1, n_points)``.
+    contacts : HertzContacts, optional
+        Wheels in Hertzian contact, solved every step; their forces enter the initial
+        acceleration from the initial state.
+    probes : mapping of str to PointSet, optional
+        Responses recorded at points, one channel per name.
+    record : sequence of int or None
+        DOFs recorded in the channel ``"dofs"``; None records all.
+    u0, v0 : array_like, optional
+        Initial displacement and velocity (default 0). The initial acceleration follows from
+        the equation of motion (``M`` must be non-singular unless the initial force is zero).
+    compiled : bool, optional
+        True: the compiled loop (an error if it cannot run); False: the NumPy loop; None (the
+        default): the compiled loop where it can run.
+
+    Returns
+    -------
+    TimeResponse
+        Channels ``"dofs"``, one per probe set, and with contacts ``"contact force"`` (N),
+        ``"wheel"`` and ``"rail"`` (m, at the contacts).
+
+    Examples
+    --------
+    An undamped oscillator released from u = 1 m, a quarter period later:
+
+    >>> s = SecondOrderSystem([[10.0]], [[0.0]], [[4.0e6]])
+    >>> r = simulate(s, Newmark(1e-5), 248, record=None, u0=[1.0])  # 2.48 ms
+    >>> bool(abs(r["dofs"][-1, 0]) < 0.01)
+    True
+    """
+    if not isinstance(system, SecondOrderSystem):
+        raise TypeError(f"system must be a SecondOrderSystem, got {type(system).__name__}")
+    if not isinstance(stepper, Newmark):
+        raise TypeError(f"stepper must be a Newmark stepper, got {type(stepper).__name__}")
+    n = system.n_dof
+    n_steps = check_int_at_least("n_steps", n_steps, 1)
+    check_work(n_steps * n, MAX_STEP_DOFS, f"n_steps = {n_steps} steps x {n} DOFs give {n_steps * n} step-DOFs",
+               "use a larger dt, a shorter duration or a smaller model")
+    record = np.arange(n) if record is None else np.asarray(record, dtype=np.int64).ravel()
+    if record.size and (record.min() < 0 or record.max() >= n):
+        raise ValueError(f"record must hold DOF indices in [0, {n}), got {record.tolist()[:5]}")
+    probes = dict(probes or {})
+    n_out = record.size + sum(p.n_points for p in probes.values()) + 3 * (contacts.n_contacts if contacts else 0)
+    check_work((n_steps + 1) * n_out, MAX_RECORDED, f"n_steps = {n_steps} steps x {n_out} outputs give "
+               f"{(n_steps + 1) * n_out} recorded values", "record fewer outputs (outputs=...) or fewer steps")
+    loads = _check_loads(loads, n, n_steps + 1)
+    if contacts is not None and contacts.irregularity.shape[0] != n_steps + 1:
+        raise ValueError(f"the contacts' irregularity needs {n_steps + 1} rows, got {contacts.irregularity.shape[0]}")
+    arrays = _prepare(system, stepper, n_steps, loads, contacts, probes, record, u0, v0)
+    use_compiled = _choose(compiled, arrays)
+    start = time.perf_counter()
+    with serial_blas():  # thousands of small solves: threads only contend
+        out = _run_compiled(arrays) if use_compiled else run_numpy(arrays)
+    elapsed = time.perf_counter() - start
+    return _response(arrays, out, probes, contacts, stepper.dt, elapsed, use_compiled)
+
+
+def _choose(compiled: bool | None, arrays: StepArrays) -> bool:
+    cholesky = isinstance(arrays.factor, BandCholesky)
+    if compiled is None:
+        return cholesky and compiled_available()
+    if compiled and not cholesky:
+        raise ValueError("compiled=True needs a real symmetric positive definite effective stiffness with a narrow "
+                         f"band (a chain); this one was factorised as {type(arrays.factor).__name__}: "
+                         "use compiled=None")
+    if compiled and not compiled_available():
+        raise ValueError("compiled=True needs numba, which is not installed (pip install numba); use compiled=None")
+    return bool(compiled)
+
+
+def _response(arrays, out: Outputs, probes, contacts, dt, elapsed, use_compiled) -> TimeResponse:
+    """The channels, ``u0`` added back (see :func:`_prepare`)."""
+    u_ref, rows = arrays.u_ref, arrays.n_steps + 1
+    channels = {"dofs": out.dofs + u_ref[arrays.record],
+                **{name: out.probes[name] + _on_points(p, u_ref, rows) for name, p in probes.items()}}
+    labels = {"dofs": tuple(f"dof {i}" for i in arrays.record), **{k: p.labels for k, p in probes.items()}}
+    if contacts is not None:
+        channels.update({"contact force": out.force, "wheel": out.wheel + u_ref[contacts.wheel_dofs],
+                         "rail": out.rail + _on_points(contacts.points, u_ref, rows)})
+        labels.update(dict.fromkeys(("contact force", "wheel", "rail"), contacts.labels))
+    t = dt * np.arange(rows)
+    return TimeResponse(t=t, channels=channels, labels=labels, elapsed=elapsed, compiled=use_compiled)
+
+
+# ------------------------------------------------------------------------------------------------
+# The compiled loop's arrays: everything in the band order of the factor
+# ------------------------------------------------------------------------------------------------
+def _stack(points: Sequence[PointSet], amplitudes: Sequence[np.ndarray] | None, moving: bool, rows: int, where):
+    """Fixed (or moving) point sets stacked into one ``(rows or 1, P, W)`` pair, renumbered, padded."""
+    chosen = [i for i, p in enumerate(points) if p.moving == moving]
+    width = max([points[i].dofs.shape[2] for i in chosen], default=1)
+    n_rows = rows if moving and chosen else 1
+    total = sum(points[i].n_points for i in chosen)
+    dofs, weights = np.zeros((n_rows, total, width), np.int64), np.zeros((n_rows, total, width))
+    amp = np.zeros((rows, total))
+    p0 = 0
+    for i in chosen:
+        p = points[i]
+        dofs[:, p0:p0 + p.n_points, :p.dofs.shape[2]] = where[p.dofs]
+        weights[:, p0:p0 + p.n_points, :p.dofs.shape[2]] = p.weights
+        if amplitudes is not None:
+            amp[:, p0:p0 + p.n_points] = amplitudes[i]
+        p0 += p.n_points
+    return dofs, weights, amp
+
+
+def _csr(X, n_cols=None):
+    X = sp.csr_matrix(X)
+    return X.indptr.astype(np.int64), X.indices.astype(np.int64), X.data.astype(float)
+
+
+def _run_compiled(arrays: StepArrays) -> Outputs:
+    from .compiled import run_compiled  # numba's import (0.3-0.6 s) only for a compiled run
+
+    order, rows = arrays.factor.order, arrays.n_steps + 1
+    where, perm = order.where, order.perm
+    mc = arrays.MC[perm][:, np.concatenate([perm, perm + perm.size])]
+    load_points = [p for p, _ in arrays.loads]
+    load_amp = [a for _, a in arrays.loads]
+    lf, lm = (_stack(load_points, load_amp, moving, rows, where) for moving in (False, True))
+    st = _state_arrays(arrays.states, where)
+    ct = _contact_arrays(arrays.contacts, where)
+    probe_list = list(arrays.probes.values())
+    pf, pm = (_stack(probe_list, None, moving, rows, where)[:2] for moving in (False, True))
+    u, v, a = (np.ascontiguousarray(x[perm]) for x in (arrays.u, arrays.v, arrays.a))
+    out = Outputs.empty(arrays)
+    k_c = ct[0].size
+    o_pf, o_pm = np.zeros((rows, pf[0].shape[1])), np.zeros((rows, pm[0].shape[1]))
+    outs = (out.dofs, o_pf, o_pm, out.force, out.wheel, out.rail)
+    rec = where[arrays.record]
+    _first_row(arrays, out, o_pf, o_pm, pf, pm, u, rec, k_c)
+    s = arrays.stepper
+    offset = np.ascontiguousarray(arrays.offset[perm]) if arrays.offset.size else arrays.offset
+    run_compiled(arrays.n_steps, s.coefficients, s.dt, s.gamma, _csr(mc), arrays.factor.lower, offset, u, v, a,
+                 lf, lm, st, ct, (pf[0], pf[1], pm[0], pm[1]), rec, outs)
+    _split_probes(arrays.probes, out, o_pf, o_pm)
+    arrays.u[perm], arrays.v[perm], arrays.a[perm] = u, v, a
+    return out
+
+
+def _first_row(arrays, out, o_pf, o_pm, pf, pm, u, rec, k_c) -> None:
+    """Row 0 (the initial state) of every output, in band order."""
+    out.dofs[0] = u[rec]
+    o_pf[0] = np.einsum("pw,pw->p", pf[1][0], u[pf[0][0]])
+    o_pm[0] = np.einsum("pw,pw->p", pm[1][0], u[pm[0][0]])
+    if k_c:
+        c = arrays.contacts
+        out.force[0] = c.forces(arrays.u, 0)
+        out.wheel[0] = arrays.u[c.wheel_dofs]
+        out.rail[0] = c.points.values(arrays.u, 0)
+
+
+def _split_probes(probes, out: Outputs, o_pf, o_pm) -> None:
+    i_f = i_m = 0
+    for name, p in probes.items():
+        if p.moving:
+            out.probes[name][:] = o_pm[:, i_m:i_m + p.n_points]
+            i_m += p.n_points
+        else:
+            out.probes[name][:] = o_pf[:, i_f:i_f + p.n_points]
+            i_f += p.n_points
+
+
+def _state_arrays(states: TrapezoidalStates | None, where):
+    if states is None:
+        empty = (np.zeros(1, np.int64), np.zeros(0, np.int64), np.zeros(0))
+        return (np.zeros(0, np.int64), *empty, *empty, *empty, np.zeros((0, 0)))
+    return (where[states.dofs], *_csr(states.E), *_csr(states.Phi_P), *_csr(states.history_x),
+            np.ascontiguousarray(states.block))
+
+
+def _contact_arrays(contacts: HertzContacts | None, where):
+    if contacts is None:
+        return (np.zeros(0, np.int64), np.zeros((1, 0, 1), np.int64), np.zeros((1, 0, 1)), np.zeros(0),
+                np.zeros((1, 0)))
+    c = contacts.renumbered(where)
+    return (c.wheel_dofs, c.points.dofs, c.points.weights, c.hertz_constants, c.irregularity)

@@ -1,0 +1,167 @@
+"""Second-order systems ``M a + C v + K u = f`` with named DOF blocks, and their union.
+
+A system is what a time or frequency-domain solver needs of a structure and nothing of where it
+came from: sparse real ``M, C, K``, the names of its DOF blocks (``{"track": slice(0, 483),
+"wheel 0": slice(483, 484)}``) and the first-order state blocks attached to its DOFs
+(:class:`semitrack.dynamics.states.StateBlock`). Several systems (a track, wheels, a bogie, end
+models) join by :func:`union`: block-diagonal matrices, the blocks renamed by part, plus the
+springs and dampers that connect DOFs of different parts.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from .states import StateBlock
+
+__all__ = ["SecondOrderSystem", "Connection", "union", "as_real_matrix"]
+
+
+def as_real_matrix(name: str, X, n: int | None = None) -> sp.csc_matrix:
+    """A real square sparse matrix from a dense or sparse one, checked (name quoted in errors)."""
+    if not sp.issparse(X):
+        try:
+            X = np.asarray(X, dtype=float)
+        except (TypeError, ValueError):
+            raise TypeError(f"{name} must be a real matrix (dense or scipy.sparse), got {type(X).__name__}") from None
+        X = sp.csc_matrix(X)
+    if np.iscomplexobj(X.data):
+        raise TypeError(f"{name} must be real, got a complex matrix")
+    if X.ndim != 2 or X.shape[0] != X.shape[1]:
+        raise ValueError(f"{name} must be square, got shape {X.shape}")
+    if n is not None and X.shape[0] != n:
+        raise ValueError(f"{name} must have shape ({n}, {n}) like M, got {X.shape}")
+    return sp.csc_matrix(X, dtype=float)
+
+
+@dataclass(frozen=True, eq=False)
+class SecondOrderSystem:
+    """``M a + C v + K u = f``: real sparse matrices, named DOF blocks and attached state blocks.
+
+    Parameters
+    ----------
+    M, C, K : sparse or dense real matrices, shape (n, n)
+        Mass (kg...), damping (N s/m...) and stiffness (N/m...).
+    blocks : mapping of str to slice, optional
+        Named ranges of DOFs; default one block ``"dofs"`` of all.
+    states : sequence of StateBlock
+        First-order elements attached to DOFs (their static stiffness and dashpot, if any, are
+        part of ``K`` and ``C``).
+
+    Examples
+    --------
+    >>> s = SecondOrderSystem([[2.0]], [[0.0]], [[8.0]])
+    >>> s.n_dof, list(s.blocks)
+    (1, ['dofs'])
+    """
+
+    M: sp.csc_matrix
+    C: sp.csc_matrix
+    K: sp.csc_matrix
+    blocks: Mapping[str, slice] = field(default_factory=dict)
+    states: tuple[StateBlock, ...] = ()
+
+    def __post_init__(self):
+        M = as_real_matrix("M", self.M)
+        n = M.shape[0]
+        object.__setattr__(self, "M", M)
+        object.__setattr__(self, "C", as_real_matrix("C", self.C, n))
+        object.__setattr__(self, "K", as_real_matrix("K", self.K, n))
+        object.__setattr__(self, "blocks", dict(self.blocks) or {"dofs": slice(0, n)})
+        object.__setattr__(self, "states", tuple(self.states))
+        for blk in self.states:
+            if not isinstance(blk, StateBlock):
+                raise TypeError(f"states must be StateBlocks, got {type(blk).__name__}")
+            if blk.dofs.size and not (0 <= blk.dofs.min() and blk.dofs.max() < n):
+                raise ValueError(f"state block {blk.label!r} acts on DOFs {blk.dofs.tolist()} outside [0, {n})")
+
+    @property
+    def n_dof(self) -> int:
+        """Number of DOFs."""
+        return self.M.shape[0]
+
+    def dofs(self, block: str) -> np.ndarray:
+        """The DOF indices of a named block."""
+        try:
+            s = self.blocks[block]
+        except KeyError:
+            raise KeyError(f"no DOF block {block!r}; the blocks are {list(self.blocks)}") from None
+        return np.arange(self.n_dof)[s]
+
+
+@dataclass(frozen=True)
+class Connection:
+    """A spring ``k`` and a damper ``c`` between two DOFs of a union (or a DOF and the ground).
+
+    Attributes
+    ----------
+    a, b : tuple of (str, int)
+        ``(part name, local DOF)`` of each end; ``b=None`` connects ``a`` to the ground.
+    k : float
+        Stiffness (N/m).
+    c : float
+        Viscous damping (N s/m).
+    """
+
+    a: tuple[str, int]
+    b: tuple[str, int] | None
+    k: float
+    c: float = 0.0
+
+
+def union(parts: Mapping[str, SecondOrderSystem], connections: Sequence[Connection] = ()) -> SecondOrderSystem:
+    """Join systems into one: block-diagonal matrices, blocks named ``"<part>"`` or ``"<part>.<block>"``.
+
+    Parameters
+    ----------
+    parts : mapping of str to SecondOrderSystem
+        The systems, in DOF order.
+    connections : sequence of Connection
+        Springs and dampers between DOFs of the parts (or to the ground).
+
+    Returns
+    -------
+    SecondOrderSystem
+
+    Examples
+    --------
+    A mass on a spring on a mass:
+
+    >>> one = SecondOrderSystem([[1.0]], [[0.0]], [[0.0]])
+    >>> two = union({"upper": one, "lower": one}, [Connection(("upper", 0), ("lower", 0), 100.0)])
+    >>> two.K.toarray().tolist(), two.dofs("lower").tolist()
+    ([[100.0, -100.0], [-100.0, 100.0]], [1])
+    """
+    offsets, blocks, states, start = {}, {}, [], 0
+    for name, part in parts.items():
+        if not isinstance(part, SecondOrderSystem):
+            raise TypeError(f"part {name!r} must be a SecondOrderSystem, got {type(part).__name__}")
+        offsets[name] = start
+        for block, s in part.blocks.items():
+            key = name if len(part.blocks) == 1 else f"{name}.{block}"
+            blocks[key] = slice(start + (s.start or 0), start + (s.stop if s.stop is not None else part.n_dof))
+        states.extend(blk.renumbered(start + np.arange(part.n_dof)) for blk in part.states)
+        start += part.n_dof
+    matrices = [sp.block_diag([getattr(p, X) for p in parts.values()], format="lil") for X in "MCK"]
+    M, C, K = matrices
+    for link in connections:
+        idx = [_global(offsets, parts, end) for end in (link.a, link.b) if end is not None]
+        sign = np.array([1.0, -1.0])[: len(idx)]
+        for X, value in ((K, link.k), (C, link.c)):
+            for i, si in zip(idx, sign):
+                for j, sj in zip(idx, sign):
+                    X[i, j] += si * sj * value
+    return SecondOrderSystem(M.tocsc(), C.tocsc(), K.tocsc(), blocks, tuple(states))
+
+
+def _global(offsets: dict, parts: Mapping, end: tuple[str, int]) -> int:
+    name, local = end
+    if name not in parts:
+        raise KeyError(f"connection names part {name!r}; the parts are {list(parts)}")
+    if not 0 <= local < parts[name].n_dof:
+        raise ValueError(f"connection DOF {local} of part {name!r} must be in [0, {parts[name].n_dof})")
+    return offsets[name] + int(local)
