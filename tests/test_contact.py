@@ -66,6 +66,21 @@ def test_synthesised_roughness_has_the_spectrum_s_band_levels_in_its_samples():
     assert not np.array_equal(st.roughness_from_spectrum(speed, period=0.2, seed=4).phases, rough.phases)
 
 
+@pytest.mark.parametrize("speed, dt, period", [(100.0, 1e-5, 0.1), (10.0, 4e-5, 0.2), (300 / 3.6, 2e-5, 0.1),
+                                               (100.0, 3e-5, 0.1)])
+def test_sampled_roughness_by_fft_equals_its_cosine_sums(speed, dt, period):
+    """One period by an inverse FFT, repeated; lines above the step's Nyquist frequency (the ISO
+    spectrum at 100 m/s reaches 31.7 kHz) fold onto their aliases as the cosines' samples do; a
+    period that is no whole number of steps (0.1 s / 30 us) takes the cosine sums."""
+    rough = st.roughness_from_spectrum(speed, period=period, seed=2)
+    n = int(2.5 * period / dt)
+    ref = rough(dt * np.arange(n))
+    np.testing.assert_allclose(rough.sampled(dt, n), ref, rtol=0, atol=1e-12 * np.abs(ref).max())
+    line = st.corrugation(speed, 0.05, 1e-6, phase=0.3)
+    short = line.sampled(line.period / 4, 9)  # bins 0 and N/2 are real: a quarter-period step still holds
+    np.testing.assert_allclose(short, line(line.period / 4 * np.arange(9)), rtol=0, atol=1e-18)
+
+
 def test_corrugation_is_one_line():
     r = st.corrugation(SPEED, 0.05, 2e-5)
     assert r.frequencies.tolist() == [2000.0] and r.period == pytest.approx(5e-4)

@@ -243,7 +243,7 @@ def _stack(points: Sequence[PointSet], amplitudes: Sequence[np.ndarray] | None, 
     width = max([points[i].dofs.shape[2] for i in chosen], default=1)
     n_rows = rows if moving and chosen else 1
     total = sum(points[i].n_points for i in chosen)
-    dofs, weights = np.zeros((n_rows, total, width), np.int64), np.zeros((n_rows, total, width))
+    dofs, weights = np.zeros((n_rows, total, width), np.uint64), np.zeros((n_rows, total, width))
     amp = np.zeros((rows, total))
     p0 = 0
     for i in chosen:
@@ -256,17 +256,20 @@ def _stack(points: Sequence[PointSet], amplitudes: Sequence[np.ndarray] | None, 
     return dofs, weights, amp
 
 
-def _csr(X, n_cols=None):
+def _csr(X):
+    """CSR arrays with unsigned indices (no wraparound checks in the compiled gathers)."""
     X = sp.csr_matrix(X)
-    return X.indptr.astype(np.int64), X.indices.astype(np.int64), X.data.astype(float)
+    return X.indptr.astype(np.uint64), X.indices.astype(np.uint64), X.data.astype(float)
 
 
 def _run_compiled(arrays: StepArrays) -> Outputs:
     from .compiled import run_compiled  # numba's import (0.3-0.6 s) only for a compiled run
 
     order, rows = arrays.factor.order, arrays.n_steps + 1
-    where, perm = order.where, order.perm
-    mc = arrays.MC[perm][:, np.concatenate([perm, perm + perm.size])]
+    where, perm, n = order.where, order.perm, order.n
+    mc = tuple(_band_rows(X, order) for X in (arrays.MC[:, :n], arrays.MC[:, n:]))
+    lower = arrays.factor.lower
+    ldl = (np.ascontiguousarray(lower / lower[:, :1]), 1.0 / lower[:, 0] ** 2)  # L D L^T, L with a unit diagonal
     load_points = [p for p, _ in arrays.loads]
     load_amp = [a for _, a in arrays.loads]
     lf, lm = (_stack(load_points, load_amp, moving, rows, where) for moving in (False, True))
@@ -279,14 +282,31 @@ def _run_compiled(arrays: StepArrays) -> Outputs:
     k_c = ct[0].size
     o_pf, o_pm = np.zeros((rows, pf[0].shape[1])), np.zeros((rows, pm[0].shape[1]))
     outs = (out.dofs, o_pf, o_pm, out.force, out.wheel, out.rail)
-    rec = where[arrays.record]
+    rec = where[arrays.record].astype(np.uint64)
     _first_row(arrays, out, o_pf, o_pm, pf, pm, u, rec, k_c)
     s = arrays.stepper
     offset = np.ascontiguousarray(arrays.offset[perm]) if arrays.offset.size else arrays.offset
-    run_compiled(arrays.n_steps, s.coefficients, s.dt, s.gamma, _csr(mc), arrays.factor.lower, offset, u, v, a,
+    run_compiled(arrays.n_steps, s.coefficients, s.dt, s.gamma, mc, ldl, offset, u, v, a,
                  lf, lm, st, ct, (pf[0], pf[1], pm[0], pm[1]), rec, outs)
     _split_probes(arrays.probes, out, o_pf, o_pm)
     arrays.u[perm], arrays.v[perm], arrays.a[perm] = u, v, a
+    return out
+
+
+def _band_rows(A, order) -> np.ndarray:
+    """``A`` reordered into ``order``, by diagonals: ``out[t, i] = A[i, i + t - width]`` (zero outside).
+
+    ``M`` and ``C`` lie within the effective stiffness's band, whose pattern holds theirs.
+    """
+    coo = sp.coo_matrix(A)
+    keep = coo.data != 0  # the FE families share one pattern: explicit zeros outside the band
+    coo = sp.coo_matrix((coo.data[keep], (coo.row[keep], coo.col[keep])), shape=coo.shape)
+    r, c = order.where[coo.row], order.where[coo.col]
+    w = order.width
+    if coo.nnz and np.max(np.abs(r - c)) > w:
+        raise ValueError("M and C must lie within the band of the effective stiffness")
+    out = np.zeros((2 * w + 1, order.n))
+    np.add.at(out, (c - r + w, r), coo.data)
     return out
 
 
@@ -315,15 +335,16 @@ def _split_probes(probes, out: Outputs, o_pf, o_pm) -> None:
 
 def _state_arrays(states: TrapezoidalStates | None, where):
     if states is None:
-        empty = (np.zeros(1, np.int64), np.zeros(0, np.int64), np.zeros(0))
-        return (np.zeros(0, np.int64), *empty, *empty, *empty, np.zeros((0, 0)))
-    return (where[states.dofs], *_csr(states.E), *_csr(states.Phi_P), *_csr(states.history_x),
+        empty = (np.zeros(1, np.uint64), np.zeros(0, np.uint64), np.zeros(0))
+        return (np.zeros(0, np.uint64), *empty, *empty, *empty, np.zeros((0, 0)))
+    return (where[states.dofs].astype(np.uint64), *_csr(states.E), *_csr(states.Phi_P), *_csr(states.history_x),
             np.ascontiguousarray(states.block))
 
 
 def _contact_arrays(contacts: HertzContacts | None, where):
     if contacts is None:
-        return (np.zeros(0, np.int64), np.zeros((1, 0, 1), np.int64), np.zeros((1, 0, 1)), np.zeros(0),
+        return (np.zeros(0, np.uint64), np.zeros((1, 0, 1), np.uint64), np.zeros((1, 0, 1)), np.zeros(0),
                 np.zeros((1, 0)))
     c = contacts.renumbered(where)
-    return (c.wheel_dofs, c.points.dofs, c.points.weights, c.hertz_constants, c.irregularity)
+    return (c.wheel_dofs.astype(np.uint64), c.points.dofs.astype(np.uint64), c.points.weights, c.hertz_constants,
+            c.irregularity)

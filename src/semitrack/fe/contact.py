@@ -302,7 +302,7 @@ def wheel_rail_response(model: FETrack, wheel: Wheel, roughness: Roughness | Non
     t = dt * np.arange(n_steps + 1)
     contact = model.points(x, moving=True, name="x_contact") if speed > 0 else model.points(x[:1], name="x_contact")
     u0, wheel_load = _static_start(model, wheel, track.K, contact)
-    r = np.zeros(t.size) if roughness is None else roughness(t) * sin2_ramp(t, ramp)
+    r = np.zeros(t.size) if roughness is None else roughness.sampled(dt, t.size) * sin2_ramp(t, ramp)
     wheel_dof = system.dofs("wheel")
     contacts = HertzContacts(wheel_dof, contact, [wheel.hertz_constant], r[:, None])
     res = simulate(system, Newmark(dt), n_steps, loads=[(PointSet.on_dofs(wheel_dof), np.full(t.size, wheel_load))],
