@@ -8,7 +8,10 @@ elements are a11, a12 and a22. a12 = w/M is m/(N m) and a21 = psi/Q is rad/N: bo
 
 from __future__ import annotations
 
-__all__ = ["ELEMENTS", "ALL_ELEMENTS", "ELEMENT_UNITS", "ELEMENT_TEX"]
+__all__ = ["ELEMENTS", "ALL_ELEMENTS", "ELEMENT_UNITS", "ELEMENT_TEX", "EXACT_LABEL"]
+
+#: How tables and figures call the exact (periodic-structure) result beside approximations.
+EXACT_LABEL = "exact"
 
 #: The three distinct elements of a reciprocal 2x2 receptance, with their (row, column) index.
 ELEMENTS: dict[str, tuple[int, int]] = {"alpha11": (0, 0), "alpha12": (0, 1), "alpha22": (1, 1)}

@@ -5,25 +5,21 @@ The model's matrices are kept apart by *family*, because each family carries its
 ``K_rail``
     the rail elements (:func:`semitrack.fe.element.rail_element`; loss factor ``eta_rail``);
 ``K_pad``
-    the pads (``track.support_stiffness`` in assembled form): slab track, a vertical spring
-    ``kv`` and a rotational spring ``kphi`` from the rail node to the ground; ballasted track,
-    ``kv`` between the rail node and the sleeper DOF and ``kphi`` from the rail rotation to the
-    ground (the sleeper does not rotate); loss factor ``eta_pad``;
+    the pads, from the rail to what carries them (:mod:`semitrack.fe.supports`); loss factor
+    ``eta_pad``;
 ``K_ballast``
     the ballast springs ``kb`` from each sleeper to the ground (loss factor ``eta_ballast``);
 ``M``
-    the rail's consistent mass, the sleeper masses and the attached systems' mass;
+    the rail's consistent mass, the foundation's masses and the ends' mass;
 ``K_end``, ``C_end``
-    the springs and (viscous) dampers of the equivalent systems attached at the ends.
+    the springs and (viscous) dampers of the ends' own systems.
 
-An equivalent system enters with the ``M, C, K`` of its own assembly
-(:meth:`semitrack.EquivalentSystem.matrices`): as it is at the right end; mirrored at the left
-end, where its rotation ``phi_1`` is ``-psi`` of the rail because the mirrored system's
-clockwise rotation is the rail's anticlockwise one. Its first two DOFs are the rail's
-``(w, psi)`` at the end node, the others are DOFs of the model (:mod:`semitrack.fe.mesh`).
+An end (:mod:`semitrack.fe.ends`) that is a system enters with its ``M, C, K``, mirrored at the
+left end; its first two DOFs are the rail's ``(w, psi)`` at the end node, the others are DOFs of
+the model (:mod:`semitrack.fe.mesh`).
 
 Every family is summed onto the same compressed-sparse-column pattern, the union of all their
-entries (and of the 2x2 blocks of ``"exact"`` ends, which are added per frequency), so a
+entries (and of the 2x2 blocks of the frequency-dependent ends, added per frequency), so a
 dynamic stiffness at one frequency is a linear combination of data vectors on a fixed pattern.
 
 A track is a chain: renumbered once by reverse Cuthill-McKee, the pattern is a narrow band
@@ -46,7 +42,9 @@ import scipy.sparse as sp
 from ..dynamics.factor import BandOrder, SparseLU, band_solve
 from ..model.tracks import Track
 from .element import rail_element
+from .ends import End
 from .mesh import SIDES, DofMap, Mesh, Side, rail_dof
+from .supports import Foundation
 
 __all__ = ["FAMILIES", "Pattern", "TrackMatrices", "assemble"]
 
@@ -60,13 +58,10 @@ class _Triplets:
     def __init__(self):
         self.rows, self.cols, self.vals = [], [], []
 
-    def add(self, idx, block, sign=None):
-        """Add the square ``block`` on the DOFs ``idx``, after ``diag(sign) block diag(sign)``."""
+    def add(self, idx, block):
+        """Add the square ``block`` on the DOFs ``idx``."""
         idx = np.asarray(idx)
         block = np.asarray(block, dtype=float)
-        if sign is not None:
-            s = np.asarray(sign, dtype=float)
-            block = s[:, None] * block * s[None, :]
         r, c = np.meshgrid(idx, idx, indexing="ij")
         self.rows.append(r.ravel())
         self.cols.append(c.ravel())
@@ -179,7 +174,7 @@ class TrackMatrices:
         ``{family: data vector on the pattern}`` for each of :data:`FAMILIES` (SI units).
     exact : dict
         ``{side: positions}`` of the row-major 2x2 block of the rail's ``(w, psi)`` at each
-        ``"exact"`` end, where the frequency-dependent end stiffness is added.
+        frequency-dependent end, where its end stiffness is added.
     """
 
     pattern: Pattern
@@ -194,40 +189,23 @@ def _add_rail(parts: dict, mesh: Mesh, track: Track) -> None:
     parts["M"].add_many(el_dofs, m_el)
 
 
-def _add_supports(parts: dict, mesh: Mesh, dofs: DofMap, track: Track) -> None:
-    w_sup, psi_sup = 2 * mesh.support_nodes, 2 * mesh.support_nodes + 1
-    if track.kphi > 0:
-        parts["K_pad"].add_many(psi_sup[:, None], np.array([[track.kphi]]))
-    if track.is_ballasted:
-        s_dofs = dofs.sleepers
-        pad = track.kv * np.array([[1.0, -1.0], [-1.0, 1.0]])
-        parts["K_pad"].add_many(np.stack([w_sup, s_dofs], 1), pad)
-        parts["K_ballast"].add_many(s_dofs[:, None], np.array([[track.kb]]))
-        parts["M"].add_many(s_dofs[:, None], np.array([[track.sleeper_mass]]))
-    else:
-        parts["K_pad"].add_many(w_sup[:, None], np.array([[track.kv]]))
-
-
-def _add_end_systems(parts: dict, mesh: Mesh, dofs: DofMap, system_matrices) -> None:
-    if not dofs.systems:
-        return
-    Ms, Cs, Ks = system_matrices
-    for side, internal in dofs.systems.items():
+def _add_ends(parts: dict, mesh: Mesh, dofs: DofMap, ends: Mapping[Side, End]) -> None:
+    """The ends' own ``M, C, K`` (equivalent systems, mirrored at the left) on their node and internal DOFs."""
+    for side, end in ends.items():
+        matrices = end.matrices(side)
+        if matrices is None:
+            continue
         node = mesh.end_node(side)
-        idx = np.concatenate(([rail_dof(node, "w"), rail_dof(node, "psi")], internal))
-        sign = np.ones(idx.size)
-        if side == "left":
-            sign[1] = -1.0  # mirrored system: its clockwise phi_1 is the rail's -psi
-        parts["M"].add(idx, Ms, sign)
-        parts["C_end"].add(idx, Cs, sign)
-        parts["K_end"].add(idx, Ks, sign)
+        idx = np.concatenate(([rail_dof(node, "w"), rail_dof(node, "psi")], dofs.systems.get(side, [])))
+        for family, X in zip(("M", "C_end", "K_end"), matrices):
+            parts[family].add(idx, X)
 
 
-def _exact_blocks(mesh: Mesh, dofs: DofMap, exact_sides: Iterable[Side]) -> dict:
-    """``{side: (rows, cols)}`` model indices of the 2x2 block at each exact end, row-major."""
+def _end_blocks(mesh: Mesh, dofs: DofMap, ends: Mapping[Side, End]) -> dict:
+    """``{side: (rows, cols)}`` model indices of the 2x2 block at each frequency-dependent end, row-major."""
     out = {}
     for side in SIDES:
-        if side in exact_sides:
+        if side in ends and ends[side].frequency_dependent:
             node = mesh.end_node(side)
             idx = dofs.index[[rail_dof(node, "w"), rail_dof(node, "psi")]]
             r, c = np.meshgrid(idx, idx, indexing="ij")
@@ -235,8 +213,8 @@ def _exact_blocks(mesh: Mesh, dofs: DofMap, exact_sides: Iterable[Side]) -> dict
     return out
 
 
-def assemble(track: Track, mesh: Mesh, dofs: DofMap, system_matrices=None,
-             exact_sides: Iterable[Side] = ()) -> TrackMatrices:
+def assemble(track: Track, mesh: Mesh, dofs: DofMap, foundation: Foundation,
+             ends: Mapping[Side, End]) -> TrackMatrices:
     """Assemble every family of a track model on one pattern (see the module docstring).
 
     Parameters
@@ -247,12 +225,11 @@ def assemble(track: Track, mesh: Mesh, dofs: DofMap, system_matrices=None,
         The rail's mesh.
     dofs : DofMap
         The DOF numbering; pinned DOFs (index -1) are dropped.
-    system_matrices : tuple of ndarray, optional
-        ``(M, C, K)`` of the equivalent system attached at the ends listed in ``dofs.systems``,
-        from :meth:`semitrack.EquivalentSystem.matrices`.
-    exact_sides : iterable of {"left", "right"}
-        Ends closed by the exact (frequency-dependent) end stiffness; their 2x2 blocks are put
-        in the pattern.
+    foundation : Foundation
+        What carries the pads (:mod:`semitrack.fe.supports`).
+    ends : mapping of side to End
+        The model's ends (:mod:`semitrack.fe.ends`): their own matrices are assembled, and the
+        2x2 blocks of the frequency-dependent ones are put in the pattern.
 
     Returns
     -------
@@ -260,11 +237,11 @@ def assemble(track: Track, mesh: Mesh, dofs: DofMap, system_matrices=None,
     """
     parts = {key: _Triplets() for key in FAMILIES}
     _add_rail(parts, mesh, track)
-    _add_supports(parts, mesh, dofs, track)
-    _add_end_systems(parts, mesh, dofs, system_matrices)
+    foundation.assemble(parts, mesh.support_nodes, dofs.foundation, track)
+    _add_ends(parts, mesh, dofs, ends)
     coo = {key: t.coo() for key, t in parts.items()}
     reduced = {key: (dofs.index[r], dofs.index[c], v) for key, (r, c, v) in coo.items()}
-    blocks = _exact_blocks(mesh, dofs, exact_sides)
+    blocks = _end_blocks(mesh, dofs, ends)
     pattern = Pattern.union(dofs.n_dof, [r for r, _, _ in reduced.values()] + [r for r, _ in blocks.values()],
                             [c for _, c, _ in reduced.values()] + [c for _, c in blocks.values()])
     data = {key: pattern.sum(*entries) for key, entries in reduced.items()}

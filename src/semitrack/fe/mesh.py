@@ -7,12 +7,12 @@ Geometry
     ``elements_per_bay / 2`` equal elements (so mid-spans and supports are nodes).
 
 DOF numbering (the *full* numbering, before pinned DOFs are removed)
-    the rail's ``(w, psi)`` per node, node by node (``2 j`` and ``2 j + 1``); then one vertical
-    DOF per sleeper (ballasted track, in the order of the supports); then the internal DOFs of
-    the equivalent system at the left end, then those at the right end (all of a system's DOFs
-    but its first two, which are the rail's ``(w, psi)`` at the end node). A pinned end removes
-    the rail's ``w`` at its end node; :attr:`DofMap.index` maps the full numbering to the
-    model's (``-1`` for a removed DOF).
+    the rail's ``(w, psi)`` per node, node by node (``2 j`` and ``2 j + 1``); then the
+    foundation's DOFs (one vertical DOF per sleeper on a ballasted track, in the order of the
+    supports; :mod:`semitrack.fe.supports`); then the internal DOFs of the end at the left, then
+    those at the right (an equivalent system's DOFs but its first two, which are the rail's
+    ``(w, psi)`` at the end node). A pinned end removes the rail's ``w`` at its end node;
+    :attr:`DofMap.index` maps the full numbering to the model's (``-1`` for a removed DOF).
 """
 
 from __future__ import annotations
@@ -120,16 +120,16 @@ class DofMap:
     ----------
     n_full : int
         Number of DOFs before pinned DOFs are removed.
-    sleepers : ndarray of int
-        Full indices of the sleeper DOFs (empty for a slab track).
+    foundation : ndarray of int
+        Full indices of the foundation's DOFs (the sleepers; empty for a rigid foundation).
     systems : dict
-        ``{side: full indices of the internal DOFs}`` of each attached equivalent system.
+        ``{side: full indices of the internal DOFs}`` of each end that has some.
     index : ndarray of int
         Model index of each full DOF; -1 where a pinned end removed it.
     """
 
     n_full: int
-    sleepers: np.ndarray
+    foundation: np.ndarray
     systems: Mapping[Side, np.ndarray]
     index: np.ndarray
 
@@ -144,17 +144,17 @@ def rail_dof(node: int, kind: Kind = "w") -> int:
     return 2 * node + (kind == "psi")
 
 
-def dof_map(mesh: Mesh, n_sleepers: int, system_dofs: Mapping[Side, int], pinned: Iterable[Side]) -> DofMap:
+def dof_map(mesh: Mesh, n_foundation: int, system_dofs: Mapping[Side, int], pinned: Iterable[Side]) -> DofMap:
     """Number the DOFs of a track model (see the module docstring).
 
     Parameters
     ----------
     mesh : Mesh
         The rail's mesh.
-    n_sleepers : int
-        Number of sleeper DOFs (one per support on a ballasted track, else 0).
+    n_foundation : int
+        Number of the foundation's DOFs (one per support on a ballasted track, else 0).
     system_dofs : mapping
-        ``{side: number of internal DOFs}`` of the equivalent system attached at that side.
+        ``{side: number of internal DOFs}`` of the end at that side (sides without any may be left out).
     pinned : iterable of {"left", "right"}
         Ends whose rail ``w`` is removed.
 
@@ -165,15 +165,15 @@ def dof_map(mesh: Mesh, n_sleepers: int, system_dofs: Mapping[Side, int], pinned
     Examples
     --------
     >>> dofs = dof_map(bay_mesh(0.6, 1, 1, 4), 2, {"right": 3}, ["left"])
-    >>> dofs.n_full, dofs.n_dof, dofs.sleepers.tolist(), dofs.systems["right"].tolist()
+    >>> dofs.n_full, dofs.n_dof, dofs.foundation.tolist(), dofs.systems["right"].tolist()
     (23, 22, [18, 19], [20, 21, 22])
     """
     n_rail = 2 * mesh.n_nodes
-    sleepers = n_rail + np.arange(n_sleepers)
-    n_full = n_rail + n_sleepers
+    foundation = n_rail + np.arange(n_foundation)
+    n_full = n_rail + n_foundation
     systems = {}
     for side in SIDES:
-        if side in system_dofs:
+        if system_dofs.get(side, 0):
             systems[side] = np.arange(n_full, n_full + system_dofs[side])
             n_full += system_dofs[side]
     keep = np.ones(n_full, dtype=bool)
@@ -181,4 +181,4 @@ def dof_map(mesh: Mesh, n_sleepers: int, system_dofs: Mapping[Side, int], pinned
         keep[rail_dof(mesh.end_node(side), "w")] = False
     index = np.full(n_full, -1, dtype=np.int64)
     index[keep] = np.arange(int(keep.sum()))
-    return DofMap(n_full=n_full, sleepers=sleepers, systems=systems, index=index)
+    return DofMap(n_full=n_full, foundation=foundation, systems=systems, index=index)

@@ -9,16 +9,13 @@ a complex stiffness, in the time domain a viscous damper (:mod:`semitrack.fe.dam
 
 Ends
     ``"pinned"`` (w = 0, psi free), ``"free"``, ``"equivalent"`` (an :class:`EquivalentSystem`'s
-    ``M, C, K`` attached: as is at the right end, mirrored at the left end; its internal DOFs
-    become extra DOFs of the model), ``"boundary"`` (a :class:`~semitrack.BroadbandBoundary`:
-    its rational end stiffness in the frequency domain; in the time domain its static stiffness
-    and dashpot join ``K`` and ``C`` at the end DOFs and its first-order states are integrated
-    alongside, see :meth:`FETrack.boundary_states`) and ``"exact"`` (the frequency-dependent 2x2
-    dynamic stiffness of the missing semi-infinite track from
-    :func:`semitrack.methods.transfer.end_stiffness`; frequency domain only).
-
-A left end sees the mirror image of the right one: with ``P = diag(1, -1)`` (the mirror turns
-the clockwise rotation round), its end stiffness is ``P K P``.
+    ``M, C, K`` attached; its internal DOFs become extra DOFs of the model), ``"boundary"`` (a
+    :class:`~semitrack.BroadbandBoundary`: its rational end stiffness in the frequency domain,
+    in time its static stiffness, dashpot and first-order states, see
+    :meth:`FETrack.boundary_states`) and ``"exact"`` (the 2x2 dynamic stiffness of the missing
+    semi-infinite track; frequency domain only): one class each in :mod:`semitrack.fe.ends`,
+    which also mirrors a left end. What carries the pads is a class of
+    :mod:`semitrack.fe.supports`.
 
 Damping follows the track: loss factors as complex stiffness (``damping="hysteretic"``), or
 their viscous equivalents (``damping="viscous"``), which are exactly the dampers of
@@ -26,8 +23,6 @@ their viscous equivalents (``damping="viscous"``), which are exactly the dampers
 """
 
 from __future__ import annotations
-
-from typing import Literal
 
 import numpy as np
 import scipy.sparse as sp
@@ -40,18 +35,15 @@ from ..dynamics.points import PointSet
 from ..dynamics.states import StateBlock
 from ..dynamics.system import SecondOrderSystem
 from ..equivalent.systems import EquivalentSystem
-from ..methods.transfer import end_stiffness
 from ..model.tracks import Track, require_track
 from .assembly import TrackMatrices, assemble
 from .damping import reference_frequencies
 from .element import shear_parameter, timoshenko_shape_functions
-from .mesh import KINDS, SIDES, DofMap, Kind, Mesh, bay_mesh, dof_map, rail_dof
+from .ends import FREE, PINNED, End, EndName, FarEndName, end_kinds, make_far_end, model_ends
+from .mesh import KINDS, DofMap, Kind, Mesh, bay_mesh, dof_map, rail_dof
+from .supports import Foundation, foundation_of
 
 __all__ = [
-    "ENDS",
-    "End",
-    "FarEnd",
-    "FAR_ENDS",
     "FETrack",
     "TruncatedTrack",
     "require_model",
@@ -62,32 +54,6 @@ __all__ = [
 #: Most rail elements of one model: ~400 k DOFs, whose sparse factorisation takes ~0.5 s per
 #: frequency (the book's longest reference track has 19 200).
 MAX_ELEMENTS = 200_000
-#: End conditions of a finite track model.
-ENDS = ("pinned", "free", "equivalent", "boundary", "exact")
-End = Literal["pinned", "free", "equivalent", "boundary", "exact"]
-#: The mirror of an end: w unchanged, the clockwise rotation reversed.
-MIRROR = np.diag([1.0, -1.0])
-#: End conditions of the far end of a long track.
-FarEnd = Literal["pinned", "free", "exact"]
-FAR_ENDS = ("pinned", "free", "exact")
-
-
-def _check_system(left: str, right: str, system, n_bays: int) -> None:
-    """The rules that tie the ends to the system and to the number of bays."""
-    ends = {left, right}
-    if {"equivalent", "boundary"} <= ends:
-        raise ValueError("one model takes one system: 'equivalent' and 'boundary' ends cannot be mixed")
-    for end, kind, article in (("equivalent", EquivalentSystem, "an"), ("boundary", BroadbandBoundary, "a")):
-        if end in ends and not isinstance(system, kind):
-            raise TypeError(f"system must be {article} {kind.__name__} for {article} {end!r} end, "
-                            f"got {type(system).__name__}")
-    if system is not None and not ends & {"equivalent", "boundary"}:
-        raise ValueError(f"system is only used with an 'equivalent' or 'boundary' end, got ends ({left!r}, {right!r})")
-    if n_bays == 0 and not (ends <= {"equivalent", "exact", "boundary"}):
-        raise ValueError(f"a model with zero bays needs 'equivalent', 'boundary' or 'exact' ends, got ends "
-                         f"({left!r}, {right!r})")
-
-
 class FETrack:
     """A finite FE model of the rail on discrete supports between two mid-span cuts.
 
@@ -131,18 +97,15 @@ class FETrack:
     (2, 2)
     """
 
-    def __init__(self, track: Track, n_left: int, n_right: int, left: End = "pinned", right: End = "pinned",
-                 system: EquivalentSystem | BroadbandBoundary | None = None, elements_per_bay: int = 12):
+    def __init__(self, track: Track, n_left: int, n_right: int, left: EndName | End = PINNED,
+                 right: EndName | End = PINNED, system: EquivalentSystem | BroadbandBoundary | None = None,
+                 elements_per_bay: int = 12):
         self.track = require_track(track)
-        if self.track.has_flexible_slab:
-            raise NotImplementedError(
-                "the finite-element track models hold pads on a rigid foundation or on sleepers; a flexible "
-                "slab (track.slab) is not modelled there yet: use the exact method (semi_infinite_receptance, "
-                "point_receptance), which handles it")
+        self.foundation: Foundation = foundation_of(self.track)
         self.n_left = check_int_at_least("n_left", n_left, 0)
         self.n_right = check_int_at_least("n_right", n_right, 0)
-        self.left = check_choice("left", left, ENDS)
-        self.right = check_choice("right", right, ENDS)
+        self.ends: dict[str, End] = model_ends(left, right, system, self.n_left + self.n_right)
+        self.left, self.right = self.ends["left"].name, self.ends["right"].name
         ne = check_int_at_least("elements_per_bay", elements_per_bay, 2)
         if ne % 2:
             raise ValueError(f"elements_per_bay must be even (mid-spans are nodes), got {ne}")
@@ -150,21 +113,17 @@ class FETrack:
         n_elements = ne * (self.n_left + self.n_right)
         check_work(n_elements, MAX_ELEMENTS, f"{self.n_left + self.n_right} bays (n_bays, or n_left + n_right) x "
                    f"elements_per_bay = {ne} give {n_elements} elements", "use fewer bays or elements per bay")
-        _check_system(self.left, self.right, system, self.n_left + self.n_right)
         self.system = system
         self.mesh: Mesh = bay_mesh(track.spacing, self.n_left, self.n_right, ne)
-        self.dofs: DofMap = self._dof_map()
-        equivalent = system.matrices() if isinstance(system, EquivalentSystem) else None
-        self._parts: TrackMatrices = assemble(track, self.mesh, self.dofs, equivalent,
-                                              self._sides("exact") + self._sides("boundary"))
+        self.dofs: DofMap = dof_map(self.mesh, self.foundation.n_dofs(self.mesh.support_nodes.size),
+                                    {side: end.internal_dofs for side, end in self.ends.items()},
+                                    [side for side, end in self.ends.items() if end.removes_w])
+        self._parts: TrackMatrices = assemble(track, self.mesh, self.dofs, self.foundation, self.ends)
 
-    def _sides(self, end: str) -> list[str]:
-        return [side for side in SIDES if getattr(self, side) == end]
-
-    def _dof_map(self) -> DofMap:
-        n_sleepers = self.mesh.support_nodes.size if self.track.is_ballasted else 0
-        internal = {side: self.system.n_dof - 2 for side in self._sides("equivalent")}
-        return dof_map(self.mesh, n_sleepers, internal, self._sides("pinned"))
+    def _end_dofs(self, side: str) -> np.ndarray:
+        """The model DOFs ``(w, psi)`` of the rail at an end (-1 where removed)."""
+        node = self.mesh.end_node(side)
+        return self.dofs.index[[rail_dof(node, "w"), rail_dof(node, "psi")]]
 
     # --------------------------------------------------------------------------------------------
     @property
@@ -194,8 +153,8 @@ class FETrack:
 
     @property
     def sleeper_dofs(self) -> np.ndarray:
-        """Indices of the sleeper DOFs (ballasted track; empty otherwise)."""
-        return self.dofs.index[self.dofs.sleepers]
+        """Indices of the foundation's DOFs: the sleepers of a ballasted track (empty otherwise)."""
+        return self.dofs.index[self.dofs.foundation]
 
     def _csc(self, data: np.ndarray) -> sp.csc_matrix:
         return self._parts.pattern.csc(data)
@@ -365,16 +324,9 @@ class FETrack:
         return self._csc(self._parts.data["M"].copy())
 
     def _exact_blocks(self, omega: np.ndarray) -> dict:
-        """``{side: (n_f, 2, 2)}`` end stiffness of each "exact" or "boundary" end."""
-        out = {}
-        if "exact" in (self.left, self.right):
-            cell = self.track.cell()
-            k_right, k_left = end_stiffness(cell, omega, cell.central_section)
-            out.update({side: (k_right if side == "right" else k_left) for side in self._sides("exact")})
-        if "boundary" in (self.left, self.right):
-            k = self.system.dynamic_stiffness(omega / (2 * np.pi))
-            out.update({side: (k if side == "right" else MIRROR @ k @ MIRROR) for side in self._sides("boundary")})
-        return out
+        """``{side: (n_f, 2, 2)}`` end stiffness of each frequency-dependent end (exact, boundary)."""
+        return {side: end.stiffness(self.track, omega, side) for side, end in self.ends.items()
+                if end.frequency_dependent}
 
     def _z_data(self, k0: np.ndarray, omega: float, exact: dict, i: int) -> np.ndarray:
         """Data of ``Z = K* + i omega C_end - omega^2 M`` (+ the exact blocks at frequency i)."""
@@ -494,18 +446,16 @@ class FETrack:
             ``K`` and ``C`` include the boundary's static stiffness and dashpot at the end DOFs;
             its states come from :meth:`boundary_states`.
         """
-        if "exact" in (self.left, self.right):
-            raise ValueError("ends='exact' is frequency dependent and has no time-domain matrices; "
-                             "use 'boundary', 'equivalent', 'pinned' or 'free'")
+        time = {side: end.time_matrices(side) for side, end in self.ends.items()}
         fr = reference_frequencies(self.track, f_ref)
         tr, d = self.track, self._parts.data
         K = d["K_rail"] + d["K_pad"] + d["K_ballast"] + d["K_end"]
         C = (tr.eta_rail * d["K_rail"] / (2 * np.pi * fr["rail"]) + tr.eta_pad * d["K_pad"] / (2 * np.pi * fr["pad"])
              + tr.eta_ballast * d["K_ballast"] / (2 * np.pi * fr["ballast"]) + d["C_end"])
-        for side in self._sides("boundary"):
-            mirror = MIRROR if side == "left" else np.eye(2)
-            np.add.at(K, self._parts.exact[side], (mirror @ self.system.model.K0 @ mirror).ravel())
-            np.add.at(C, self._parts.exact[side], (mirror @ self.system.model.D @ mirror).ravel())
+        for side, parts in time.items():
+            if parts is not None:
+                np.add.at(K, self._parts.exact[side], parts[0].ravel())
+                np.add.at(C, self._parts.exact[side], parts[1].ravel())
         return self._csc(d["M"].copy()), self._csc(C), self._csc(K)
 
     def boundary_states(self) -> list[StateBlock]:
@@ -519,14 +469,7 @@ class FETrack:
             on the rail are ``-P (K0 P u + D P du/dt + C x)`` with ``dx/dt = A x + B P du/dt``;
             :meth:`matrices` already holds the ``K0`` and ``D`` parts.
         """
-        out = []
-        for side in self._sides("boundary"):
-            ss = self.system.state_space()
-            node = self.mesh.end_node(side)
-            dofs = self.dofs.index[[rail_dof(node, "w"), rail_dof(node, "psi")]]
-            out.append(StateBlock(dofs=dofs, A=ss.A, B=ss.B, C=ss.C, port=MIRROR if side == "left" else np.eye(2),
-                                  label=f"broadband boundary, {side} end"))
-        return out
+        return [block for side, end in self.ends.items() for block in end.states(self._end_dofs(side), side)]
 
     def time_domain_system(self, f_ref: float | dict | None = None) -> SecondOrderSystem:
         """The model as a second-order system for the time domain: :meth:`matrices` and :meth:`boundary_states`.
@@ -591,12 +534,12 @@ class TruncatedTrack(FETrack):
     True
     """
 
-    def __init__(self, track: Track, n_bays: int, ends: End = "pinned",
+    def __init__(self, track: Track, n_bays: int, ends: EndName | End = PINNED,
                  system: EquivalentSystem | BroadbandBoundary | None = None, elements_per_bay: int = 12):
         n = check_int_at_least("n_bays", n_bays, 0)
-        check_choice("ends", ends, ENDS)
-        if n == 0 and ends not in ("equivalent", "boundary", "exact"):
-            raise ValueError(f"n_bays must be >= 1 with ends={ends!r}, got 0")
+        kind = type(ends) if isinstance(ends, End) else end_kinds(ends)[0]
+        if n == 0 and not kind.closes_alone:
+            raise ValueError(f"n_bays must be >= 1 with ends={kind.name!r}, got 0")
         self.n_bays = n
         self.ends = ends
         super().__init__(track, n, n, ends, ends, system, elements_per_bay)
@@ -606,7 +549,7 @@ class TruncatedTrack(FETrack):
 # Long tracks: the third route to alpha and w1
 # ------------------------------------------------------------------------------------------------
 def fe_semi_infinite_receptance(track: Track, f: ArrayLike, n_bays: int = 200, elements_per_bay: int = 12,
-                                far_end: FarEnd = "pinned") -> np.ndarray:
+                                far_end: FarEndName | End = PINNED) -> np.ndarray:
     """End receptance alpha of a long semi-infinite FE track cut at a mid-span.
 
     The rail starts at the cut (node 0, loaded by F and M), the first support at d/2; the
@@ -644,13 +587,13 @@ def fe_semi_infinite_receptance(track: Track, f: ArrayLike, n_bays: int = 200, e
     >>> bool(abs(a[0, 0] / st.semi_infinite_receptance(st.slab_track(), 100.0)[0, 0] - 1) < 0.01)
     True
     """
-    check_choice("far_end", far_end, FAR_ENDS)
+    end = make_far_end(far_end)
     n = check_int_at_least("n_bays", n_bays, 1)
-    return FETrack(track, 0, n, "free", far_end, elements_per_bay=elements_per_bay).receptance(f, 0.0)
+    return FETrack(track, 0, n, FREE, end, elements_per_bay=elements_per_bay).receptance(f, 0.0)
 
 
 def fe_central_receptance(track: Track, f: ArrayLike, n_bays: int = 200, elements_per_bay: int = 12,
-                          far_end: FarEnd = "pinned") -> np.ndarray:
+                          far_end: FarEndName | End = PINNED) -> np.ndarray:
     """2x2 receptance at the central cross-section (a mid-span) of a long complete FE track.
 
     ``n_bays`` bays on each side; ``[..., 0, 0]`` is w1 and ``[..., 1, 1]`` is psi2 of the
@@ -681,6 +624,6 @@ def fe_central_receptance(track: Track, f: ArrayLike, n_bays: int = 200, element
     >>> bool(abs(h[0, 0] / st.central_response(st.slab_track(), 100.0).w1 - 1) < 0.01)
     True
     """
-    check_choice("far_end", far_end, FAR_ENDS)
+    end = make_far_end(far_end)
     n = check_int_at_least("n_bays", n_bays, 1)
-    return TruncatedTrack(track, n, far_end, elements_per_bay=elements_per_bay).central_receptance(f)
+    return TruncatedTrack(track, n, end, elements_per_bay=elements_per_bay).central_receptance(f)

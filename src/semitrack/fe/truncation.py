@@ -18,7 +18,7 @@ Time domain
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Literal
 
 import numpy as np
@@ -27,13 +27,13 @@ from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies, check_choice
 from ..boundary.fitting import BroadbandBoundary
-from ..equivalent.assembly import dynamic_stiffness, scaled_solve
+from ..equivalent.assembly import scaled_solve
 from ..equivalent.systems import EquivalentSystem
 from ..methods.receptance import central_response
-from ..methods.transfer import end_stiffness
 from ..model.tracks import Track
+from .ends import EXACT, FREE, PINNED, End, EndName, EquivalentEnd, end_kinds, make_end
 from .mesh import KINDS, SIDES, rail_dof
-from .models import ENDS, MIRROR, End, TruncatedTrack, _check_system
+from .models import TruncatedTrack
 from .timedomain import moving_load_response, pulse_response, relative_l2_error
 
 __all__ = [
@@ -48,8 +48,19 @@ __all__ = [
     "time_domain_study",
 ]
 
-#: ``{label: (ends, system)}``: the end conditions of a study, by the label of its rows.
-EndsSpec = Mapping[str, tuple[End, EquivalentSystem | None]]
+#: ``{label: end}``: the end conditions of a study, by the label of its rows; an end is an
+#: :class:`~semitrack.fe.ends.End` or a pair ``(name, system)`` for :func:`~semitrack.fe.ends.make_end`.
+EndsSpec = Mapping[str, End | tuple[EndName, EquivalentSystem | BroadbandBoundary | None]]
+
+
+def _as_end(spec: End | tuple) -> End:
+    if isinstance(spec, End):
+        return spec
+    try:
+        kind, system = spec
+    except (TypeError, ValueError):
+        raise TypeError(f"an end of a study must be an End or a pair (name, system), got {spec!r}") from None
+    return make_end(kind, system)
 
 
 def compared_ends(paper_system: EquivalentSystem, our_system: EquivalentSystem) -> dict:
@@ -65,8 +76,8 @@ def compared_ends(paper_system: EquivalentSystem, our_system: EquivalentSystem) 
     Returns
     -------
     dict
-        ``{"pinned", "free", "paper system", "our system", "exact end stiffness"}`` to
-        ``(ends, system)`` pairs for :func:`truncation_study`.
+        ``{"pinned", "free", "paper system", "our system", "exact end stiffness"}`` to the ends
+        (:mod:`semitrack.fe.ends`) for :func:`truncation_study`.
 
     Examples
     --------
@@ -74,8 +85,10 @@ def compared_ends(paper_system: EquivalentSystem, our_system: EquivalentSystem) 
     >>> list(compared_ends(st.paper_table4(), st.paper_table4()))
     ['pinned', 'free', 'paper system', 'our system', 'exact end stiffness']
     """
-    return {"pinned": ("pinned", None), "free": ("free", None), "paper system": ("equivalent", paper_system),
-            "our system": ("equivalent", our_system), "exact end stiffness": ("exact", None)}
+    paper = EquivalentEnd(label="paper system", equivalent=paper_system)
+    ours = EquivalentEnd(label="our system", equivalent=our_system)
+    exact = replace(EXACT, label="exact end stiffness")
+    return {end.label: end for end in (PINNED, FREE, paper, ours, exact)}
 
 
 def truncation_study(track: Track, f: ArrayLike, n_bays: Sequence[int] = (1, 2, 5, 10, 20, 40, 80),
@@ -91,9 +104,10 @@ def truncation_study(track: Track, f: ArrayLike, n_bays: Sequence[int] = (1, 2, 
     n_bays : sequence of int
         Bays on each side of the centre.
     ends : dict, optional
-        Label -> ``(ends, system)`` for :class:`TruncatedTrack`, e.g.
-        ``{"pinned": ("pinned", None), "paper system": ("equivalent", paper_table4())}`` or
-        :func:`compared_ends`. Default: pinned, free and exact ends.
+        Label -> end (an :class:`~semitrack.fe.ends.End`, or ``(name, system)``) for
+        :class:`TruncatedTrack`, e.g. ``{"pinned": ("pinned", None), "paper system":
+        ("equivalent", paper_table4())}`` or :func:`compared_ends`. Default: pinned, free and
+        exact ends.
     elements_per_bay : int
         FE mesh (12 gives about 0.5 % discretisation error up to 3 kHz).
 
@@ -110,7 +124,7 @@ def truncation_study(track: Track, f: ArrayLike, n_bays: Sequence[int] = (1, 2, 
     ((6, 4), ['pinned', 'free', 'exact'])
     """
     f = np.atleast_1d(as_frequencies(f))
-    ends = ends or {"pinned": ("pinned", None), "free": ("free", None), "exact": ("exact", None)}
+    ends = ends or {end.label: end for end in (PINNED, FREE, EXACT)}
     w1 = central_response(track, f).w1
     by_bays = {n: central_w1_by_ends(track, f, n, ends, elements_per_bay) for n in n_bays}
     rows = []
@@ -143,7 +157,7 @@ def central_w1_by_ends(track: Track, f: ArrayLike, n_bays: int, ends: EndsSpec,
     n_bays : int
         Bays on each side of the centre (>= 1; with 0 each model is solved on its own).
     ends : dict
-        Label -> ``(ends, system)`` as in :func:`truncation_study`.
+        Label -> end as in :func:`truncation_study`.
     elements_per_bay : int
         FE mesh.
 
@@ -153,13 +167,11 @@ def central_w1_by_ends(track: Track, f: ArrayLike, n_bays: int, ends: EndsSpec,
         Label -> w1 (m/N), complex, one value per frequency.
     """
     f = np.atleast_1d(as_frequencies(f))
-    for kind, system in ends.values():
-        check_choice("ends", kind, ENDS)
-        _check_system(kind, kind, system, 2 * n_bays)
+    ends = {label: _as_end(spec) for label, spec in ends.items()}
     if n_bays == 0:
-        return {label: TruncatedTrack(track, 0, kind, system=system, elements_per_bay=elements_per_bay)
-                .central_receptance(f)[:, 0, 0] for label, (kind, system) in ends.items()}
-    free = TruncatedTrack(track, n_bays, "free", elements_per_bay=elements_per_bay)
+        return {label: TruncatedTrack(track, 0, end, elements_per_bay=elements_per_bay).central_receptance(f)[:, 0, 0]
+                for label, end in ends.items()}
+    free = TruncatedTrack(track, n_bays, FREE, elements_per_bay=elements_per_bay)
     keys = [free.dof(0.0, "w"), free.dof(0.0, "psi")]
     for side in SIDES:  # left end (w, psi), then right end
         node = free.mesh.end_node(side)
@@ -168,7 +180,7 @@ def central_w1_by_ends(track: Track, f: ArrayLike, n_bays: int, ends: EndsSpec,
     rhs[keys, np.arange(len(keys))] = 1.0
     D = _scaled_inverse(free.solve(f, rhs)[:, keys, :])  # (n_f, 6, 6): the chain condensed
     omega = 2 * np.pi * f
-    return {label: _with_ends(track, D, f, omega, kind, system) for label, (kind, system) in ends.items()}
+    return {label: _with_ends(track, D, omega, end) for label, end in ends.items()}
 
 
 def _scaled_inverse(F: np.ndarray) -> np.ndarray:
@@ -182,45 +194,27 @@ def _scaled_inverse(F: np.ndarray) -> np.ndarray:
 _END_ROWS = {"left": slice(2, 4), "right": slice(4, 6)}
 
 
-def _with_ends(track: Track, D: np.ndarray, f: np.ndarray, omega: np.ndarray, kind: str, system) -> np.ndarray:
-    """w1 at the centre of the condensed chain ``D`` closed by two ends of one kind."""
-    Z = D.copy()
-    if kind in ("exact", "boundary"):
-        if kind == "exact":
-            cell = track.cell()
-            k_right, k_left = end_stiffness(cell, omega, cell.central_section)
-        else:
-            k_right = system.dynamic_stiffness(f)
-            k_left = MIRROR @ k_right @ MIRROR
-        Z[:, _END_ROWS["left"], _END_ROWS["left"]] += k_left
-        Z[:, _END_ROWS["right"], _END_ROWS["right"]] += k_right
-    elif kind == "equivalent":
-        Z = _attach_systems(Z, system, omega)
-    keep = np.ones(Z.shape[1], dtype=bool)
-    if kind == "pinned":
-        keep[[_END_ROWS["left"].start, _END_ROWS["right"].start]] = False  # w = 0 at both ends
-    Z = Z[:, keep][:, :, keep]
-    load = np.zeros((Z.shape[0], Z.shape[1], 1))
-    load[:, 0, 0] = 1.0
-    return scaled_solve(Z, load[0])[:, 0, 0]
+def _with_ends(track: Track, D: np.ndarray, omega: np.ndarray, end: End) -> np.ndarray:
+    """w1 at the centre of the condensed chain ``D`` closed by ``end`` at both sides.
 
-
-def _attach_systems(D: np.ndarray, system: EquivalentSystem, omega: np.ndarray) -> np.ndarray:
-    """The condensed chain with the equivalent system attached at both ends (its internal DOFs appended)."""
-    M, C, K = system.matrices()
-    Zs = dynamic_stiffness(M, C, K, omega)  # (n_f, ns, ns), first two DOFs (w1, phi_1) at the rail
-    ns = Zs.shape[1]
-    n_f, n0 = D.shape[0], D.shape[1]
-    Z = np.zeros((n_f, n0 + 2 * (ns - 2), n0 + 2 * (ns - 2)), dtype=complex)
+    Each end adds its dynamic stiffness on its DOFs (the rail's ``(w, psi)`` at the end, then
+    its internal DOFs, appended), as :class:`TruncatedTrack` assembles it; a pinned end removes
+    its ``w``.
+    """
+    n0, m = D.shape[1], end.internal_dofs
+    Z = np.zeros((D.shape[0], n0 + 2 * m, n0 + 2 * m), dtype=complex)
     Z[:, :n0, :n0] = D
     for k, side in enumerate(SIDES):
-        sign = np.ones(ns)
-        if side == "left":
-            sign[1] = -1.0  # mirrored system: its clockwise phi_1 is the rail's -psi
         rows = _END_ROWS[side]
-        idx = np.concatenate((np.arange(rows.start, rows.stop), n0 + k * (ns - 2) + np.arange(ns - 2)))
-        Z[:, idx[:, None], idx[None, :]] += sign[:, None] * Zs * sign[None, :]
-    return Z
+        idx = np.concatenate((np.arange(rows.start, rows.stop), n0 + k * m + np.arange(m)))
+        Z[:, idx[:, None], idx[None, :]] += end.dynamic_stiffness(track, omega, side)
+    keep = np.ones(Z.shape[1], dtype=bool)
+    if end.removes_w:
+        keep[[_END_ROWS["left"].start, _END_ROWS["right"].start]] = False
+    Z = Z[:, keep][:, :, keep]
+    load = np.zeros((Z.shape[1], 1))
+    load[0, 0] = 1.0
+    return scaled_solve(Z, load)[:, 0, 0]
 
 
 def bays_needed(study: pd.DataFrame, median: float = 0.05, maximum: float = 0.10) -> pd.Series:
@@ -279,7 +273,7 @@ def truncated_w1(track: Track, f: ArrayLike, n_bays: int, ends: EndsSpec,
     n_bays : int
         Bays on each side of the centre of every truncated model.
     ends : dict
-        Label -> ``(ends, system)`` as in :func:`truncation_study`.
+        Label -> end as in :func:`truncation_study`.
     elements_per_bay : int
         FE mesh.
 
@@ -299,12 +293,12 @@ def truncated_w1(track: Track, f: ArrayLike, n_bays: int, ends: EndsSpec,
 # Time domain
 # ------------------------------------------------------------------------------------------------
 def truncation_errors(track: Track, system: EquivalentSystem | None, n_bays: int = 10, reference_bays: int = 200,
-                      excitation: Literal["pulse", "moving"] = "pulse", ends: Sequence[End] = ("pinned", "equivalent"),
+                      excitation: Literal["pulse", "moving"] = "pulse", ends: Sequence[EndName | End] | None = None,
                       elements_per_bay: int = 8, boundary: BroadbandBoundary | None = None, **kwargs) -> dict:
     """Time-domain error of truncated models against a long reference track.
 
     Builds ``TruncatedTrack(track, n_bays, ends=e, system=...)`` for each end condition in
-    ``ends`` and a reference ``TruncatedTrack(track, reference_bays, "pinned")`` (long enough that
+    ``ends`` and a pinned reference ``TruncatedTrack(track, reference_bays)`` (long enough that
     no end reflection returns within the window: check by doubling it), all with the same mesh,
     runs the same excitation on each and compares the outputs.
 
@@ -319,8 +313,9 @@ def truncation_errors(track: Track, system: EquivalentSystem | None, n_bays: int
     excitation : {"pulse", "moving"}
         :func:`~semitrack.fe.timedomain.pulse_response` or
         :func:`~semitrack.fe.timedomain.moving_load_response`.
-    ends : sequence of str
-        End conditions of the truncated models ("pinned", "free", "equivalent", "boundary").
+    ends : sequence of str or End, optional
+        End conditions of the truncated models ("pinned", "free", "equivalent", "boundary", or
+        :mod:`semitrack.fe.ends` objects); default pinned and equivalent.
     elements_per_bay : int
         Mesh of all models.
     boundary : BroadbandBoundary, optional
@@ -337,14 +332,21 @@ def truncation_errors(track: Track, system: EquivalentSystem | None, n_bays: int
     """
     check_choice("excitation", excitation, ("pulse", "moving"))
     run = pulse_response if excitation == "pulse" else moving_load_response
-    ref_model = TruncatedTrack(track, reference_bays, "pinned", elements_per_bay=elements_per_bay)
+    ends = (PINNED.name, EquivalentEnd.name) if ends is None else ends
+    ref_model = TruncatedTrack(track, reference_bays, PINNED, elements_per_bay=elements_per_bay)
     out = {"reference": run(ref_model, **kwargs), "errors": {}}
-    for e in ends:
-        m = TruncatedTrack(track, n_bays, e, system={"equivalent": system, "boundary": boundary}.get(e),
-                           elements_per_bay=elements_per_bay)
-        out[e] = run(m, **kwargs)
-        out["errors"][e] = relative_l2_error(out[e].u, out["reference"].u)
+    for spec in ends:
+        end, key = (spec, spec.label) if isinstance(spec, End) else (_named_end(spec, system, boundary), spec)
+        out[key] = run(TruncatedTrack(track, n_bays, end, elements_per_bay=elements_per_bay), **kwargs)
+        out["errors"][key] = relative_l2_error(out[key].u, out["reference"].u)
     return out
+
+
+def _named_end(name: str, system, boundary) -> End:
+    """The end ``name`` with whichever of ``system`` and ``boundary`` its kind takes."""
+    (kind,) = end_kinds(name)
+    match = [s for s in (system, boundary) if kind.system_type is not None and isinstance(s, kind.system_type)]
+    return make_end(name, match[0] if match else (system if kind.system_type is not None else None))
 
 
 @dataclass(frozen=True)
@@ -395,7 +397,7 @@ def time_domain_study(track: Track, system: EquivalentSystem, n_bays: int = 10, 
     moving = truncation_errors(track, system, excitation="moving", x_start=-moving_bays * d, x_end=moving_bays * d,
                                **common)
     cases = (("pulse, x = 0", pulse, 0), ("pulse, 3 bays away", pulse, 1), ("moving load, under the load", moving, 0))
-    rows = [(track.name, case, 100 * res["errors"]["pinned"][column], 100 * res["errors"]["equivalent"][column])
-            for case, res, column in cases]
+    rows = [(track.name, case, 100 * res["errors"][PINNED.name][column],
+             100 * res["errors"][EquivalentEnd.name][column]) for case, res, column in cases]
     errors = pd.DataFrame(rows, columns=["track", "case", "pinned ends: L2 error (%)", "equivalent ends: L2 error (%)"])
     return TimeDomainStudy(pulse=pulse, moving=moving, errors=errors)

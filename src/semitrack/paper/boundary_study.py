@@ -22,7 +22,7 @@ Errors are relative (``|approx - reference| / |reference|``); tables give them i
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pandas as pd
@@ -30,10 +30,11 @@ from numpy.typing import ArrayLike
 from scipy.optimize import linprog
 
 from ..base.checks import as_frequencies, check_band, check_int_at_least, check_positive
-from ..base.conventions import ELEMENTS
+from ..base.conventions import ELEMENTS, EXACT_LABEL
 from ..boundary.fitting import BroadbandBoundary, fit_boundary, track_end_limits
 from ..equivalent.metrics import error_band_grid, error_summary, receptance_errors
 from ..equivalent.systems import EquivalentSystem
+from ..fe.ends import EXACT, PINNED, BoundaryEnd, EquivalentEnd
 from ..fe.truncation import truncation_errors
 from ..methods.receptance import semi_infinite_receptance
 from ..model.tracks import Track, ballasted_track, require_track, slab_track
@@ -245,7 +246,7 @@ def receptance_curves(track: Track, models: Mapping[str, object], f: ArrayLike) 
         rad/(N m)).
     """
     f = np.atleast_1d(as_frequencies(f))
-    out = {"exact": semi_infinite_receptance(require_track(track), f)}
+    out = {EXACT_LABEL: semi_infinite_receptance(require_track(track), f)}
     out.update({label: model.receptance(f) for label, model in models.items()})
     return out
 
@@ -491,14 +492,14 @@ def compared_boundary_ends(boundary: BroadbandBoundary, system: EquivalentSystem
     Returns
     -------
     dict
-        ``{"pinned", ["N = 5 system",] "broadband boundary", "exact end stiffness"}`` to
-        ``(ends, system)`` pairs for :func:`semitrack.fe.truncation.truncated_w1`.
+        ``{"pinned", ["N = 5 system",] "broadband boundary", "exact end stiffness"}`` to the ends
+        (:mod:`semitrack.fe.ends`) for :func:`semitrack.fe.truncation.truncated_w1`.
     """
-    ends = {"pinned": ("pinned", None)}
+    ends = [PINNED]
     if system is not None:
-        ends["N = 5 system"] = ("equivalent", system)
-    ends.update({"broadband boundary": ("boundary", boundary), "exact end stiffness": ("exact", None)})
-    return ends
+        ends.append(EquivalentEnd(label="N = 5 system", equivalent=system))
+    ends += [BoundaryEnd(label="broadband boundary", boundary=boundary), replace(EXACT, label="exact end stiffness")]
+    return {end.label: end for end in ends}
 
 
 def w1_error_table(curves: Mapping[tuple, pd.DataFrame], bands: Mapping[tuple, tuple[float, float]],
@@ -565,9 +566,9 @@ def pulse_study(track: Track, boundary: BroadbandBoundary, n_bays: int = 10, ref
         ``"pinned"``, ``"boundary"`` (TimeHistory, ``t`` in s, ``u`` in m per N) and ``"errors"``
         (relative L2 errors per position, -).
     """
-    return truncation_errors(track, None, n_bays=n_bays, reference_bays=reference_bays, ends=("pinned", "boundary"),
-                             boundary=boundary, elements_per_bay=8, positions=(0.0, 3 * track.spacing),
-                             f_max=f_max, dt=dt, t_end=t_end)
+    return truncation_errors(track, None, n_bays=n_bays, reference_bays=reference_bays,
+                             ends=(PINNED.name, BoundaryEnd.name), boundary=boundary, elements_per_bay=8,
+                             positions=(0.0, 3 * track.spacing), f_max=f_max, dt=dt, t_end=t_end)
 
 
 def pulse_error_table(results: Mapping[str, dict]) -> pd.DataFrame:
@@ -587,7 +588,7 @@ def pulse_error_table(results: Mapping[str, dict]) -> pd.DataFrame:
     rows = {}
     for name, res in results.items():
         for j, label in enumerate(res["reference"].labels):
-            rows[(name, label)] = (100 * res["errors"]["pinned"][j], 100 * res["errors"]["boundary"][j])
+            rows[(name, label)] = (100 * res["errors"][PINNED.name][j], 100 * res["errors"][BoundaryEnd.name][j])
     table = pd.DataFrame.from_dict(rows, orient="index",
                                    columns=["pinned ends: L2 error (%)", "boundary ends: L2 error (%)"])
     table.index = pd.MultiIndex.from_tuples(table.index, names=["track", "recorded"])
