@@ -35,6 +35,8 @@ import numpy as np
 from . import __version__
 from .base.checks import MAX_FREQUENCIES, check_band, check_int_at_least, check_positive, check_work
 from .base.conventions import ALL_ELEMENTS, ELEMENT_TEX, ELEMENT_UNITS, ELEMENTS
+from .base.errors import BadInput
+from .base.errors import InputError as PackageInputError
 from .base.files import atomic_write, check_output_path
 from .base.paper_values import FIT_BANDS, PAPER_GRID_BAND, PAPER_GRID_STEP
 from .equivalent.io import export_system, load_system_json, save_system_json
@@ -62,7 +64,7 @@ QUANTITY_UNITS: dict[str, str] = {"w1": "m/N", "psi2": "rad/(N m)", "Q2": "N/(N 
                                   **ELEMENT_UNITS}
 
 
-class InputError(ValueError):
+class InputError(PackageInputError):
     """Bad input from the command line or an input file: reported with exit code 2."""
 
 
@@ -574,14 +576,6 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _refused_by_package(err: ValueError) -> bool:
-    """True if ``err`` was raised by the package's own code (a refusal of its input, see above)."""
-    tb = err.__traceback__
-    while tb is not None and tb.tb_next is not None:
-        tb = tb.tb_next
-    return tb is not None and Path(tb.tb_frame.f_code.co_filename).resolve().is_relative_to(PACKAGE_DIR)
-
-
 def _error(command: str, message: str) -> None:
     print(f"{command}: error: {printable(message)}", file=sys.stderr)
 
@@ -621,9 +615,7 @@ def run(args: argparse.Namespace) -> int:
         except BrokenPipeError:  # the reader of stdout went away (e.g. `| head`): not a failure
             _silence_stdout()
             return 0
-        except ValueError as err:  # InputError, or a refusal by the package
-            if not _refused_by_package(err):
-                raise
+        except BadInput as err:  # InputError, or a refusal by the package
             _error(command, str(err))
         except OSError as err:  # an input or output file: unreadable, unwritable, disk full, ...
             _error(command, f"{err.filename}: {err.strerror}" if err.filename else str(err))

@@ -12,6 +12,8 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .errors import InputError, InputTypeError
+
 
 def _is_real_number(value: object) -> bool:
     return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
@@ -20,7 +22,7 @@ def _is_real_number(value: object) -> bool:
 def check_real(name: str, value: object) -> float:
     """Return ``value`` as a float, or raise TypeError if it is not a real number."""
     if not _is_real_number(value):
-        raise TypeError(f"{name} must be a real number, got {value!r} ({type(value).__name__})")
+        raise InputTypeError(f"{name} must be a real number, got {value!r} ({type(value).__name__})")
     return float(value)
 
 
@@ -28,7 +30,7 @@ def check_positive(name: str, value: object) -> float:
     """A real number that is > 0 and finite."""
     v = check_real(name, value)
     if not (math.isfinite(v) and v > 0):
-        raise ValueError(f"{name} must be positive and finite, got {value!r}")
+        raise InputError(f"{name} must be positive and finite, got {value!r}")
     return v
 
 
@@ -36,30 +38,30 @@ def check_nonnegative(name: str, value: object) -> float:
     """A real number that is >= 0 and finite."""
     v = check_real(name, value)
     if not (math.isfinite(v) and v >= 0):
-        raise ValueError(f"{name} must be non-negative and finite, got {value!r}")
+        raise InputError(f"{name} must be non-negative and finite, got {value!r}")
     return v
 
 
 def check_string(name: str, value: object) -> str:
     """A ``str`` (labels such as a track's name)."""
     if not isinstance(value, str):
-        raise TypeError(f"{name} must be a string, got {value!r}")
+        raise InputTypeError(f"{name} must be a string, got {value!r}")
     return value
 
 
 def check_choice(name: str, value: object, choices: tuple) -> object:
     """One of ``choices`` (e.g. a method name), compared with ``==``."""
     if value not in choices:
-        raise ValueError(f"{name} must be one of {choices}, got {value!r}")
+        raise InputError(f"{name} must be one of {choices}, got {value!r}")
     return value
 
 
 def check_int_at_least(name: str, value: object, minimum: int) -> int:
     """An integer (not a bool) that is >= ``minimum``."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be an integer, got {value!r} ({type(value).__name__})")
+        raise InputTypeError(f"{name} must be an integer, got {value!r} ({type(value).__name__})")
     if value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
+        raise InputError(f"{name} must be an integer >= {minimum}, got {value!r}")
     return int(value)
 
 
@@ -89,7 +91,7 @@ def check_work(size: float, limit: float, request: str, hint: str) -> None:
         ``"<request>, more than the limit of <limit> (time and memory); <hint>"``.
     """
     if not size <= limit:  # also catches NaN
-        raise ValueError(f"{request}, more than the limit of {limit:.0f} (time and memory); {hint}")
+        raise InputError(f"{request}, more than the limit of {limit:.0f} (time and memory); {hint}")
 
 
 def as_frequencies(f: ArrayLike, name: str = "f") -> np.ndarray:
@@ -109,15 +111,15 @@ def as_frequencies(f: ArrayLike, name: str = "f") -> np.ndarray:
     except (TypeError, ValueError):  # e.g. a ragged list
         raw = np.asarray(None)
     if raw.dtype.kind not in "iuf":
-        raise TypeError(f"{name} must be a number or an array of numbers in Hz, got {f!r}")
+        raise InputTypeError(f"{name} must be a number or an array of numbers in Hz, got {f!r}")
     arr = raw.astype(float)
     check_work(arr.size, MAX_FREQUENCIES, f"{name} holds {arr.size} frequencies", "split them over several calls")
     if arr.size == 0:
-        raise ValueError(f"{name} must hold at least one frequency, got an empty array")
+        raise InputError(f"{name} must hold at least one frequency, got an empty array")
     bad = ~(np.isfinite(arr) & (arr > 0))
     if np.any(bad):
         first = arr[bad].ravel()[0]
-        raise ValueError(
+        raise InputError(
             f"{name} must be positive and finite (Hz); {int(bad.sum())} value(s) are not, e.g. {first!r}"
         )
     return arr
@@ -130,8 +132,8 @@ def check_band(band: ArrayLike, name: str = "band") -> tuple[float, float]:
     except (TypeError, ValueError):
         lo = hi = None
     if not (_is_real_number(lo) and _is_real_number(hi)):
-        raise TypeError(f"{name} must be a pair of frequencies (f_lo, f_hi) in Hz, got {band!r}")
+        raise InputTypeError(f"{name} must be a pair of frequencies (f_lo, f_hi) in Hz, got {band!r}")
     lo, hi = float(lo), float(hi)
     if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
-        raise ValueError(f"{name} must satisfy 0 < {name}[0] < {name}[1] (finite, Hz), got {band!r}")
+        raise InputError(f"{name} must satisfy 0 < {name}[0] < {name}[1] (finite, Hz), got {band!r}")
     return lo, hi

@@ -22,6 +22,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import IO, Any
 
+from .errors import InputError, InputTypeError
+
 #: Kinds of file an output path must not name, by :mod:`stat` test: they are not ours to replace.
 _NOT_REGULAR = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
                 (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
@@ -31,9 +33,9 @@ _NOT_REGULAR = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pi
 def _as_path(path: object, name: str) -> Path:
     text = os.fspath(path) if isinstance(path, (str, os.PathLike)) else None
     if not isinstance(text, str):
-        raise TypeError(f"{name} must be a str or os.PathLike (of str), got {type(path).__name__}")
+        raise InputTypeError(f"{name} must be a str or os.PathLike (of str), got {type(path).__name__}")
     if text == "" or "\x00" in text:
-        raise ValueError(f"{name} must name a file, got {text!r}")
+        raise InputError(f"{name} must name a file, got {text!r}")
     return Path(text)
 
 
@@ -67,28 +69,28 @@ def check_output_path(path: str | os.PathLike, name: str = "path") -> Path:
     >>> check_output_path("/dev/null", "-o")
     Traceback (most recent call last):
     ...
-    ValueError: -o '/dev/null' is a character device: name a regular file to write
+    semitrack.base.errors.InputError: -o '/dev/null' is a character device: name a regular file to write
     """
     given = _as_path(path, name)
     target = Path(os.path.realpath(given)) if given.is_symlink() else given
     if target.is_symlink():  # realpath stops at a loop
-        raise ValueError(f"{name} {str(given)!r} is a loop of symbolic links: name a regular file to write")
+        raise InputError(f"{name} {str(given)!r} is a loop of symbolic links: name a regular file to write")
     try:
         mode = target.stat().st_mode
     except FileNotFoundError:
         mode = None
     except OSError as err:  # e.g. ENOTDIR: a path component is a file
-        raise ValueError(f"{name} {str(given)!r} cannot be written ({err.strerror})") from None
+        raise InputError(f"{name} {str(given)!r} cannot be written ({err.strerror})") from None
     for is_kind, kind in _NOT_REGULAR:
         if mode is not None and is_kind(mode):
-            raise ValueError(f"{name} {str(given)!r} is {kind}: name a regular file to write")
+            raise InputError(f"{name} {str(given)!r} is {kind}: name a regular file to write")
     folder = target.parent
     if not folder.is_dir():
-        raise ValueError(f"{name} {str(given)!r}: the folder {str(folder)!r} does not exist")
+        raise InputError(f"{name} {str(given)!r}: the folder {str(folder)!r} does not exist")
     if not os.access(folder, os.W_OK | os.X_OK):
-        raise ValueError(f"{name} {str(given)!r}: the folder {str(folder)!r} is not writable")
+        raise InputError(f"{name} {str(given)!r}: the folder {str(folder)!r} is not writable")
     if mode is not None and not os.access(target, os.W_OK):
-        raise ValueError(f"{name} {str(given)!r} is read-only: make it writable or name another file")
+        raise InputError(f"{name} {str(given)!r} is read-only: make it writable or name another file")
     return target
 
 
@@ -177,9 +179,9 @@ def read_text(path: str | os.PathLike, max_bytes: int, what: str = "file") -> st
     with open(path, "rb") as fh:
         data = fh.read(max_bytes + 1)
     if len(data) > max_bytes:
-        raise ValueError(f"{path}: larger than {max_bytes} bytes: not a {what}")
+        raise InputError(f"{path}: larger than {max_bytes} bytes: not a {what}")
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError as err:
-        raise ValueError(f"{path}: not a UTF-8 text {what} (byte 0x{data[err.start]:02x} at offset "
+        raise InputError(f"{path}: not a UTF-8 text {what} (byte 0x{data[err.start]:02x} at offset "
                          f"{err.start})") from None

@@ -1,10 +1,12 @@
 """One BLAS thread inside the package's hot loops, whatever the environment says.
 
 The package's work is many small solves: batched 2x2/4x4 algebra, sparse LU factorisations per
-frequency, least-squares steps on a few dozen unknowns. Threaded BLAS does not speed these up
+frequency, least-squares steps on a few dozen unknowns, the wavenumber method's products of a
+few MB per frequency, the time steps. Threaded BLAS does not speed these up
 and, on a machine that is busy (a 2-core laptop building the book while a browser runs, CI), its
 spinning threads contend with the work: measured up to 3-15x slower. So the loops that call BLAS
-many times run under :func:`serial_blas`, and the user's setting is restored afterwards; no
+many times run under :func:`serial_blas` (the fits, the FE sweeps, the time steps, the
+wavenumber method), and the user's setting is restored afterwards; no
 ``OPENBLAS_NUM_THREADS`` is needed.
 """
 

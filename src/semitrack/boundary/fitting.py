@@ -32,6 +32,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..base.checks import check_band, check_int_at_least, check_positive
+from ..base.errors import InputError
 from ..base.threads import serial_blas
 from ..equivalent.metrics import ErrorSummary, error_band_grid, error_summary
 from ..methods.receptance import semi_infinite_receptance
@@ -65,7 +66,7 @@ def check_n_poles(n_poles: object, name: str = "n_poles") -> int:
     """
     n = check_int_at_least(name, n_poles, 2)
     if n > MAX_POLES:
-        raise ValueError(f"{name} must be <= {MAX_POLES} (the fit's cost grows with its square), got {n}")
+        raise InputError(f"{name} must be <= {MAX_POLES} (the fit's cost grows with its square), got {n}")
     return n
 
 
@@ -289,7 +290,7 @@ def fit_boundary(track: Track, band: tuple[float, float] = (3.0, 3000.0), n_pole
     band = check_band(band)
     df = check_positive("df", df)
     if (band[1] - band[0]) / df > MAX_GRID:
-        raise ValueError(f"band / df must give at most {MAX_GRID} frequencies, got band={band} Hz with df={df} Hz")
+        raise InputError(f"band / df must give at most {MAX_GRID} frequencies, got band={band} Hz with df={df} Hz")
     check_int_at_least("seed", seed, 0)
     n_starts = check_int_at_least("n_starts", n_starts, 1)
     n_iter = check_int_at_least("n_iter", n_iter, 1)

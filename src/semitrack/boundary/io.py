@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 import scipy.io
 
+from ..base.errors import InputError, InputTypeError
 from ..base.files import atomic_write
 from ..equivalent.metrics import ErrorSummary
 from .fitting import BroadbandBoundary
@@ -38,7 +39,7 @@ UNITS = {
 
 def _check_boundary(boundary) -> BroadbandBoundary:
     if not isinstance(boundary, BroadbandBoundary):
-        raise TypeError(f"boundary must be a BroadbandBoundary (from fit_boundary), got {type(boundary).__name__}")
+        raise InputTypeError(f"boundary must be a BroadbandBoundary (from fit_boundary), got {type(boundary).__name__}")
     return boundary
 
 
@@ -67,11 +68,11 @@ def _array(data: dict, key: str, source: str) -> np.ndarray:
     try:
         out = np.asarray(data[key], dtype=float)
     except KeyError:
-        raise ValueError(f"{source}: missing key {key!r}") from None
+        raise InputError(f"{source}: missing key {key!r}") from None
     except (TypeError, ValueError):
-        raise ValueError(f"{source}: {key!r} must be an array of numbers") from None
+        raise InputError(f"{source}: {key!r} must be an array of numbers") from None
     if not np.all(np.isfinite(out)):
-        raise ValueError(f"{source}: {key!r} must be finite")
+        raise InputError(f"{source}: {key!r} must be finite")
     return out
 
 
@@ -86,21 +87,21 @@ def boundary_from_dict(data: dict, source: str = "data") -> BroadbandBoundary:
         Name of the data's origin, quoted in error messages.
     """
     if not isinstance(data, dict) or data.get("format") != FORMAT:
-        raise ValueError(f"{source}: not a {FORMAT} file (its 'format' must be {FORMAT!r})")
+        raise InputError(f"{source}: not a {FORMAT} file (its 'format' must be {FORMAT!r})")
     poles = _array(data, "poles", source)
     if poles.ndim != 2 or poles.shape[1] != 2:
-        raise ValueError(f"{source}: 'poles' must be a list of [re, im] pairs")
+        raise InputError(f"{source}: 'poles' must be a list of [re, im] pairs")
     try:
         model = RationalEndStiffness(poles[:, 0] + 1j * poles[:, 1], _array(data, "coefficients", source),
                                      _array(data, "K0", source), _array(data, "D", source))
     except ValueError as exc:
-        raise ValueError(f"{source}: {exc}") from None
+        raise InputError(f"{source}: {exc}") from None
     stored = data.get("state_space")
     if isinstance(stored, dict):
         ss = model.state_space()
         for key in ("A", "B", "C", "D", "K0"):
             if not np.allclose(_array(stored, key, source), getattr(ss, key), rtol=1e-9, atol=0):
-                raise ValueError(f"{source}: state_space[{key!r}] does not match the poles and coefficients")
+                raise InputError(f"{source}: state_space[{key!r}] does not match the poles and coefficients")
     band = tuple(float(x) for x in _array(data, "band_hz", source))
     errors = ErrorSummary(median=float(data.get("median_error", np.nan)), max=float(data.get("max_error", np.nan)),
                           per_element={})
@@ -132,7 +133,7 @@ def save_boundary(boundary: BroadbandBoundary, path) -> Path:
                "enforcement_rounds": data["enforcement_rounds"],
                "format": FORMAT, "units": json.dumps(UNITS), "track": data["track"]}
         return atomic_write(path, lambda fh: scipy.io.savemat(fh, mat), binary=True)
-    raise ValueError(f"path must end in .json or .mat, got {str(path)!r}")
+    raise InputError(f"path must end in .json or .mat, got {str(path)!r}")
 
 
 def load_boundary(path) -> BroadbandBoundary:
@@ -156,4 +157,4 @@ def load_boundary(path) -> BroadbandBoundary:
                 "track": str(np.asarray(m["track"]).ravel()[0]) if np.asarray(m["track"]).size else "",
                 "state_space": {k: m[k] for k in ("A", "B", "C", "D", "K0")}}
         return boundary_from_dict(data, source=str(path))
-    raise ValueError(f"path must end in .json or .mat, got {str(path)!r}")
+    raise InputError(f"path must end in .json or .mat, got {str(path)!r}")

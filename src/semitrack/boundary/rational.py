@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies
+from ..base.errors import InputError
 from .vector_fitting import n_real_coefficients, pole_basis, pole_states
 
 __all__ = ["RationalEndStiffness", "BoundaryStateSpace", "SYMMETRIC_ELEMENTS"]
@@ -116,20 +117,20 @@ class RationalEndStiffness:
         D = np.array(self.D, dtype=float)
         for name, value in (("poles", poles), ("coefficients", coef), ("K0", K0), ("D", D)):
             if not np.all(np.isfinite(value)):
-                raise ValueError(f"{name} must be finite")
+                raise InputError(f"{name} must be finite")
         if poles.size == 0:
-            raise ValueError("poles must hold at least one pole")
+            raise InputError("poles must hold at least one pole")
         if np.any(poles.imag < 0):
-            raise ValueError("poles must list one member of each complex pair, the one with Im > 0, "
+            raise InputError("poles must list one member of each complex pair, the one with Im > 0, "
                              f"got {poles[poles.imag < 0][0]!r}")
         if coef.shape != (n_real_coefficients(poles), 3):
-            raise ValueError(f"coefficients must have shape ({n_real_coefficients(poles)}, 3) for "
+            raise InputError(f"coefficients must have shape ({n_real_coefficients(poles)}, 3) for "
                              f"{poles.size} poles, got {coef.shape}")
         for name, value in (("K0", K0), ("D", D)):
             if value.shape != (2, 2) or not np.allclose(value, value.T, rtol=1e-12, atol=0):
-                raise ValueError(f"{name} must be a symmetric 2x2 matrix, got {value.tolist()}")
+                raise InputError(f"{name} must be a symmetric 2x2 matrix, got {value.tolist()}")
         if np.linalg.eigvalsh(D)[0] <= 0:
-            raise ValueError(f"D (the high-frequency dashpot) must be positive definite, got {D.tolist()}")
+            raise InputError(f"D (the high-frequency dashpot) must be positive definite, got {D.tolist()}")
         for name, value in (("poles", poles), ("coefficients", coef), ("K0", K0), ("D", D)):
             value.setflags(write=False)
             object.__setattr__(self, name, value)

@@ -20,6 +20,7 @@ import math
 import numba
 import numpy as np
 
+from ..base.errors import InputError
 from .contact import MAX_NEWTON, solve_hertz
 
 __all__ = ["run_compiled"]
@@ -211,5 +212,5 @@ def _run(n_steps, coef, dt, gamma, mc, ldl, offset, u, v, a, lf, lm, st, ct, pr,
 def run_compiled(n_steps, coef, dt, gamma, mc, ldl, offset, u, v, a, lf, lm, st, ct, pr, rec, out) -> None:
     """Run the compiled loop (arguments as :func:`_run`; the state ``u, v, a`` ends as the final one)."""
     if not math.isfinite(dt):
-        raise ValueError(f"dt must be finite, got {dt!r}")
+        raise InputError(f"dt must be finite, got {dt!r}")
     _run(n_steps, coef, dt, gamma, mc, ldl, offset, u, v, a, lf, lm, st, ct, pr, rec, out)

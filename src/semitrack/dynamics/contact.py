@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..base.errors import InputError
 from .points import PointSet
 
 __all__ = ["MAX_NEWTON", "HertzContacts", "solve_hertz"]
@@ -158,10 +159,10 @@ class HertzContacts:
         r = np.asarray(self.irregularity, dtype=float)
         k = wheels.size
         if self.points.n_points != k or c_h.shape != (k,) or r.ndim != 2 or r.shape[1] != k:
-            raise ValueError(f"{k} contacts need {k} points, {k} Hertz constants and an irregularity of shape "
+            raise InputError(f"{k} contacts need {k} points, {k} Hertz constants and an irregularity of shape "
                              f"(n_steps + 1, {k}); got {self.points.n_points}, {c_h.shape} and {r.shape}")
         if not np.all(np.isfinite(c_h) & (c_h > 0)):
-            raise ValueError(f"hertz_constants must be positive and finite (N/m^1.5), got {c_h.tolist()}")
+            raise InputError(f"hertz_constants must be positive and finite (N/m^1.5), got {c_h.tolist()}")
         object.__setattr__(self, "wheel_dofs", wheels)
         object.__setattr__(self, "hertz_constants", c_h)
         object.__setattr__(self, "irregularity", np.ascontiguousarray(r))

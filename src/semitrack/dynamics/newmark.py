@@ -22,6 +22,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..base.checks import check_positive, check_real
+from ..base.errors import InputError
 
 __all__ = ["Newmark"]
 
@@ -53,7 +54,7 @@ class Newmark:
         dt = check_positive("dt", self.dt)
         gamma, beta = check_real("gamma", self.gamma), check_real("beta", self.beta)
         if gamma < 0.5 or beta < 0.25 * (gamma + 0.5) ** 2 - 1e-15:
-            raise ValueError("gamma and beta must satisfy gamma >= 1/2 and beta >= (gamma + 1/2)^2 / 4 "
+            raise InputError("gamma and beta must satisfy gamma >= 1/2 and beta >= (gamma + 1/2)^2 / 4 "
                              f"(unconditional stability), got gamma={gamma!r}, beta={beta!r}")
         object.__setattr__(self, "dt", dt)
 

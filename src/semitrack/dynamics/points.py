@@ -15,6 +15,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from ..base.errors import InputError
+
 __all__ = ["PointSet"]
 
 
@@ -49,13 +51,13 @@ class PointSet:
         dofs = np.asarray(self.dofs, dtype=np.int64)
         weights = np.asarray(self.weights, dtype=float)
         if dofs.ndim != 3 or weights.shape != dofs.shape:
-            raise ValueError(f"dofs and weights must have one shape (n_rows, n_points, n_weights), got "
+            raise InputError(f"dofs and weights must have one shape (n_rows, n_points, n_weights), got "
                              f"{dofs.shape} and {weights.shape}")
         if np.any(dofs < 0):
-            raise ValueError("dofs must be non-negative (a removed DOF is index 0 with weight 0)")
+            raise InputError("dofs must be non-negative (a removed DOF is index 0 with weight 0)")
         labels = tuple(self.labels) or tuple(f"point {i}" for i in range(dofs.shape[1]))
         if len(labels) != dofs.shape[1]:
-            raise ValueError(f"labels must name each of the {dofs.shape[1]} points, got {len(labels)}")
+            raise InputError(f"labels must name each of the {dofs.shape[1]} points, got {len(labels)}")
         object.__setattr__(self, "dofs", np.ascontiguousarray(dofs))
         object.__setattr__(self, "weights", np.ascontiguousarray(weights))
         object.__setattr__(self, "labels", labels)

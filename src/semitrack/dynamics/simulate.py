@@ -27,6 +27,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
 from ..base.checks import check_int_at_least, check_work
+from ..base.errors import InputError, InputTypeError
 from ..base.threads import serial_blas
 from .contact import HertzContacts
 from .factor import BandCholesky, factorise
@@ -61,7 +62,7 @@ def _initial_acceleration(M: sp.spmatrix, r0: np.ndarray) -> np.ndarray:
     try:
         return splu(sp.csc_matrix(M)).solve(r0)
     except RuntimeError:
-        raise ValueError("M is singular: the initial acceleration is undefined for a non-zero initial "
+        raise InputError("M is singular: the initial acceleration is undefined for a non-zero initial "
                          "force; start from rest with zero load at t = 0") from None
 
 
@@ -71,18 +72,19 @@ def _check_loads(loads, n: int, rows: int) -> list:
         try:
             points, amplitude = item
         except (TypeError, ValueError):
-            raise TypeError(f"loads[{i}] must be a pair (PointSet, amplitudes), got {type(item).__name__}") from None
+            raise InputTypeError(f"loads[{i}] must be a pair (PointSet, amplitudes), "
+                                 f"got {type(item).__name__}") from None
         amplitude = np.asarray(amplitude, dtype=float)
         if amplitude.ndim == 1 and points.n_points == 1:
             amplitude = amplitude[:, None]
         if amplitude.shape != (rows, points.n_points):
-            raise ValueError(f"loads[{i}] amplitudes must have shape ({rows}, {points.n_points}), "
+            raise InputError(f"loads[{i}] amplitudes must have shape ({rows}, {points.n_points}), "
                              f"got {amplitude.shape}")
         if points.moving and points.dofs.shape[0] != rows:
-            raise ValueError(f"loads[{i}] moves: its points need {rows} rows (one per step), "
+            raise InputError(f"loads[{i}] moves: its points need {rows} rows (one per step), "
                              f"got {points.dofs.shape[0]}")
         if points.dofs.size and points.dofs.max() >= n:
-            raise ValueError(f"loads[{i}] acts on DOF {points.dofs.max()} of a system of {n}")
+            raise InputError(f"loads[{i}] acts on DOF {points.dofs.max()} of a system of {n}")
         out.append((points, amplitude))
     return out
 
@@ -99,7 +101,7 @@ def _prepare(system, stepper, n_steps, loads, contacts, probes, record, u0, v0) 
     n = system.n_dof
     states = TrapezoidalStates(system.states, stepper.dt, n) if system.states else None
     if states is not None and not stepper.is_average_acceleration:
-        raise ValueError("state blocks need the average-acceleration rule (gamma=1/2, beta=1/4), got "
+        raise InputError("state blocks need the average-acceleration rule (gamma=1/2, beta=1/4), got "
                          f"gamma={stepper.gamma!r}, beta={stepper.beta!r}")
     K_eff = stepper.effective_stiffness(system.M, system.C, system.K)
     factor = factorise(K_eff if states is None else K_eff + states.stiffness)
@@ -128,7 +130,7 @@ def _on_points(points: PointSet, u: np.ndarray, rows: int) -> np.ndarray:
 def _vector(name, x, n):
     x = np.asarray(x, dtype=float)
     if x.shape != (n,):
-        raise ValueError(f"{name} must have shape ({n},), got {x.shape}")
+        raise InputError(f"{name} must have shape ({n},), got {x.shape}")
     return x.copy()
 
 
@@ -181,23 +183,23 @@ def simulate(system: SecondOrderSystem, stepper: Newmark, n_steps: int, *,
     True
     """
     if not isinstance(system, SecondOrderSystem):
-        raise TypeError(f"system must be a SecondOrderSystem, got {type(system).__name__}")
+        raise InputTypeError(f"system must be a SecondOrderSystem, got {type(system).__name__}")
     if not isinstance(stepper, Newmark):
-        raise TypeError(f"stepper must be a Newmark stepper, got {type(stepper).__name__}")
+        raise InputTypeError(f"stepper must be a Newmark stepper, got {type(stepper).__name__}")
     n = system.n_dof
     n_steps = check_int_at_least("n_steps", n_steps, 1)
     check_work(n_steps * n, MAX_STEP_DOFS, f"n_steps = {n_steps} steps x {n} DOFs give {n_steps * n} step-DOFs",
                "use a larger dt, a shorter duration or a smaller model")
     record = np.arange(n) if record is None else np.asarray(record, dtype=np.int64).ravel()
     if record.size and (record.min() < 0 or record.max() >= n):
-        raise ValueError(f"record must hold DOF indices in [0, {n}), got {record.tolist()[:5]}")
+        raise InputError(f"record must hold DOF indices in [0, {n}), got {record.tolist()[:5]}")
     probes = dict(probes or {})
     n_out = record.size + sum(p.n_points for p in probes.values()) + 3 * (contacts.n_contacts if contacts else 0)
     check_work((n_steps + 1) * n_out, MAX_RECORDED, f"n_steps = {n_steps} steps x {n_out} outputs give "
                f"{(n_steps + 1) * n_out} recorded values", "record fewer outputs (outputs=...) or fewer steps")
     loads = _check_loads(loads, n, n_steps + 1)
     if contacts is not None and contacts.irregularity.shape[0] != n_steps + 1:
-        raise ValueError(f"the contacts' irregularity needs {n_steps + 1} rows, got {contacts.irregularity.shape[0]}")
+        raise InputError(f"the contacts' irregularity needs {n_steps + 1} rows, got {contacts.irregularity.shape[0]}")
     arrays = _prepare(system, stepper, n_steps, loads, contacts, probes, record, u0, v0)
     use_compiled = _choose(compiled, arrays)
     start = time.perf_counter()
@@ -212,11 +214,11 @@ def _choose(compiled: bool | None, arrays: StepArrays) -> bool:
     if compiled is None:
         return cholesky and compiled_available()
     if compiled and not cholesky:
-        raise ValueError("compiled=True needs a real symmetric positive definite effective stiffness with a narrow "
+        raise InputError("compiled=True needs a real symmetric positive definite effective stiffness with a narrow "
                          f"band (a chain); this one was factorised as {type(arrays.factor).__name__}: "
                          "use compiled=None")
     if compiled and not compiled_available():
-        raise ValueError("compiled=True needs numba, which is not installed (pip install numba); use compiled=None")
+        raise InputError("compiled=True needs numba, which is not installed (pip install numba); use compiled=None")
     return bool(compiled)
 
 
@@ -304,7 +306,7 @@ def _band_rows(A, order) -> np.ndarray:
     r, c = order.where[coo.row], order.where[coo.col]
     w = order.width
     if coo.nnz and np.max(np.abs(r - c)) > w:
-        raise ValueError("M and C must lie within the band of the effective stiffness")
+        raise InputError("M and C must lie within the band of the effective stiffness")
     out = np.zeros((2 * w + 1, order.n))
     np.add.at(out, (c - r + w, r), coo.data)
     return out

@@ -31,6 +31,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.linalg import block_diag
 
+from ..base.errors import InputError
+
 __all__ = ["StateBlock", "TrapezoidalStates"]
 
 
@@ -66,7 +68,7 @@ class StateBlock:
         A, B, C, P = (np.asarray(getattr(self, k), dtype=float) for k in ("A", "B", "C", "port"))
         m, p = A.shape[0], dofs.size
         if A.shape != (m, m) or B.shape != (m, p) or C.shape != (p, m) or P.shape != (p, p):
-            raise ValueError(f"a state block on {p} DOFs with {m} states needs A ({m}, {m}), B ({m}, {p}), "
+            raise InputError(f"a state block on {p} DOFs with {m} states needs A ({m}, {m}), B ({m}, {p}), "
                              f"C ({p}, {m}) and port ({p}, {p}); got {A.shape}, {B.shape}, {C.shape}, {P.shape}")
         for key, value in (("dofs", dofs), ("A", A), ("B", B), ("C", C), ("port", P)):
             object.__setattr__(self, key, value)
@@ -109,7 +111,7 @@ class TrapezoidalStates:
             P_C.append(blk.port.T @ blk.C)
         self.dofs = np.concatenate([blk.dofs for blk in blocks]) if blocks else np.zeros(0, np.int64)
         if np.unique(self.dofs).size != self.dofs.size:
-            raise ValueError(f"state blocks must act on distinct DOFs, got {self.dofs.tolist()}")
+            raise InputError(f"state blocks must act on distinct DOFs, got {self.dofs.tolist()}")
         E, Phi_P, P_C = (block_diag(*X) if blocks else np.zeros((0, 0)) for X in (E, Phi_P, P_C))
         self.block = P_C @ Phi_P
         self.E, self.Phi_P = sp.csr_matrix(E), sp.csr_matrix(Phi_P)

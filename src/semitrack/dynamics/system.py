@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from ..base.errors import InputError, InputTypeError
 from .states import StateBlock
 
 __all__ = ["SecondOrderSystem", "Connection", "union", "as_real_matrix"]
@@ -27,14 +28,15 @@ def as_real_matrix(name: str, X, n: int | None = None) -> sp.csc_matrix:
         try:
             X = np.asarray(X, dtype=float)
         except (TypeError, ValueError):
-            raise TypeError(f"{name} must be a real matrix (dense or scipy.sparse), got {type(X).__name__}") from None
+            raise InputTypeError(f"{name} must be a real matrix (dense or scipy.sparse), "
+                                 f"got {type(X).__name__}") from None
         X = sp.csc_matrix(X)
     if np.iscomplexobj(X.data):
-        raise TypeError(f"{name} must be real, got a complex matrix")
+        raise InputTypeError(f"{name} must be real, got a complex matrix")
     if X.ndim != 2 or X.shape[0] != X.shape[1]:
-        raise ValueError(f"{name} must be square, got shape {X.shape}")
+        raise InputError(f"{name} must be square, got shape {X.shape}")
     if n is not None and X.shape[0] != n:
-        raise ValueError(f"{name} must have shape ({n}, {n}) like M, got {X.shape}")
+        raise InputError(f"{name} must have shape ({n}, {n}) like M, got {X.shape}")
     return sp.csc_matrix(X, dtype=float)
 
 
@@ -75,9 +77,9 @@ class SecondOrderSystem:
         object.__setattr__(self, "states", tuple(self.states))
         for blk in self.states:
             if not isinstance(blk, StateBlock):
-                raise TypeError(f"states must be StateBlocks, got {type(blk).__name__}")
+                raise InputTypeError(f"states must be StateBlocks, got {type(blk).__name__}")
             if blk.dofs.size and not (0 <= blk.dofs.min() and blk.dofs.max() < n):
-                raise ValueError(f"state block {blk.label!r} acts on DOFs {blk.dofs.tolist()} outside [0, {n})")
+                raise InputError(f"state block {blk.label!r} acts on DOFs {blk.dofs.tolist()} outside [0, {n})")
 
     @property
     def n_dof(self) -> int:
@@ -139,7 +141,7 @@ def union(parts: Mapping[str, SecondOrderSystem], connections: Sequence[Connecti
     offsets, blocks, states, start = {}, {}, [], 0
     for name, part in parts.items():
         if not isinstance(part, SecondOrderSystem):
-            raise TypeError(f"part {name!r} must be a SecondOrderSystem, got {type(part).__name__}")
+            raise InputTypeError(f"part {name!r} must be a SecondOrderSystem, got {type(part).__name__}")
         offsets[name] = start
         for block, s in part.blocks.items():
             key = name if len(part.blocks) == 1 else f"{name}.{block}"
@@ -163,5 +165,5 @@ def _global(offsets: dict, parts: Mapping, end: tuple[str, int]) -> int:
     if name not in parts:
         raise KeyError(f"connection names part {name!r}; the parts are {list(parts)}")
     if not 0 <= local < parts[name].n_dof:
-        raise ValueError(f"connection DOF {local} of part {name!r} must be in [0, {parts[name].n_dof})")
+        raise InputError(f"connection DOF {local} of part {name!r} must be in [0, {parts[name].n_dof})")
     return offsets[name] + int(local)

@@ -38,6 +38,8 @@ from typing import Literal, NamedTuple
 
 import numpy as np
 
+from ..base.errors import InputError, InputTypeError
+
 __all__ = [
     "Layout",
     "LAYOUTS",
@@ -75,9 +77,9 @@ def check_layout(layout: object) -> Layout:
         When it is a str but not a layout name.
     """
     if not isinstance(layout, str):
-        raise TypeError(f"layout must be a str, one of {LAYOUTS}, got {layout!r}")
+        raise InputTypeError(f"layout must be a str, one of {LAYOUTS}, got {layout!r}")
     if layout not in LAYOUTS:
-        raise ValueError(f"layout must be one of {LAYOUTS}, got {layout!r}")
+        raise InputError(f"layout must be one of {LAYOUTS}, got {layout!r}")
     return layout  # type: ignore[return-value]
 
 
@@ -381,7 +383,7 @@ def end_loads(n_dof: int) -> np.ndarray:
     return E
 
 
-class IllConditionedError(ValueError):
+class IllConditionedError(InputError):
     """``Z`` is singular or too ill-conditioned at some frequency (:func:`scaled_solve`).
 
     Attributes

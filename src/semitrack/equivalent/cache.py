@@ -53,6 +53,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..base.checks import as_frequencies, check_band
+from ..base.errors import InputTypeError
 from ..base.paper_values import FIT_BANDS
 from ..methods.receptance import CentralResponse, Method, central_response
 from ..model.slab import Slab
@@ -131,9 +132,9 @@ def _canonical(value):
     if isinstance(value, Slab):
         return ["slab"] + [[f.name, _canonical(getattr(value, f.name))] for f in dataclasses.fields(value)]
     if callable(value):
-        raise TypeError("cached_fit cannot key a callable target (its code and state have no stable identity); "
+        raise InputTypeError("cached_fit cannot key a callable target (its code and state have no stable identity); "
                         "pass sampled (f, alpha) or call fit_equivalent")
-    raise TypeError(f"cached_fit cannot key an argument of type {type(value).__name__}: {value!r}")
+    raise InputTypeError(f"cached_fit cannot key an argument of type {type(value).__name__}: {value!r}")
 
 
 def _bound_arguments(track, layout, n_bars, band, seed, options) -> dict:

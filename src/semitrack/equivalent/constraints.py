@@ -31,6 +31,7 @@ import scipy.linalg
 from numpy.typing import ArrayLike
 
 from ..base.checks import check_positive
+from ..base.errors import InputError, InputTypeError
 from .systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent, parameter_array
 
 __all__ = [
@@ -125,7 +126,7 @@ def ballasted_constraints(m: ArrayLike, L: ArrayLike, f_n1: float, f_n2: float, 
     for name, value in (("f_n1", f_n1), ("f_n2", f_n2), ("f_anti", f_anti)):
         check_positive(name, value)
     if not (f_n1 < f_anti < f_n2):
-        raise ValueError(
+        raise InputError(
             f"f_anti must lie strictly between f_n1 and f_n2 (Eq. 30 gives s > 0 only then), "
             f"got f_n1={f_n1!r}, f_anti={f_anti!r}, f_n2={f_n2!r} Hz"
         )
@@ -288,7 +289,7 @@ def unit_cell_frequencies(m: float, J: float, L: float, k: float,
     k = check_positive("k", k)
     h = 0.5 * L
     if (mu is None) != (s is None):
-        raise ValueError(f"mu and s go together (ballasted cell) or are both omitted, got mu={mu!r}, s={s!r}")
+        raise InputError(f"mu and s go together (ballasted cell) or are both omitted, got mu={mu!r}, s={s!r}")
     if mu is None:
         M = np.diag([m, J])
         ends = np.array([[1.0, -h], [1.0, h]])  # left and right end displacements
@@ -319,7 +320,7 @@ def cell_frequencies(system: EquivalentSystem) -> np.ndarray:
         mass, inertia, spring or support mass, such as the massless bars of Table 4) are NaN.
     """
     if not isinstance(system, EquivalentSystem):
-        raise TypeError(f"system must be an EquivalentSystem, got {type(system).__name__}")
+        raise InputTypeError(f"system must be an EquivalentSystem, got {type(system).__name__}")
     ballasted = isinstance(system, BallastedEquivalent)
     out = np.full((system.n_bars, 4 if ballasted else 2), np.nan)
     for j in range(system.n_bars):
@@ -334,4 +335,4 @@ def cell_frequencies(system: EquivalentSystem) -> np.ndarray:
 def _same_length(**arrays: np.ndarray) -> None:
     sizes = {name: a.size for name, a in arrays.items()}
     if len(set(sizes.values())) > 1:
-        raise ValueError(f"per-bar parameters must have the same length, got lengths {sizes}")
+        raise InputError(f"per-bar parameters must have the same length, got lengths {sizes}")

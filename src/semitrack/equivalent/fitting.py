@@ -41,6 +41,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..base.checks import check_band, check_int_at_least, check_work
+from ..base.errors import InputError, InputTypeError
 from ..base.paper_values import FIT_BANDS
 from ..model.tracks import Track, require_track
 from .assembly import LAYOUTS, Layout, check_layout
@@ -231,16 +232,16 @@ class _Arguments:
 
 def _check_seed(seed) -> int:
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
-        raise TypeError(f"seed must be a non-negative integer, got {seed!r} ({type(seed).__name__})")
+        raise InputTypeError(f"seed must be a non-negative integer, got {seed!r} ({type(seed).__name__})")
     if seed < 0:
-        raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
+        raise InputError(f"seed must be a non-negative integer, got {seed!r}")
     return int(seed)
 
 
 def _check_error_df(error_df) -> float:
     if isinstance(error_df, bool) or not isinstance(error_df, (int, float)) or not (
             math.isfinite(error_df) and error_df > 0):
-        raise ValueError(f"error_df must be positive and finite (Hz), got {error_df!r}")
+        raise InputError(f"error_df must be positive and finite (Hz), got {error_df!r}")
     return float(error_df)
 
 
@@ -248,9 +249,9 @@ def _check_initial(initial, layout: Layout, n_bars: int) -> EquivalentSystem | N
     if initial is None:
         return None
     if not isinstance(initial, EquivalentSystem):
-        raise TypeError(f"initial must be an EquivalentSystem, got {type(initial).__name__}")
+        raise InputTypeError(f"initial must be an EquivalentSystem, got {type(initial).__name__}")
     if initial.layout != layout or initial.n_bars != n_bars:
-        raise ValueError(f"initial must be a {layout} system with n_bars = {n_bars}, got a "
+        raise InputError(f"initial must be a {layout} system with n_bars = {n_bars}, got a "
                          f"{initial.layout} system with {initial.n_bars} bars")
     return initial
 
@@ -265,7 +266,7 @@ def _check_arguments(track, layout, n_bars, band, seed, constrained, n_starts, t
     band = check_band(FIT_BANDS[layout] if band is None else band)
     seed = _check_seed(seed)
     if not isinstance(constrained, (bool, np.bool_)):
-        raise TypeError(f"constrained must be True or False, got {constrained!r}")
+        raise InputTypeError(f"constrained must be True or False, got {constrained!r}")
     return _Arguments(
         track=track, layout=layout, n_bars=n_bars, band=band, seed=seed, constrained=bool(constrained),
         n_starts=check_int_at_least("n_starts", n_starts, 1), max_nfev=check_int_at_least("max_nfev", max_nfev, 1),

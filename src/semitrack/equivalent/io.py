@@ -56,6 +56,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from ..base.errors import InputError, InputTypeError
 from ..base.files import atomic_write, read_text
 from .systems import PARAMETER_UNITS, EquivalentSystem
 
@@ -95,13 +96,13 @@ def _entry_units(dof_names: list[str], per: str) -> list[list[str]]:
 
 def _check_system(system) -> EquivalentSystem:
     if not isinstance(system, EquivalentSystem):
-        raise TypeError(f"system must be a SlabEquivalent or BallastedEquivalent, got {type(system).__name__}")
+        raise InputTypeError(f"system must be a SlabEquivalent or BallastedEquivalent, got {type(system).__name__}")
     return system
 
 
 def _check_path(path) -> Path:
     if not isinstance(path, (str, os.PathLike)):
-        raise TypeError(f"path must be a str or os.PathLike, got {type(path).__name__}")
+        raise InputTypeError(f"path must be a str or os.PathLike, got {type(path).__name__}")
     return Path(path)
 
 
@@ -184,11 +185,11 @@ def _entries(data: dict[str, Any], key: str, source: str) -> dict[str, Any]:
     """The named entries of ``data[key]`` (each a value, or an object with ``values``), checked."""
     table = data.get(key, {})
     if not isinstance(table, dict):
-        raise ValueError(f"{source}: {key!r} must be an object of named entries, got {json.dumps(table)[:40]}")
+        raise InputError(f"{source}: {key!r} must be an object of named entries, got {json.dumps(table)[:40]}")
     out = {}
     for name, entry in table.items():
         if isinstance(entry, dict) and "values" not in entry:
-            raise ValueError(f"{source}: {key}[{name!r}] has no key 'values'")
+            raise InputError(f"{source}: {key}[{name!r}] has no key 'values'")
         out[name] = entry["values"] if isinstance(entry, dict) else entry
     return out
 
@@ -209,14 +210,14 @@ def system_from_dict(data: dict[str, Any], source: str = "data") -> EquivalentSy
         When stored matrices differ from those rebuilt from the parameters.
     """
     if not isinstance(data, dict):
-        raise TypeError(f"{source} must be a dict, got {type(data).__name__}")
+        raise InputTypeError(f"{source} must be a dict, got {type(data).__name__}")
     if data.get("format") != FORMAT_NAME:
-        raise ValueError(f"{source}: 'format' must be {FORMAT_NAME!r}, got {data.get('format')!r}")
+        raise InputError(f"{source}: 'format' must be {FORMAT_NAME!r}, got {data.get('format')!r}")
     if data.get("version") != FORMAT_VERSION:
-        raise ValueError(f"{source}: 'version' must be {FORMAT_VERSION}, got {data.get('version')!r}")
+        raise InputError(f"{source}: 'version' must be {FORMAT_VERSION}, got {data.get('version')!r}")
     for key in ("layout", "parameters"):
         if key not in data:
-            raise ValueError(f"{source}: missing key {key!r}")
+            raise InputError(f"{source}: missing key {key!r}")
     params = {name: np.asarray(values, dtype=float)
               for name, values in _entries(data, "parameters", source).items()}
     params["layout"] = data["layout"]
@@ -271,11 +272,11 @@ def load_system_json(path: str | os.PathLike) -> EquivalentSystem:
     try:
         data = json.loads(text)
     except RecursionError:
-        raise ValueError(f"{path}: not a system file: its objects or arrays are nested too deeply") from None
+        raise InputError(f"{path}: not a system file: its objects or arrays are nested too deeply") from None
     except ValueError as err:
-        raise ValueError(f"{path}: not a JSON file: {err}") from None
+        raise InputError(f"{path}: not a JSON file: {err}") from None
     if not isinstance(data, dict):
-        raise ValueError(f"{path}: not a system file: it must hold a JSON object, got {type(data).__name__}")
+        raise InputError(f"{path}: not a system file: it must hold a JSON object, got {type(data).__name__}")
     return system_from_dict(data, source=str(path))
 
 
@@ -354,12 +355,12 @@ def load_system_csv(path: str | os.PathLike) -> EquivalentSystem:
                 current = head[1:-1]
                 sections[current] = []
             elif current is None:
-                raise ValueError(f"{path}: data before the first [section] line: {row!r}")
+                raise InputError(f"{path}: data before the first [section] line: {row!r}")
             else:
                 sections[current].append(row)
     for key in ("meta", "parameters"):
         if key not in sections:
-            raise ValueError(f"{path}: missing section [{key}]")
+            raise InputError(f"{path}: missing section [{key}]")
     meta = {row[0]: row[1] for row in sections["meta"][1:]}
     data = {
         "format": meta.get("format"),
@@ -436,7 +437,7 @@ def load_system_mat(path: str | os.PathLike) -> EquivalentSystem:
     raw = scipy.io.loadmat(path, simplify_cells=True)
     for key in ("layout", "parameters"):
         if key not in raw:
-            raise ValueError(f"{path}: missing variable {key!r}")
+            raise InputError(f"{path}: missing variable {key!r}")
     data = {
         "format": raw.get("format"),
         "version": int(raw["version"]) if "version" in raw else None,
@@ -486,6 +487,6 @@ def export_system(system: EquivalentSystem, path: str | os.PathLike,
     path = _check_path(path)
     key = f".{format.lower().lstrip('.')}" if format is not None else path.suffix.lower()
     if key not in _WRITERS:
-        raise ValueError(f"format must be one of json, csv, mat (or a path with that suffix), got "
+        raise InputError(f"format must be one of json, csv, mat (or a path with that suffix), got "
                          f"{format if format is not None else path.suffix!r}")
     return _WRITERS[key](system, path)

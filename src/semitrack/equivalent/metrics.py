@@ -16,6 +16,7 @@ from numpy.typing import ArrayLike
 
 from ..base.checks import check_band
 from ..base.conventions import ELEMENTS
+from ..base.errors import InputError, InputTypeError
 
 # ELEMENTS (the compared elements and their (row, column) index) is re-exported from
 # base.conventions, where every layer reads it.
@@ -60,13 +61,13 @@ def _as_receptance(name: str, alpha) -> np.ndarray:
     try:
         a = np.asarray(alpha, dtype=complex)
     except (TypeError, ValueError):
-        raise TypeError(f"{name} must be an array of complex receptances, got {type(alpha).__name__}") from None
+        raise InputTypeError(f"{name} must be an array of complex receptances, got {type(alpha).__name__}") from None
     if a.shape == (2, 2):
         a = a[None]
     if a.ndim != 3 or a.shape[1:] != (2, 2):
-        raise ValueError(f"{name} must have shape (n_f, 2, 2) or (2, 2), got {a.shape}")
+        raise InputError(f"{name} must have shape (n_f, 2, 2) or (2, 2), got {a.shape}")
     if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must be finite, got {int((~np.isfinite(a)).sum())} non-finite entries")
+        raise InputError(f"{name} must be finite, got {int((~np.isfinite(a)).sum())} non-finite entries")
     return a
 
 
@@ -88,12 +89,12 @@ def receptance_errors(alpha_eq: ArrayLike, alpha_ref: ArrayLike) -> dict[str, np
     a_e = _as_receptance("alpha_eq", alpha_eq)
     a_r = _as_receptance("alpha_ref", alpha_ref)
     if a_e.shape != a_r.shape:
-        raise ValueError(f"alpha_eq and alpha_ref must have the same shape, got {a_e.shape} and {a_r.shape}")
+        raise InputError(f"alpha_eq and alpha_ref must have the same shape, got {a_e.shape} and {a_r.shape}")
     out = {}
     for name, (i, j) in ELEMENTS.items():
         ref = np.abs(a_r[:, i, j])
         if np.any(ref == 0):
-            raise ValueError(f"alpha_ref {name} must be non-zero for a relative error, got zero at index "
+            raise InputError(f"alpha_ref {name} must be non-zero for a relative error, got zero at index "
                              f"{int(np.argmax(ref == 0))}")
         out[name] = np.abs(a_e[:, i, j] - a_r[:, i, j]) / ref
     return out
@@ -151,6 +152,6 @@ def error_band_grid(band: tuple[float, float], df: float = 3.0) -> np.ndarray:
     """
     lo, hi = check_band(band)
     if isinstance(df, bool) or not isinstance(df, (int, float)) or not (math.isfinite(df) and df > 0):
-        raise ValueError(f"df must be positive and finite (Hz), got {df!r}")
+        raise InputError(f"df must be positive and finite (Hz), got {df!r}")
     n = int(math.ceil((hi - lo) / df - 1e-12)) + 1
     return np.linspace(lo, hi, max(n, 2))

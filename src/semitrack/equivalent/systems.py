@@ -35,6 +35,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies
+from ..base.errors import InputError, InputTypeError
 from .assembly import IllConditionedError, Layout, assembly, dynamic_stiffness, end_loads, scaled_solve
 
 __all__ = [
@@ -105,17 +106,17 @@ def parameter_array(name: str, value: ArrayLike, *, positive: bool = False) -> n
     try:
         arr = np.atleast_1d(np.asarray(value))
     except (TypeError, ValueError):
-        raise TypeError(f"{name} must be an array of real numbers, got {value!r}") from None
+        raise InputTypeError(f"{name} must be an array of real numbers, got {value!r}") from None
     if arr.size and arr.dtype.kind not in "iuf":  # bool, complex, str and object are refused
-        raise TypeError(f"{name} must be an array of real numbers, got {value!r} (dtype {arr.dtype})")
+        raise InputTypeError(f"{name} must be an array of real numbers, got {value!r} (dtype {arr.dtype})")
     arr = np.array(arr, dtype=float)  # a private copy
     if arr.ndim != 1:
-        raise ValueError(f"{name} must be one-dimensional (one value per bar), got shape {arr.shape}")
+        raise InputError(f"{name} must be one-dimensional (one value per bar), got shape {arr.shape}")
     rule = "positive and finite" if positive else "non-negative and finite"
     for i, v in enumerate(arr):
         ok = np.isfinite(v) and (v > 0 if positive else v >= 0)
         if not ok:
-            raise ValueError(f"{name}[{i}] must be {rule}, got {float(v)!r}")
+            raise InputError(f"{name}[{i}] must be {rule}, got {float(v)!r}")
     arr.setflags(write=False)
     return arr
 
@@ -265,21 +266,21 @@ class EquivalentSystem:
 
     def __post_init__(self):
         if type(self) is EquivalentSystem:
-            raise TypeError("EquivalentSystem is abstract: use SlabEquivalent or BallastedEquivalent")
+            raise InputTypeError("EquivalentSystem is abstract: use SlabEquivalent or BallastedEquivalent")
         for name in self.parameter_names():
             object.__setattr__(self, name, parameter_array(name, getattr(self, name), positive=(name == "L")))
         N = self.m.size
         if N < 1:
-            raise ValueError("m must hold at least one bar, got an empty array")
+            raise InputError("m must hold at least one bar, got an empty array")
         for name in self._per_bar:
             if getattr(self, name).size != N:
-                raise ValueError(
+                raise InputError(
                     f"{name} must have one value per bar (length N = {N} as m), "
                     f"got length {getattr(self, name).size}"
                 )
         for name in self._per_hinge:
             if getattr(self, name).size != N - 1:
-                raise ValueError(
+                raise InputError(
                     f"{name} must have one value per hinge (length N - 1 = {N - 1}), "
                     f"got length {getattr(self, name).size}"
                 )
@@ -337,7 +338,7 @@ class EquivalentSystem:
         'slab'
         """
         if not isinstance(params, dict):
-            raise TypeError(f"params must be a dict of parameter arrays, got {type(params).__name__}")
+            raise InputTypeError(f"params must be a dict of parameter arrays, got {type(params).__name__}")
         params = dict(params)
         layout = params.pop("layout", None)
         target = cls
@@ -346,16 +347,16 @@ class EquivalentSystem:
                 layout = "ballasted" if "mu" in params else "slab"
             target = _LAYOUTS.get(layout)
             if target is None:
-                raise ValueError(f"layout must be one of {sorted(_LAYOUTS)}, got {layout!r}")
+                raise InputError(f"layout must be one of {sorted(_LAYOUTS)}, got {layout!r}")
         elif layout is not None and layout != cls.layout:
-            raise ValueError(f"layout must be {cls.layout!r} for {cls.__name__}, got {layout!r}")
+            raise InputError(f"layout must be {cls.layout!r} for {cls.__name__}, got {layout!r}")
         names = target.parameter_names()
         unknown = sorted(set(params) - set(names))
         missing = [n for n in names if n not in params]
         if unknown:
-            raise TypeError(f"unknown parameter(s) for the {target.layout} layout: {unknown}")
+            raise InputTypeError(f"unknown parameter(s) for the {target.layout} layout: {unknown}")
         if missing:
-            raise TypeError(f"missing parameter(s) for the {target.layout} layout: {missing}")
+            raise InputTypeError(f"missing parameter(s) for the {target.layout} layout: {missing}")
         return target(**params)
 
     def replace(self, **changes: ArrayLike) -> EquivalentSystem:
@@ -440,7 +441,7 @@ class EquivalentSystem:
     def _frequencies(f) -> np.ndarray:
         f_arr = as_frequencies(f)
         if f_arr.ndim > 1:
-            raise ValueError(f"f must be a scalar or a 1-D array of frequencies (Hz), got shape {f_arr.shape}")
+            raise InputError(f"f must be a scalar or a 1-D array of frequencies (Hz), got shape {f_arr.shape}")
         return np.atleast_1d(f_arr)
 
     def _solve(self, f_arr: np.ndarray, rhs: np.ndarray) -> np.ndarray:
@@ -451,7 +452,7 @@ class EquivalentSystem:
         try:
             return scaled_solve(self.dynamic_stiffness(f_arr), rhs, cond_limit=_COND_LIMIT)
         except IllConditionedError as exc:
-            raise ValueError(
+            raise InputError(
                 f"the dynamic stiffness of this {self.layout} system is singular (condition number "
                 f"{exc.cond:.3g} > {_COND_LIMIT:.0e} after scaling) at f = {f_arr[exc.index]!r} Hz "
                 f"({exc.n_bad} of {f_arr.size} frequencies); the receptance is undefined there "
@@ -567,7 +568,7 @@ class EquivalentSystem:
             Truthy when passive.
         """
         if not (isinstance(tol, (int, float)) and np.isfinite(tol) and tol >= 0):
-            raise ValueError(f"tol must be non-negative and finite, got {tol!r}")
+            raise InputError(f"tol must be non-negative and finite, got {tol!r}")
         f_arr = self._frequencies(f)
         M, C, K = self._mck
         eM, eC, eK = (_relative_min_eig(X) for X in (M, C, K))

@@ -28,6 +28,7 @@ from ..base.checks import (
     check_int_at_least,
 )
 from ..base.conventions import ELEMENTS
+from ..base.errors import InputError, InputTypeError
 from ..base.paper_values import TABLE4_FIT_FREQUENCIES, TABLE7_FIT_FREQUENCIES
 from ..methods.features import find_extrema, search_grid
 from ..methods.receptance import central_response, semi_infinite_receptance
@@ -67,11 +68,11 @@ _ROWS, _COLS = (list(ix) for ix in zip(*ELEMENTS.values()))
 def check_alpha(alpha: np.ndarray, n_f: int, name: str) -> np.ndarray:
     """``alpha`` as complex (n_f, 2, 2), finite, with non-zero compared elements (relative residuals)."""
     if alpha.shape != (n_f, 2, 2):
-        raise ValueError(f"{name} must have shape ({n_f}, 2, 2), got {alpha.shape}")
+        raise InputError(f"{name} must have shape ({n_f}, 2, 2), got {alpha.shape}")
     if alpha.dtype.kind not in "fc" or not np.all(np.isfinite(alpha)):
-        raise ValueError(f"{name} must hold finite (complex) receptances")
+        raise InputError(f"{name} must hold finite (complex) receptances")
     if np.any(alpha[:, _ROWS, _COLS] == 0):
-        raise ValueError(f"{name} must have non-zero alpha11, alpha12, alpha22 (relative residuals)")
+        raise InputError(f"{name} must have non-zero alpha11, alpha12, alpha22 (relative residuals)")
     return alpha.astype(complex)
 
 
@@ -82,11 +83,11 @@ def normalise_target(target: Target):
     if isinstance(target, (tuple, list)) and len(target) == 2:
         f = as_frequencies(target[0], "target[0] (frequencies)")
         if f.ndim != 1 or f.size < 3 or np.any(np.diff(f) <= 0):
-            raise ValueError(f"target[0] must be a 1-D increasing array of at least 3 frequencies (Hz), "
+            raise InputError(f"target[0] must be a 1-D increasing array of at least 3 frequencies (Hz), "
                              f"got shape {f.shape}")
         alpha = check_alpha(np.asarray(target[1]), f.size, "target[1]")
         return f, alpha
-    raise TypeError("target must be None (exact receptance of track), a callable alpha(f) -> (n_f, 2, 2), "
+    raise InputTypeError("target must be None (exact receptance of track), a callable alpha(f) -> (n_f, 2, 2), "
                     f"or a pair (f, alpha) of sampled receptances, got {type(target).__name__}")
 
 
@@ -103,7 +104,7 @@ def _sampled(target, f_req: np.ndarray, what: str) -> np.ndarray:
     pick = np.where(np.abs(f_s[lower] - f_req) < np.abs(f_s[idx] - f_req), lower, idx)
     bad = ~np.isclose(f_s[pick], f_req, rtol=1e-9, atol=0)
     if np.any(bad):
-        raise ValueError(f"{what} must be among the sampled frequencies of target, e.g. "
+        raise InputError(f"{what} must be among the sampled frequencies of target, e.g. "
                          f"{float(f_req[bad][0])!r} Hz is not")
     return alpha[pick]
 
@@ -124,21 +125,21 @@ def target_values(track: Track, target, f: np.ndarray, what: str) -> np.ndarray:
 def check_characteristic(layout: Layout, characteristic: Mapping[str, float]) -> dict[str, float]:
     """Given characteristic frequencies (Hz): exactly the layout's keys, positive, ordered."""
     if not isinstance(characteristic, dict):
-        raise TypeError(f"characteristic must be a dict of frequencies (Hz), got {type(characteristic).__name__}")
+        raise InputTypeError(f"characteristic must be a dict of frequencies (Hz), got {type(characteristic).__name__}")
     keys = _CHAR_KEYS[layout]
     if set(characteristic) != set(keys):
-        raise ValueError(f"characteristic for the {layout} layout must have exactly the keys {keys}, "
+        raise InputError(f"characteristic for the {layout} layout must have exactly the keys {keys}, "
                          f"got {sorted(characteristic)}")
     out = {}
     for k in keys:
         v = characteristic[k]
         if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
-            raise TypeError(f"characteristic[{k!r}] must be a real number (Hz), got {v!r}")
+            raise InputTypeError(f"characteristic[{k!r}] must be a real number (Hz), got {v!r}")
         if not (math.isfinite(v) and v > 0):
-            raise ValueError(f"characteristic[{k!r}] must be positive and finite (Hz), got {v!r}")
+            raise InputError(f"characteristic[{k!r}] must be positive and finite (Hz), got {v!r}")
         out[k] = float(v)
     if layout == "ballasted" and not (out["f_n1"] < out["f_anti"] < out["f_n2"]):
-        raise ValueError("characteristic must satisfy f_n1 < f_anti < f_n2 (Eq. 30 gives s > 0 only then), "
+        raise InputError("characteristic must satisfy f_n1 < f_anti < f_n2 (Eq. 30 gives s > 0 only then), "
                          f"got {out}")
     return out
 
@@ -174,12 +175,12 @@ _WITHOUT_CONSTRAINTS = ("fit without them (constrained=False; on the command lin
 def _ballasted_extrema(table, dips: np.ndarray, search_band) -> dict[str, float]:
     """``f_n1, f_n2`` = the two lowest dips, ``f_anti`` = the highest peak between them."""
     if dips.size < 2:
-        raise ValueError(f"fewer than two dips of |det(alpha^-1)| in {search_band} Hz (found {dips.size}): "
+        raise InputError(f"fewer than two dips of |det(alpha^-1)| in {search_band} Hz (found {dips.size}): "
                          f"cannot set f_n1, f_n2 for the paper's constraints; {_WITHOUT_CONSTRAINTS}")
     f1, f2 = float(dips[0]), float(dips[1])
     peaks = table[(table["kind"] == "peak") & (table["f"] > f1) & (table["f"] < f2)]
     if peaks.empty:
-        raise ValueError(f"no peak of |det(alpha^-1)| between its dips at {f1:.4g} and {f2:.4g} Hz: "
+        raise InputError(f"no peak of |det(alpha^-1)| between its dips at {f1:.4g} and {f2:.4g} Hz: "
                          f"cannot set f_anti for the paper's constraints; {_WITHOUT_CONSTRAINTS}")
     fa = float(peaks["f"].to_numpy(float)[np.argmax(peaks["magnitude"].to_numpy(float))])
     return {"f_n1": f1, "f_n2": f2, "f_anti": fa}
@@ -241,7 +242,7 @@ def fit_characteristic_frequencies(track: Track, layout: Layout, *, target: Targ
     if layout == "ballasted":
         return _ballasted_extrema(table, dips, search_band)
     if dips.size == 0:
-        raise ValueError(f"no dip of |det(alpha^-1)| found in {search_band} Hz: cannot set f_n for the "
+        raise InputError(f"no dip of |det(alpha^-1)| found in {search_band} Hz: cannot set f_n for the "
                          f"paper's constraints; {_WITHOUT_CONSTRAINTS}")
     f_b = track.bouncing_frequency_estimate
     return {"f_n": float(dips[np.argmin(np.abs(dips - f_b))])}
@@ -305,11 +306,11 @@ def _explicit_fit_frequencies(layout: Layout, fit_freqs) -> np.ndarray:
     """``"paper"`` or an array of frequencies, checked, sorted and unique."""
     if isinstance(fit_freqs, str):
         if fit_freqs != "paper":
-            raise ValueError(f"fit_freqs must be None, 'paper' or an array of frequencies (Hz), got {fit_freqs!r}")
+            raise InputError(f"fit_freqs must be None, 'paper' or an array of frequencies (Hz), got {fit_freqs!r}")
         return np.array(_PAPER_FIT_FREQUENCIES[layout])
     f_fit = as_frequencies(fit_freqs, "fit_freqs")
     if f_fit.ndim != 1:
-        raise ValueError(f"fit_freqs must be one-dimensional, got shape {f_fit.shape}")
+        raise InputError(f"fit_freqs must be one-dimensional, got shape {f_fit.shape}")
     return np.unique(f_fit)
 
 
@@ -329,7 +330,7 @@ def select_frequencies(layout: Layout, band: tuple[float, float], target, fit_fr
         f_s = target[0]
         f_err = f_s[(f_s >= band[0]) & (f_s <= band[1])]
         if f_err.size < 2:
-            raise ValueError(f"target must have at least 2 samples inside band {band} Hz, got {f_err.size}")
+            raise InputError(f"target must have at least 2 samples inside band {band} Hz, got {f_err.size}")
     else:
         f_err = error_band_grid(band, error_df)
     if fit_freqs is not None:

@@ -46,6 +46,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..base.checks import check_int_at_least, check_nonnegative, check_positive, check_real, check_work
+from ..base.errors import InputError, InputTypeError
 from ..dynamics.contact import MAX_NEWTON, HertzContacts, solve_hertz
 from ..dynamics.factor import factorise
 from ..dynamics.newmark import Newmark
@@ -190,7 +191,7 @@ class ContactResponse:
         """
         late = self.t >= after
         if np.count_nonzero(late) < 2:
-            raise ValueError(f"after={after!r} s leaves fewer than two samples of a {self.t[-1]:.6g} s record")
+            raise InputError(f"after={after!r} s leaves fewer than two samples of a {self.t[-1]:.6g} s record")
         force = self.force[late] - self.force[late].mean()
         amplitude = np.abs(np.fft.rfft(force * np.hanning(force.size))) * 4 / force.size
         return np.fft.rfftfreq(force.size, self.dt), amplitude
@@ -207,16 +208,16 @@ def _check_inputs(model, wheel, roughness, x_contact, speed, dt, duration, ramp)
     """The checked scalars of :func:`wheel_rail_response`, and the contact's path along the rail."""
     require_model(model)
     if not isinstance(wheel, Wheel):
-        raise TypeError(f"wheel must be a semitrack Wheel (e.g. st.Wheel()), got {type(wheel).__name__}")
+        raise InputTypeError(f"wheel must be a semitrack Wheel (e.g. st.Wheel()), got {type(wheel).__name__}")
     if roughness is not None and not isinstance(roughness, Roughness):
-        raise TypeError(f"roughness must be None (a smooth rail) or a Roughness (roughness_from_spectrum, "
+        raise InputTypeError(f"roughness must be None (a smooth rail) or a Roughness (roughness_from_spectrum, "
                         f"corrugation), got {type(roughness).__name__}")
     x_contact, speed = check_real("x_contact", x_contact), check_nonnegative("speed", speed)
     dt, duration, ramp = check_positive("dt", dt), check_positive("duration", duration), check_positive("ramp", ramp)
     if not duration > ramp:
-        raise ValueError(f"duration must exceed ramp = {ramp!r} s (the roughness's fade-in), got {duration!r}")
+        raise InputError(f"duration must exceed ramp = {ramp!r} s (the roughness's fade-in), got {duration!r}")
     if roughness is not None and speed > 0 and not math.isclose(roughness.speed, speed, rel_tol=1e-9):
-        raise ValueError(f"a rolling wheel passes the roughness at its own speed: roughness.speed must equal "
+        raise InputError(f"a rolling wheel passes the roughness at its own speed: roughness.speed must equal "
                          f"speed={speed!r} m/s, got {roughness.speed!r}")
     n_steps = int(round(duration / dt))
     if roughness is not None:
@@ -226,7 +227,7 @@ def _check_inputs(model, wheel, roughness, x_contact, speed, dt, duration, ramp)
     x = x_contact + speed * dt * np.arange(n_steps + 1)
     for name, value in (("x_contact", x[0]), ("x_contact + speed * duration", x[-1])):
         if not model.x[0] <= value <= model.x[-1]:
-            raise ValueError(f"{name} must lie on the rail, {model.x[0]:.6g} <= x <= {model.x[-1]:.6g} m, "
+            raise InputError(f"{name} must lie on the rail, {model.x[0]:.6g} <= x <= {model.x[-1]:.6g} m, "
                              f"got {value!r}")
     return dt, ramp, n_steps, x
 
@@ -384,23 +385,23 @@ def contact_transfer(response: ContactResponse, band: tuple[float, float] = (50.
     ContactTransfer
     """
     if not isinstance(response, ContactResponse):
-        raise TypeError(f"response must be a ContactResponse (wheel_rail_response), got {type(response).__name__}")
+        raise InputTypeError(f"response must be a ContactResponse (wheel_rail_response), got {type(response).__name__}")
     if response.period is None or response.speed != 0:
-        raise ValueError("contact_transfer needs a stationary wheel (speed=0) driven by a roughness, got "
+        raise InputError("contact_transfer needs a stationary wheel (speed=0) driven by a roughness, got "
                          f"speed={response.speed!r} m/s and period={response.period!r}")
     try:
         lo, hi = band
     except (TypeError, ValueError):
-        raise TypeError(f"band must be a pair (lowest, highest) of band centres in Hz, got {band!r}") from None
+        raise InputTypeError(f"band must be a pair (lowest, highest) of band centres in Hz, got {band!r}") from None
     periods = check_int_at_least("periods", periods, 1)
     dt, n_per = response.dt, response.period / response.dt
     if abs(n_per - round(n_per)) > 1e-6 * n_per:
-        raise ValueError(f"the roughness period {response.period!r} s must be a whole number of time steps "
+        raise InputError(f"the roughness period {response.period!r} s must be a whole number of time steps "
                          f"dt={dt!r} s for a transfer without leakage")
     n_per = int(round(n_per))
     start = response.t.size - periods * n_per
     if start < 0 or response.t[start] < response.t_full - 1e-12:
-        raise ValueError(f"periods={periods} roughness periods of {response.period:.6g} s must fit after the fade-in "
+        raise InputError(f"periods={periods} roughness periods of {response.period:.6g} s must fit after the fade-in "
                          f"(t >= {response.t_full:.6g} s) in a record of {response.t[-1]:.6g} s; simulate longer")
     spectra = [np.fft.rfft(s[start:].reshape(periods, n_per), axis=1) for s in (response.roughness, response.force)]
     R, F = spectra
@@ -413,7 +414,7 @@ def contact_transfer(response: ContactResponse, band: tuple[float, float] = (50.
     power = np.sum(np.abs(R) ** 2, axis=0)
     keep = (power > 1e-12 * power.max()) & (f >= lower[0]) & (f < upper[-1]) & (j > 0)
     if not np.any(keep):
-        raise ValueError(f"band={band!r} Hz holds none of the roughness's lines ({1 / response.period:.4g} Hz "
+        raise InputError(f"band={band!r} Hz holds none of the roughness's lines ({1 / response.period:.4g} Hz "
                          "apart); choose bands the roughness covers")
     f, H = f[keep], (np.sum(np.conj(R) * F, axis=0) / np.where(power > 0, power, 1.0))[keep]
     r_amp = 2 * np.sqrt(power[keep] / periods) / n_per

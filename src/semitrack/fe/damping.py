@@ -23,6 +23,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from ..base.checks import check_positive
+from ..base.errors import InputError
 from ..model.tracks import Track, require_track
 
 __all__ = ["reference_frequencies"]
@@ -60,7 +61,7 @@ def reference_frequencies(track: Track, f_ref: float | Mapping[str, float] | Non
     if isinstance(f_ref, Mapping):
         unknown = sorted(set(f_ref) - set(fr))
         if unknown:
-            raise ValueError(f"f_ref keys must be among {sorted(fr)}, got {unknown}")
+            raise InputError(f"f_ref keys must be among {sorted(fr)}, got {unknown}")
         fr.update({k: check_positive(f"f_ref[{k!r}]", v) for k, v in f_ref.items()})
         return fr
     v = check_positive("f_ref", f_ref)

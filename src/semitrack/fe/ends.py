@@ -33,6 +33,7 @@ from typing import ClassVar, Literal
 import numpy as np
 
 from ..base.checks import check_choice
+from ..base.errors import InputError, InputTypeError
 from ..boundary.fitting import BroadbandBoundary
 from ..dynamics.states import StateBlock
 from ..equivalent.assembly import dynamic_stiffness
@@ -153,7 +154,7 @@ class End:
         """``(K0, D)``: the 2x2 stiffness and dashpot the end adds to ``K`` and ``C`` in time, or None."""
         if not self.time_domain:
             others = [repr(cls.name) for cls in _KINDS.values() if cls.time_domain]
-            raise ValueError(f"ends={self.name!r} is frequency dependent and has no time-domain matrices; use "
+            raise InputError(f"ends={self.name!r} is frequency dependent and has no time-domain matrices; use "
                              f"{', '.join(others[:-1])} or {others[-1]}")
         return None
 
@@ -276,7 +277,7 @@ def _require_system(end: End, system) -> None:
     kind = end.system_type
     if not isinstance(system, kind):
         article = "an" if kind.__name__[0] in "AEIOU" else "a"
-        raise TypeError(f"system must be {article} {kind.__name__} for {article} {end.name!r} end, "
+        raise InputTypeError(f"system must be {article} {kind.__name__} for {article} {end.name!r} end, "
                         f"got {type(system).__name__}")
 
 
@@ -308,15 +309,15 @@ def model_ends(left: str | End, right: str | End, system=None, n_bays: int = 1) 
     kinds = [type(end) if isinstance(end, End) else _KINDS[end] for end in names]
     needing = {cls for cls, end in zip(kinds, names) if cls.system_type is not None and not isinstance(end, End)}
     if len(needing) > 1:
-        raise ValueError("one model takes one system: 'equivalent' and 'boundary' ends cannot be mixed")
+        raise InputError("one model takes one system: 'equivalent' and 'boundary' ends cannot be mixed")
     if system is not None and not needing:
-        raise ValueError(f"system is only used with an 'equivalent' or 'boundary' end, got ends "
+        raise InputError(f"system is only used with an 'equivalent' or 'boundary' end, got ends "
                          f"({_name(left)!r}, {_name(right)!r})")
     ends = {side: make_end(end, system if cls in needing else None)
             for side, end, cls in zip(("left", "right"), names, kinds)}
     if n_bays == 0 and not all(end.closes_alone for end in ends.values()):
         alone = ", ".join(repr(cls.name) for cls in _KINDS.values() if cls.closes_alone)
-        raise ValueError(f"a model with zero bays needs {alone} ends, got ends ({_name(left)!r}, {_name(right)!r})")
+        raise InputError(f"a model with zero bays needs {alone} ends, got ends ({_name(left)!r}, {_name(right)!r})")
     return ends
 
 
@@ -326,7 +327,7 @@ def make_far_end(end: str | End) -> End:
         check_choice("far_end", end, FAR_END_NAMES)
     made = make_end(end)
     if made.system_type is not None:
-        raise ValueError(f"far_end must be one of {FAR_END_NAMES}, got {made.name!r}")
+        raise InputError(f"far_end must be one of {FAR_END_NAMES}, got {made.name!r}")
     return made
 
 
@@ -359,12 +360,12 @@ def make_end(kind: str | End, system: EquivalentSystem | BroadbandBoundary | Non
     """
     if isinstance(kind, End):
         if system is not None:
-            raise ValueError(f"system is given by the end itself for an End object, got also {type(system).__name__}")
+            raise InputError(f"system is given by the end itself for an End object, got also {type(system).__name__}")
         return kind
     (cls,) = end_kinds(kind)
     if cls.system_type is None:
         if system is not None:
-            raise ValueError(f"system is only used with an 'equivalent' or 'boundary' end, got ends={kind!r}")
+            raise InputError(f"system is only used with an 'equivalent' or 'boundary' end, got ends={kind!r}")
         return cls(label=label)
     if cls is EquivalentEnd:
         return EquivalentEnd(label=label, equivalent=system)

@@ -29,6 +29,7 @@ import scipy.sparse as sp
 from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies, check_choice, check_int_at_least, check_real, check_work
+from ..base.errors import InputError, InputTypeError
 from ..base.threads import serial_blas
 from ..boundary.fitting import BroadbandBoundary
 from ..dynamics.points import PointSet
@@ -108,7 +109,7 @@ class FETrack:
         self.left, self.right = self.ends["left"].name, self.ends["right"].name
         ne = check_int_at_least("elements_per_bay", elements_per_bay, 2)
         if ne % 2:
-            raise ValueError(f"elements_per_bay must be even (mid-spans are nodes), got {ne}")
+            raise InputError(f"elements_per_bay must be even (mid-spans are nodes), got {ne}")
         self.elements_per_bay = ne
         n_elements = ne * (self.n_left + self.n_right)
         check_work(n_elements, MAX_ELEMENTS, f"{self.n_left + self.n_right} bays (n_bays, or n_left + n_right) x "
@@ -191,13 +192,13 @@ class FETrack:
         kind = check_choice("kind", kind, KINDS)
         j = int(np.argmin(np.abs(self.x - x)))
         if abs(self.x[j] - x) > 1e-9 * self.track.spacing:
-            raise ValueError(
+            raise InputError(
                 f"x must be a node position of the mesh (spacing {self.element_length:.6g} m from "
                 f"{self.x[0]:.6g} to {self.x[-1]:.6g} m), got {x!r}"
             )
         i = int(self.dofs.index[rail_dof(j, kind)])
         if i < 0:
-            raise ValueError(f"the {kind} DOF at x={x!r} is removed by a pinned end")
+            raise InputError(f"the {kind} DOF at x={x!r} is removed by a pinned end")
         return i
 
     def _weights(self, xs: np.ndarray, kind: Kind, name: str) -> tuple[np.ndarray, np.ndarray]:
@@ -207,7 +208,7 @@ class FETrack:
         lo, hi = self.x[0], self.x[-1]
         bad = ~(np.isfinite(xs) & (xs >= lo - 1e-12) & (xs <= hi + 1e-12))
         if np.any(bad):
-            raise ValueError(f"{name} must lie on the rail, {lo:.6g} <= x <= {hi:.6g} m, got {xs[bad][0]!r}")
+            raise InputError(f"{name} must lie on the rail, {lo:.6g} <= x <= {hi:.6g} m, got {xs[bad][0]!r}")
         e, xi = self.mesh.locate(xs)
         h, tr = self.element_length, self.track
         n_w, n_psi = timoshenko_shape_functions(xi, h, shear_parameter(tr.E * tr.I, tr.kappa * tr.A * tr.G, h))
@@ -313,7 +314,7 @@ class FETrack:
         """Data of ``K*`` at frequency ``f`` (Hz); ``f`` may be omitted for hysteretic damping."""
         tr, d = self.track, self._parts.data
         if tr.damping != "hysteretic" and f is None:
-            raise ValueError("a viscously damped track has a frequency-dependent K*: give f (Hz)")
+            raise InputError("a viscously damped track has a frequency-dependent K*: give f (Hz)")
         eta = {family: float(tr.loss_factor(family, f if f is not None else 1.0))
                for family in ("rail", "pad", "ballast")}
         return ((1 + 1j * eta["rail"]) * d["K_rail"] + (1 + 1j * eta["pad"]) * d["K_pad"]
@@ -370,10 +371,10 @@ class FETrack:
         """
         f = np.atleast_1d(as_frequencies(f))
         if f.ndim != 1:
-            raise ValueError(f"f must be a scalar or a 1-D array of frequencies (Hz), got shape {f.shape}")
+            raise InputError(f"f must be a scalar or a 1-D array of frequencies (Hz), got shape {f.shape}")
         rhs = np.asarray(rhs)
         if rhs.ndim != 2 or rhs.shape[0] != self.n_dof:
-            raise ValueError(f"rhs must have shape ({self.n_dof}, n_rhs), got {rhs.shape}")
+            raise InputError(f"rhs must have shape ({self.n_dof}, n_rhs), got {rhs.shape}")
         omega = 2 * np.pi * f
         hysteretic = self.track.damping == "hysteretic"
         k0 = self._complex_k_data() if hysteretic else None
@@ -495,7 +496,7 @@ class FETrack:
 def require_model(model: object) -> FETrack:
     """``model`` if it is an :class:`FETrack`, else a TypeError that names it."""
     if not isinstance(model, FETrack):
-        raise TypeError(f"model must be an FETrack (e.g. TruncatedTrack), got {type(model).__name__}")
+        raise InputTypeError(f"model must be an FETrack (e.g. TruncatedTrack), got {type(model).__name__}")
     return model
 
 
@@ -539,7 +540,7 @@ class TruncatedTrack(FETrack):
         n = check_int_at_least("n_bays", n_bays, 0)
         kind = type(ends) if isinstance(ends, End) else end_kinds(ends)[0]
         if n == 0 and not kind.closes_alone:
-            raise ValueError(f"n_bays must be >= 1 with ends={kind.name!r}, got 0")
+            raise InputError(f"n_bays must be >= 1 with ends={kind.name!r}, got 0")
         self.n_bays = n
         self.ends = ends
         super().__init__(track, n, n, ends, ends, system, elements_per_bay)

@@ -29,6 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..base.checks import check_int_at_least, check_nonnegative, check_positive, check_real, check_work
+from ..base.errors import InputError
 
 __all__ = ["ISO3095_ROUGHNESS_LIMIT", "Roughness", "roughness_from_spectrum", "corrugation",
            "third_octave_bands", "MAX_LINES"]
@@ -77,7 +78,7 @@ def third_octave_bands(lo: float, hi: float) -> tuple[np.ndarray, np.ndarray, np
     """
     lo, hi = check_positive("lo", lo), check_positive("hi", hi)
     if not lo <= hi:
-        raise ValueError(f"hi must be >= lo={lo!r}, got {hi!r}")
+        raise InputError(f"hi must be >= lo={lo!r}, got {hi!r}")
     n = np.arange(round(10 * np.log10(lo)), round(10 * np.log10(hi)) + 1)
     check_work(n.size, MAX_LINES, f"lo={lo!r} to hi={hi!r} give {n.size} bands", "ask for a narrower range")
     centres = 10.0 ** (n / 10)
@@ -124,17 +125,17 @@ class Roughness:
                   for k in ("frequencies", "amplitudes", "phases")]
         f, a, phi = arrays
         if f.ndim != 1 or a.shape != f.shape or phi.shape != f.shape:
-            raise ValueError(f"frequencies, amplitudes and phases must be 1-D arrays of one length, got shapes "
+            raise InputError(f"frequencies, amplitudes and phases must be 1-D arrays of one length, got shapes "
                              f"{f.shape}, {a.shape}, {phi.shape}")
         check_work(f.size, MAX_LINES, f"the roughness holds {f.size} lines", "use a shorter period or fewer bands")
         if not (np.all(np.isfinite(f)) and np.all(f > 0)):
-            raise ValueError(f"frequencies must be positive and finite (Hz), got {f[~(np.isfinite(f) & (f > 0))][:3]}")
+            raise InputError(f"frequencies must be positive and finite (Hz), got {f[~(np.isfinite(f) & (f > 0))][:3]}")
         j = f * period
         if np.any(np.abs(j - np.round(j)) > 1e-6 * np.maximum(j, 1.0)):
-            raise ValueError(f"frequencies must be whole multiples of 1/period = {1 / period:.6g} Hz, "
+            raise InputError(f"frequencies must be whole multiples of 1/period = {1 / period:.6g} Hz, "
                              f"got e.g. {f[np.argmax(np.abs(j - np.round(j)))]!r}")
         if not (np.all(np.isfinite(a)) and np.all(a >= 0) and np.all(np.isfinite(phi))):
-            raise ValueError("amplitudes must be non-negative and finite (m) and phases finite (rad)")
+            raise InputError("amplitudes must be non-negative and finite (m) and phases finite (rad)")
         for key, value in (("frequencies", f), ("amplitudes", a), ("phases", phi), ("speed", speed),
                            ("period", period)):
             object.__setattr__(self, key, value)
@@ -255,15 +256,15 @@ def _band_numbers(centres: ArrayLike, name: str = "centres") -> np.ndarray:
     """The integers n of base-10 one-third-octave centres 10^(n/10) (within 3 %), checked."""
     c = np.atleast_1d(np.asarray(centres, dtype=float))
     if c.ndim != 1 or c.size == 0 or not np.all(np.isfinite(c) & (c > 0)):
-        raise ValueError(f"{name} must be a non-empty 1-D array of positive band-centre wavelengths (m), "
+        raise InputError(f"{name} must be a non-empty 1-D array of positive band-centre wavelengths (m), "
                          f"got {centres!r}")
     n = np.round(10 * np.log10(c)).astype(int)
     off = np.abs(c / 10.0 ** (n / 10) - 1) > 0.03
     if np.any(off):
-        raise ValueError(f"{name} must be one-third-octave band centres 10^(n/10) m (within 3 %, e.g. 0.0315), "
+        raise InputError(f"{name} must be one-third-octave band centres 10^(n/10) m (within 3 %, e.g. 0.0315), "
                          f"got {c[off][0]!r}")
     if np.unique(n).size != n.size:
-        raise ValueError(f"{name} must name each band once, got {centres!r}")
+        raise InputError(f"{name} must name each band once, got {centres!r}")
     return n
 
 
@@ -308,17 +309,17 @@ def roughness_from_spectrum(speed: float, wavelengths: ArrayLike | None = None, 
     if wavelengths is None and levels is None:
         wavelengths, levels = list(ISO3095_ROUGHNESS_LIMIT), list(ISO3095_ROUGHNESS_LIMIT.values())
     elif wavelengths is None or levels is None:
-        raise ValueError("wavelengths and levels must be given together (or neither, for the ISO 3095 limit)")
+        raise InputError("wavelengths and levels must be given together (or neither, for the ISO 3095 limit)")
     n = _band_numbers(wavelengths, "wavelengths")
     levels = np.atleast_1d(np.asarray(levels, dtype=float))
     if levels.shape != n.shape or not np.all(np.isfinite(levels)):
-        raise ValueError(f"levels must be finite, one per wavelength ({n.size}), got {levels!r}")
+        raise InputError(f"levels must be finite, one per wavelength ({n.size}), got {levels!r}")
     lines, amplitudes = [], []
     for k, level in zip(n, levels):
         lam_lo, lam_hi = 10.0 ** (k / 10 - _HALF_BAND), 10.0 ** (k / 10 + _HALF_BAND)
         j = np.arange(np.ceil(speed / lam_hi * period), np.floor(speed / lam_lo * period) + 1)
         if j.size == 0:
-            raise ValueError(f"period={period!r} s leaves no line (spacing {1 / period:.4g} Hz) in the band of "
+            raise InputError(f"period={period!r} s leaves no line (spacing {1 / period:.4g} Hz) in the band of "
                              f"wavelength {10 ** (k / 10):.4g} m, {speed / lam_hi:.4g}-{speed / lam_lo:.4g} Hz at "
                              f"speed {speed:.4g} m/s; use a longer period")
         check_work(len(lines) + j.size, MAX_LINES, f"period={period!r} s gives more than {MAX_LINES} lines",

@@ -39,6 +39,7 @@ import scipy.sparse as sp
 from numpy.typing import ArrayLike
 
 from ..base.checks import check_int_at_least, check_positive, check_real, check_work
+from ..base.errors import InputError, InputTypeError
 from ..dynamics.newmark import Newmark
 from ..dynamics.points import PointSet
 from ..dynamics.simulate import MAX_RECORDED, MAX_STEP_DOFS, simulate
@@ -91,15 +92,15 @@ def _load_points(load, n: int, n_steps: int, t: np.ndarray) -> tuple[PointSet, n
         for k, tk in enumerate(t):
             f = np.asarray(load(tk), dtype=float)
             if f.shape != (n,):
-                raise ValueError(f"load(t) must return shape ({n},), got {f.shape}")
+                raise InputError(f"load(t) must return shape ({n},), got {f.shape}")
             samples[k] = f
         return PointSet.on_dofs(np.arange(n)), samples
     if not (isinstance(load, tuple) and len(load) == 2):
-        raise TypeError(f"load must be a callable load(t) or a tuple (B, g), got {type(load).__name__}")
+        raise InputTypeError(f"load must be a callable load(t) or a tuple (B, g), got {type(load).__name__}")
     B, g = load
     B = sp.csc_matrix(B) if sp.issparse(B) else np.asarray(B, dtype=float)
     if B.ndim != 2 or B.shape[0] != n:
-        raise ValueError(f"load matrix B must have shape ({n}, n_in), got {B.shape}")
+        raise InputError(f"load matrix B must have shape ({n}, n_in), got {B.shape}")
     n_in = B.shape[1]
     if callable(g):
         g = np.array([np.asarray(g(tk), dtype=float).reshape(n_in) for tk in t])
@@ -107,7 +108,7 @@ def _load_points(load, n: int, n_steps: int, t: np.ndarray) -> tuple[PointSet, n
     if g.ndim == 1 and n_in == 1:
         g = g[:, None]
     if g.shape != (n_steps + 1, n_in):
-        raise ValueError(f"load history g must have shape ({n_steps + 1}, {n_in}), got {g.shape}")
+        raise InputError(f"load history g must have shape ({n_steps + 1}, {n_in}), got {g.shape}")
     return PointSet.from_matrix(B), g
 
 
@@ -118,12 +119,12 @@ def _recorded(outputs, n: int) -> tuple[np.ndarray | None, dict, tuple]:
     if sp.issparse(outputs) or (isinstance(outputs, np.ndarray) and outputs.ndim == 2):
         O = sp.csr_matrix(outputs)
         if O.shape[1] != n:
-            raise ValueError(f"outputs matrix must have {n} columns, got shape {O.shape}")
+            raise InputError(f"outputs matrix must have {n} columns, got shape {O.shape}")
         labels = tuple(f"output {i}" for i in range(O.shape[0]))
         return np.zeros(0, np.int64), {"out": PointSet.from_matrix(O.T)}, labels
     idx = np.asarray(outputs)
     if idx.ndim != 1 or idx.dtype.kind not in "iu" or np.any((idx < 0) | (idx >= n)):
-        raise ValueError(f"outputs must be None, DOF indices in [0, {n}) or a matrix, got {outputs!r}")
+        raise InputError(f"outputs must be None, DOF indices in [0, {n}) or a matrix, got {outputs!r}")
     return idx, {}, tuple(f"dof {i}" for i in idx)
 
 
@@ -329,10 +330,10 @@ def moving_load_response(model: FETrack, positions: ArrayLike = (0.0,), *, load:
     speed = check_positive("speed", speed)
     x_start, x_end = check_real("x_start", x_start), check_real("x_end", x_end)
     if not x_end > x_start:
-        raise ValueError(f"x_end must be greater than x_start={x_start!r}, got {x_end!r}")
+        raise InputError(f"x_end must be greater than x_start={x_start!r}, got {x_end!r}")
     for name, x in (("x_start", x_start), ("x_end", x_end)):
         if not model.x[0] <= x <= model.x[-1]:
-            raise ValueError(f"{name} must lie on the rail, {model.x[0]:.6g} <= x <= {model.x[-1]:.6g} m, got {x!r}")
+            raise InputError(f"{name} must lie on the rail, {model.x[0]:.6g} <= x <= {model.x[-1]:.6g} m, got {x!r}")
     ramp = check_positive("ramp", ramp)
     stepper = Newmark(check_positive("dt", dt))
     n_steps = int(np.ceil((x_end - x_start) / speed / stepper.dt))
@@ -368,8 +369,8 @@ def relative_l2_error(u: ArrayLike, u_ref: ArrayLike) -> np.ndarray:
     """
     u, u_ref = np.asarray(u, dtype=float), np.asarray(u_ref, dtype=float)
     if u.shape != u_ref.shape:
-        raise ValueError(f"u and u_ref must have the same shape, got {u.shape} and {u_ref.shape}")
+        raise InputError(f"u and u_ref must have the same shape, got {u.shape} and {u_ref.shape}")
     ref = np.linalg.norm(u_ref, axis=0)
     if np.any(ref == 0):
-        raise ValueError("u_ref must not be identically zero in any column for a relative error")
+        raise InputError("u_ref must not be identically zero in any column for a relative error")
     return np.linalg.norm(u - u_ref, axis=0) / ref

@@ -26,6 +26,7 @@ import pandas as pd
 from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies, check_choice
+from ..base.errors import InputTypeError
 from ..boundary.fitting import BroadbandBoundary
 from ..equivalent.assembly import scaled_solve
 from ..equivalent.systems import EquivalentSystem
@@ -59,7 +60,7 @@ def _as_end(spec: End | tuple) -> End:
     try:
         kind, system = spec
     except (TypeError, ValueError):
-        raise TypeError(f"an end of a study must be an End or a pair (name, system), got {spec!r}") from None
+        raise InputTypeError(f"an end of a study must be an End or a pair (name, system), got {spec!r}") from None
     return make_end(kind, system)
 
 

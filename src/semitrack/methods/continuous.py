@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies, check_nonnegative
+from ..base.errors import InputError
 from ..model.tracks import Track, require_track
 
 
@@ -53,7 +54,7 @@ def continuous_foundation_receptance(track: Track, f: ArrayLike, k_f: complex, k
         ok = np.isfinite(k) and (k.real > 0 or (allow_zero and k == 0)) and k.imag >= 0
         if not ok:
             rule = "zero or " if allow_zero else ""
-            raise ValueError(f"{name} must be {rule}a finite stiffness with positive real part and "
+            raise InputError(f"{name} must be {rule}a finite stiffness with positive real part and "
                              f"non-negative imaginary part (a passive foundation), got {value!r}")
     check_nonnegative("x", x)
     omega2 = (2 * np.pi * f.ravel()) ** 2

@@ -17,6 +17,7 @@ from scipy.optimize import minimize_scalar
 
 from ..base.checks import MAX_FREQUENCIES, as_frequencies, check_band, check_choice, check_positive, check_work
 from ..base.conventions import ELEMENTS
+from ..base.errors import InputError
 from ..base.paper_values import PAPER_GRID_BAND, PAPER_GRID_STEP
 from ..model.tracks import PeriodicCell, Track
 from .receptance import CentralResponse, Method, central_response, semi_infinite_receptance
@@ -84,7 +85,7 @@ def grid_extrema(y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """
     m = np.abs(np.asarray(y))
     if m.ndim != 1 or m.size < 3:
-        raise ValueError(f"y must be a 1-D array with at least 3 points, got shape {m.shape}")
+        raise InputError(f"y must be a 1-D array with at least 3 points, got shape {m.shape}")
     left, mid, right = m[:-2], m[1:-1], m[2:]
     peaks = np.flatnonzero((mid > left) & (mid >= right)) + 1
     dips = np.flatnonzero((mid < left) & (mid <= right)) + 1
@@ -147,7 +148,7 @@ def find_extrema(f: ArrayLike, curves: dict[str, np.ndarray],
     """
     f = as_frequencies(f)
     if f.ndim != 1 or np.any(np.diff(f) <= 0):
-        raise ValueError("f must be a 1-D increasing frequency grid")
+        raise InputError("f must be a 1-D increasing frequency grid")
     rows = []
     for name, y in curves.items():
         peaks, dips = grid_extrema(y)
@@ -216,5 +217,5 @@ def search_grid(band: tuple[float, float], df: float) -> np.ndarray:
                "use a larger df")
     f = np.arange(lo, hi + 1e-9, df)
     if f.size < 3:
-        raise ValueError(f"band {band!r} with df={df!r} gives fewer than 3 grid points; use a smaller df")
+        raise InputError(f"band {band!r} with df={df!r} gives fewer than 3 grid points; use a smaller df")
     return f

@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies, check_choice, check_real
+from ..base.errors import InputError, InputTypeError
 from ..model.tracks import PeriodicCell, Track, require_cell
 from .transfer import end_stiffness, infinite_response, same_section, slab_cut_end_stiffness
 from .wavenumber import WavenumberSettings, central_quantities
@@ -71,7 +72,7 @@ class CentralResponse:
 
     def _require_separable(self, what: str) -> None:
         if not self.separable:
-            raise ValueError(
+            raise InputError(
                 f"{what} presumes that the two halves of the track meet through the rail alone; a flexible "
                 "slab runs through this cut (their Eq. 14 alpha is not even reciprocal). Use "
                 "semi_infinite_receptance, which cuts the slab there too")
@@ -99,16 +100,16 @@ def _settings(method: str, options: dict) -> WavenumberSettings | None:
     check_choice("method", method, METHODS)
     if method == "transfer":
         if options:
-            raise TypeError(f"method='transfer' takes no discretisation settings, got {sorted(options)}")
+            raise InputTypeError(f"method='transfer' takes no discretisation settings, got {sorted(options)}")
         return None
     allowed = {"beta_max", "dbeta", "j_max", "dx", "settings"}
     unknown = sorted(set(options) - allowed)
     if unknown:
-        raise TypeError(f"unknown wavenumber setting(s) {unknown}; allowed: {sorted(allowed)}")
+        raise InputTypeError(f"unknown wavenumber setting(s) {unknown}; allowed: {sorted(allowed)}")
     if "settings" in options:
         base = options.pop("settings")
         if not isinstance(base, WavenumberSettings):
-            raise TypeError(f"settings must be a WavenumberSettings, got {type(base).__name__}")
+            raise InputTypeError(f"settings must be a WavenumberSettings, got {type(base).__name__}")
         return WavenumberSettings(**{**base.__dict__, **options})
     return WavenumberSettings(**options)
 
@@ -150,7 +151,7 @@ def central_response(track: Track | PeriodicCell, f: ArrayLike, method: Method =
     x0 = cell.central_section
     if not cell.is_symmetric_about(x0):
         # Eq. (14) uses psi1 = w2 = 0 and Q1 = M2 = 0.5 at the cut: true only at a mirror plane.
-        raise ValueError(
+        raise InputError(
             f"the central responses and Eq. (14) need a cell that is symmetric about its central "
             f"cross-section x = {x0}; supports at {cell.positions} in a period of {cell.period} are not. "
             "semi_infinite_receptance(..., method='transfer') handles any cell without a coupled foundation"
@@ -220,12 +221,12 @@ def semi_infinite_receptance(track: Track | PeriodicCell, f: ArrayLike, method: 
         k_right, _ = end_stiffness(cell, omega, cell.central_section)
     elif cell.track.has_flexible_slab and cell.foundation is not None:
         if method != "transfer":
-            raise ValueError("inside a flexible slab alpha is that of the track with its slab cut at the cut, "
+            raise InputError("inside a flexible slab alpha is that of the track with its slab cut at the cut, "
                              "which the paper's Eq. (14) cannot give: use method='transfer' or slab cut='joint'")
         _settings(method, dict(settings))
         k_right = slab_cut_end_stiffness(cell, omega)
     else:
-        raise ValueError(f"the foundation of this cell couples supports across its central cross-section "
+        raise InputError(f"the foundation of this cell couples supports across its central cross-section "
                          f"x = {cell.central_section:g} m, so the track does not end there; cut at its joint "
                          f"x = {cell.joint:g} m (PeriodicCell(..., cut=...))")
     return np.linalg.inv(k_right).reshape(f.shape + (2, 2))
@@ -265,7 +266,7 @@ def point_receptance(track: Track | PeriodicCell, f: ArrayLike, x: float = 0.0) 
     x = check_real("x", x)
     # Beyond 1e9 periods a double cannot place x within the period to better than ~1e-7 of it.
     if not abs(x) <= 1e9 * cell.period:
-        raise ValueError(f"x must be finite and within 1e9 periods ({1e9 * cell.period:.3g} m) of the "
+        raise InputError(f"x must be finite and within 1e9 periods ({1e9 * cell.period:.3g} m) of the "
                          f"origin, got {x!r}: the track is periodic, give x modulo the period")
     x = x % cell.period
     return infinite_response(cell, 2 * np.pi * f.ravel(), x)[0].reshape(f.shape + (2, 2))

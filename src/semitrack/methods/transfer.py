@@ -37,6 +37,7 @@ import functools
 import numpy as np
 
 from ..base.checks import check_real
+from ..base.errors import InputError
 from ..model.timoshenko import segment_dynamic_stiffness
 from ..model.tracks import PeriodicCell
 
@@ -99,7 +100,7 @@ def _period_model(cell: PeriodicCell, omega: np.ndarray, x_cut: float, extra_los
     period = cell.period
     ks = cell.support_stiffness_matrix(f)  # (n, 2S, 2S)
     if _couples_supports(ks) and not same_section(x_cut, cell.joint, period):
-        raise ValueError(
+        raise InputError(
             f"the foundation of this cell couples its supports: its period must start at the joint "
             f"x = {cell.joint:g} m, where no coupling crosses, not at x = {x_cut:g} m")
     offsets = [_distance_past(x, x_cut, period) for x in cell.positions]
@@ -226,9 +227,9 @@ def end_stiffness(cell: PeriodicCell, omega: np.ndarray, x_cut: float) -> tuple[
     return k_right, k_left
 
 
-def _unresolved(cell: PeriodicCell, omega_bad: np.ndarray) -> ValueError:
+def _unresolved(cell: PeriodicCell, omega_bad: np.ndarray) -> InputError:
     f_bad = omega_bad / (2 * np.pi)
-    return ValueError(
+    return InputError(
         f"the exact method cannot resolve {cell.track.name!r} at {f_bad.size} frequencies from "
         f"{f_bad.min():.6g} Hz: the doubling did not converge or its end stiffness is not reciprocal "
         "and passive (lost precision); the track's parameters are outside what the method resolves")

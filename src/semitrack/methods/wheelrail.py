@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies
+from ..base.errors import InputTypeError
 from ..model.tracks import PeriodicCell, Track
 from ..model.wheel import Wheel
 from .receptance import point_receptance
@@ -53,7 +54,7 @@ def wheel_rail_force(track: Track | PeriodicCell, f: ArrayLike, wheel: Wheel, x:
     (2,)
     """
     if not isinstance(wheel, Wheel):
-        raise TypeError(f"wheel must be a semitrack Wheel (e.g. st.Wheel()), got {type(wheel).__name__}")
+        raise InputTypeError(f"wheel must be a semitrack Wheel (e.g. st.Wheel()), got {type(wheel).__name__}")
     f = as_frequencies(f)
     alpha_r = point_receptance(track, f, x)[..., 0, 0]
     return -1.0 / (wheel.receptance(f) + 1.0 / wheel.contact_stiffness + alpha_r)

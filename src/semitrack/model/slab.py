@@ -32,6 +32,7 @@ from ..base.checks import (
     check_nonnegative,
     check_positive,
 )
+from ..base.errors import InputError, InputTypeError
 from .beam import beam_scaling, beam_state_matrix, wave_dynamic_stiffness
 
 #: Where the cut of alpha and the central responses sits on a flexible-slab track, by name: at the
@@ -106,20 +107,20 @@ class Slab:
             object.__setattr__(self, "shear_stiffness", check_positive("shear_stiffness", self.shear_stiffness))
         s = check_int_at_least("fasteners", self.fasteners, 1)
         if s > MAX_FASTENERS:
-            raise ValueError(f"fasteners must be at most {MAX_FASTENERS} (a slab is a few metres long), got {s}")
+            raise InputError(f"fasteners must be at most {MAX_FASTENERS} (a slab is a few metres long), got {s}")
         object.__setattr__(self, "fasteners", s)
         if isinstance(self.cut, str):
             check_choice("cut", self.cut, SLAB_CUTS)
             if self.cut == "centre" and s % 2:
-                raise ValueError(f"cut='centre' needs an even number of fasteners (the centre of a slab with "
+                raise InputError(f"cut='centre' needs an even number of fasteners (the centre of a slab with "
                                  f"{s} is a fastener, not a mid-span); use cut='joint' or a mid-span number")
         else:
             try:
                 k = check_int_at_least("cut", self.cut, 1)
             except TypeError:
-                raise TypeError(f"cut must be one of {SLAB_CUTS} or a mid-span number, got {self.cut!r}") from None
+                raise InputTypeError(f"cut must be one of {SLAB_CUTS} or a mid-span number, got {self.cut!r}") from None
             if k > s - 1:
-                raise ValueError(f"cut must be a mid-span inside the slab, 1 <= cut <= fasteners - 1 = {s - 1}, "
+                raise InputError(f"cut must be a mid-span inside the slab, 1 <= cut <= fasteners - 1 = {s - 1}, "
                                  f"got {self.cut!r}")
             object.__setattr__(self, "cut", k)
 
@@ -140,7 +141,7 @@ class Slab:
         """
         s, length = self.fasteners, self.length
         if not (s - 1) * spacing < length <= s * spacing * (1 + 1e-12):
-            raise ValueError(
+            raise InputError(
                 f"a slab of length {length!r} m cannot carry {s} fasteners at spacing {spacing!r} m centred "
                 f"on it: it needs ({s} - 1) x spacing < length <= {s} x spacing, i.e. "
                 f"{(s - 1) * spacing:.6g} < length <= {s * spacing:.6g}")
@@ -194,7 +195,7 @@ class Slab:
         self.check_spacing(spacing)
         k = int(from_span)
         if not 0 <= k < self.fasteners:
-            raise ValueError(f"from_span must be in 0..{self.fasteners - 1}, got {from_span!r}")
+            raise InputError(f"from_span must be in 0..{self.fasteners - 1}, got {from_span!r}")
         omega = 2 * np.pi * f
         s = self.fasteners - k
         ei = self.E * self.I * (1 + 1j * self.eta_slab)

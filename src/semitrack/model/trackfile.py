@@ -30,6 +30,7 @@ from pathlib import Path
 from typing import NoReturn
 
 from ..base.checks import check_choice
+from ..base.errors import InputError
 from ..base.files import read_text
 from .slab import Slab
 from .tracks import Track, check_track_field, require_track
@@ -55,7 +56,7 @@ MAX_FILE_BYTES = 1_000_000
 
 
 
-class TrackFileError(ValueError):
+class TrackFileError(InputError):
     """A track file that cannot be read or does not describe a valid track."""
 
 

@@ -38,6 +38,7 @@ from ..base.checks import (
     check_positive,
     check_string,
 )
+from ..base.errors import InputError, InputTypeError
 from ..base.paper_values import TABLE2_SLAB, TABLE5_BALLASTED
 from .slab import Slab
 
@@ -58,7 +59,7 @@ MAX_SPACING = 1000.0
 def _check_spacing(key: str, value: object) -> float:
     spacing = check_positive(key, value)
     if spacing > MAX_SPACING:
-        raise ValueError(f"{key} must be at most {MAX_SPACING:g} m (no railway track comes near), got {value!r}")
+        raise InputError(f"{key} must be at most {MAX_SPACING:g} m (no railway track comes near), got {value!r}")
     return spacing
 
 
@@ -162,7 +163,7 @@ class Track:
 
     def __post_init__(self):
         if (self.sleeper_mass is None) != (self.kb is None):
-            raise ValueError(
+            raise InputError(
                 "sleeper_mass and kb go together: give both for a ballasted track or neither for a "
                 f"rigid foundation, got sleeper_mass={self.sleeper_mass!r}, kb={self.kb!r}"
             )
@@ -175,12 +176,12 @@ class Track:
 
     def _check_slab(self) -> None:
         if not isinstance(self.slab, Slab):
-            raise TypeError(f"slab must be a semitrack Slab or None, got {type(self.slab).__name__}")
+            raise InputTypeError(f"slab must be a semitrack Slab or None, got {type(self.slab).__name__}")
         if self.is_ballasted:
-            raise ValueError("a track has either a flexible slab or sleepers on ballast under its pads, not both: "
+            raise InputError("a track has either a flexible slab or sleepers on ballast under its pads, not both: "
                              "give slab or sleeper_mass/kb")
         if self.damping != "hysteretic":
-            raise ValueError("a flexible slab takes hysteretic damping (loss factors) only, got damping='viscous'")
+            raise InputError("a flexible slab takes hysteretic damping (loss factors) only, got damping='viscous'")
         self.slab.check_spacing(self.spacing)
 
     # ----------------------------------------------------------------------------------------
@@ -196,7 +197,7 @@ class Track:
 
     def _refuse_slab(self, what: str) -> None:
         if self.has_flexible_slab:
-            raise ValueError(f"{what} is per support, and the supports of a flexible-slab track are coupled "
+            raise InputError(f"{what} is per support, and the supports of a flexible-slab track are coupled "
                              "through the slab: use track.cell().support_stiffness_matrix(f)")
 
     @property
@@ -322,7 +323,7 @@ class Track:
         """
         if f is None:
             if self.damping != "hysteretic":
-                raise ValueError("pad_stiffness needs the frequencies f (Hz) for damping='viscous'")
+                raise InputError("pad_stiffness needs the frequencies f (Hz) for damping='viscous'")
             c = 1 + 1j * self.eta_pad
         else:
             c = 1 + 1j * self.loss_factor("pad", f)
@@ -393,7 +394,7 @@ class Track:
             return PeriodicCell.uniform(self, 1 if supports_per_period is None else supports_per_period)
         s = self.slab.fasteners
         if supports_per_period is not None and supports_per_period != s:
-            raise ValueError(f"a flexible-slab track has one slab, {s} supports, per period; got "
+            raise InputError(f"a flexible-slab track has one slab, {s} supports, per period; got "
                              f"supports_per_period={supports_per_period!r}")
         d = self.spacing
         cut = (self.slab.cut_span - 0.5) * d  # the joint (k = 0) is the mid-span before the first fastener
@@ -461,7 +462,7 @@ def _build(params: dict, overrides: dict, forbidden: tuple[str, ...]) -> Track:
     known = {f.name for f in dataclasses.fields(Track)} - set(forbidden)
     unknown = sorted(set(overrides) - known)
     if unknown:
-        raise TypeError(f"unknown track parameter(s) {unknown}; allowed: {sorted(known)}")
+        raise InputTypeError(f"unknown track parameter(s) {unknown}; allowed: {sorted(known)}")
     params.update(overrides)
     return Track(**params)
 
@@ -503,9 +504,9 @@ def require_cell(track: object, name: str = "track") -> PeriodicCell:
     raise _not_a(name, track, "Track or PeriodicCell")
 
 
-def _not_a(name: str, value: object, what: str) -> TypeError:
+def _not_a(name: str, value: object, what: str) -> InputTypeError:
     """The package's one wording for a value that is not a track."""
-    return TypeError(f"{name} must be a semitrack {what} (e.g. st.slab_track()), got {type(value).__name__}")
+    return InputTypeError(f"{name} must be a semitrack {what} (e.g. st.slab_track()), got {type(value).__name__}")
 
 
 @dataclass(frozen=True)
@@ -542,17 +543,17 @@ class PeriodicCell:
         check_positive("period", self.period)
         pos = tuple(float(x) for x in self.positions)
         if len(pos) == 0:
-            raise ValueError("positions must hold at least one support position, got none")
+            raise InputError("positions must hold at least one support position, got none")
         for x in pos:
             if not (0.0 <= x < self.period):
-                raise ValueError(f"support positions must satisfy 0 <= x_s < period={self.period}, got {x}")
+                raise InputError(f"support positions must satisfy 0 <= x_s < period={self.period}, got {x}")
         if list(pos) != sorted(pos) or len(set(pos)) != len(pos):
-            raise ValueError(f"support positions must be distinct and increasing, got {pos}")
+            raise InputError(f"support positions must be distinct and increasing, got {pos}")
         object.__setattr__(self, "positions", pos)
         if self.cut is not None:
             cut = check_nonnegative("cut", self.cut)
             if not cut < self.period:
-                raise ValueError(f"cut must satisfy 0 <= cut < period={self.period}, got {self.cut!r}")
+                raise InputError(f"cut must satisfy 0 <= cut < period={self.period}, got {self.cut!r}")
             object.__setattr__(self, "cut", cut)
 
     @classmethod
@@ -644,7 +645,7 @@ class PeriodicCell:
             g = np.asarray(self.foundation(f), dtype=complex)
             expected = (f.size, self.n_supports, self.n_supports)
             if g.shape != expected:
-                raise ValueError(f"foundation(f) must return shape {expected}, got {g.shape}")
+                raise InputError(f"foundation(f) must return shape {expected}, got {g.shape}")
             return g
         g = self.track.foundation_receptance(f)
         return g[:, None, None] * np.eye(self.n_supports)

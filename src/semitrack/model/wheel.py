@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies, check_nonnegative, check_positive
+from ..base.errors import InputError
 
 #: A Hertz constant typical of a 0.46 m wheel on a 0.3 m rail head (N/m^1.5), the Wheel default.
 DEFAULT_HERTZ_CONSTANT = 9.3e10
@@ -93,7 +94,7 @@ class Wheel:
                        (("wheel_radius", wheel_radius), ("rail_radius", rail_radius), ("E", E)))
         nu = check_nonnegative("poisson", poisson)
         if not nu < 0.5:
-            raise ValueError(f"poisson must be in [0, 0.5), got {poisson!r}")
+            raise InputError(f"poisson must be in [0, 0.5), got {poisson!r}")
         e_star = e / (2 * (1 - nu**2))
         return cls(hertz_constant=4.0 / 3.0 * e_star * np.sqrt(np.sqrt(r_w * r_r)), **wheel)
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from ..base.errors import InputError
 from ..base.paper_values import PAPER_GRID, TABLE3_SLAB_FREQUENCIES, TABLE6_BALLASTED_FREQUENCIES
 from ..methods.features import characteristic_frequencies, curves_of, find_extrema
 from ..methods.receptance import CentralResponse, central_response
@@ -88,7 +89,7 @@ def paper_frequency_table(track: Track, with_wavenumber: bool = True, rel_window
         if wavenumber_response is None:
             wavenumber_response = central_response(track, PAPER_GRID, method="wavenumber")
         elif wavenumber_response.method != "wavenumber" or not np.array_equal(wavenumber_response.f, PAPER_GRID):
-            raise ValueError("wavenumber_response must come from method='wavenumber' on PAPER_GRID")
+            raise InputError("wavenumber_response must come from method='wavenumber' on PAPER_GRID")
         wn = find_extrema(PAPER_GRID, curves_of(wavenumber_response))
     rows = []
     for f_paper, quantity, kind, source, mode in paper_frequencies(track):

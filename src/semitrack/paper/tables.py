@@ -22,6 +22,7 @@ import pandas as pd
 from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies, check_band
+from ..base.errors import InputError
 from ..base.paper_values import TABLE2_SLAB, TABLE5_BALLASTED
 from ..equivalent.metrics import ELEMENT_ERROR, error_band_grid, error_summary
 from ..equivalent.systems import EquivalentSystem
@@ -205,7 +206,7 @@ def _wavenumber_alpha(track: Track, f: np.ndarray, known: CentralResponse | None
     if known is None:
         return semi_infinite_receptance(track, f, method="wavenumber")
     if not isinstance(known, CentralResponse) or known.method != "wavenumber":
-        raise ValueError("wavenumber_response must be a CentralResponse of method='wavenumber', got "
+        raise InputError("wavenumber_response must be a CentralResponse of method='wavenumber', got "
                          f"{getattr(known, 'method', type(known).__name__)!r}")
     order = np.argsort(known.f, kind="stable")
     pos = order[np.searchsorted(known.f[order], f).clip(0, known.f.size - 1)]
@@ -216,7 +217,7 @@ def _wavenumber_alpha(track: Track, f: np.ndarray, known: CentralResponse | None
         first = int(np.flatnonzero(have)[0])
         if not np.allclose(semi_infinite_receptance(track, f[first:first + 1], method="wavenumber")[0],
                            alpha[first], rtol=1e-12, atol=0):
-            raise ValueError(f"wavenumber_response is not this track's paper-method sweep (it differs at "
+            raise InputError(f"wavenumber_response is not this track's paper-method sweep (it differs at "
                              f"{f[first]:g} Hz); pass central_response(track, f, method='wavenumber')")
     if np.any(~have):
         alpha[~have] = semi_infinite_receptance(track, f[~have], method="wavenumber")
