@@ -90,7 +90,7 @@ def test_receptance_units_are_those_of_the_conventions():
     text = receptance_csv(st.slab_track(), f, alpha, "transfer")
     assert "m/(N m)" not in text and "alpha12 in 1/N, alpha21 in 1/N" in text
     labels = [ax.get_ylabel() for ax in receptance_figure(st.slab_track(), f, alpha).axes]
-    assert labels == [r"|$\alpha_{11}$| (m/N)", r"|$\alpha_{12}$| (1/N)", r"|$\alpha_{22}$| (rad/(N m))"]
+    assert labels == [r"$|\alpha_{11}|$ (m/N)", r"$|\alpha_{12}|$ (1/N)", r"$|\alpha_{22}|$ (rad/(N m))"]
 
 
 @pytest.mark.parametrize("name", ["slab", "ballasted"])

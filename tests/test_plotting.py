@@ -30,6 +30,19 @@ def _close_figures():
     plt.close("all")
 
 
+def test_figures_belong_to_no_backend_and_leave_the_global_rcparams_alone():
+    """A figure function draws on a bare Figure (the CLI selects no backend) in the house style,
+    and restores every rcParam it used."""
+    before = dict(matplotlib.rcParams)
+    with matplotlib.rc_context({"axes.grid": False}):
+        fig, axes = plotting.receptance_figure(np.array([10.0, 20.0]), {"exact": np.ones((2, 2, 2))})
+        assert not matplotlib.rcParams["axes.grid"]
+    assert dict(matplotlib.rcParams) == before
+    assert type(fig) is matplotlib.figure.Figure and isinstance(fig.canvas, FigureCanvasAgg)
+    assert not plt.get_fignums()  # not one pyplot figure
+    assert all(ax.xaxis._major_tick_kw.get("gridOn", False) for ax in axes)  # the house style's grid
+
+
 def test_receptance_figure_labels_use_the_package_units():
     f = np.array([10.0, 20.0, 30.0])
     alpha = np.ones((3, 2, 2), dtype=complex)
@@ -134,6 +147,18 @@ def _all_figures():
     yield "passivity", plotting.passivity_margin_figure(F, {"slab": F / 1e3}, (3.0, 3000.0))[0]
     yield "boundary w1", plotting.boundary_w1_figure({"slab": curves}, FIT_BANDS, 10)[0]
     yield "boundary pulse", plotting.boundary_pulse_figure({"slab": res}, 10, 100)[0]
+    linear = SimpleNamespace(f=F, curves={(n, w): np.abs(ALPHA[:, 0, 0]) for n in ("slab", "ballasted")
+                                          for w in plotting.POSITION_STYLE})
+    yield "linear force", plotting.linear_force_figure(linear)[0]
+    bands = np.array([50.0, 63.0, 80.0])
+    transfer = SimpleNamespace(centres=bands, level=np.array([160.0, 162.0, 165.0]), linear_level=np.full(3, 161.0))
+    transfers = {(n, m): transfer for n in ("slab", "ballasted") for m in ("boundary", "pinned")}
+    yield "band levels", plotting.band_level_figure(transfers, {"pinned": dict(marker="x", ls="")}, "boundary")[0]
+    t = np.linspace(0.0, 0.05, 200)
+    run = SimpleNamespace(t=t, force=1e5 * (1 + 0.1 * np.sin(2e3 * t)), x=np.linspace(-1.5, 1.5, 200), speed=60.0,
+                          force_spectrum=lambda after: (np.linspace(0.0, 2000.0, 50), np.linspace(1.0, 10.0, 50)))
+    yield "force history", plotting.force_history_figure({"a": run, "b": run}, (0.0, 0.05), zero_line=True)[0]
+    yield "rolling", plotting.rolling_figure({"300 km/h": run}, 0.65, after=0.0)[0]
 
 
 @pytest.fixture(scope="module")
@@ -217,7 +242,7 @@ def test_no_label_writes_another_unit_for_alpha12(figures):
     for name, fig in figures:
         for text in _axis_texts(fig):
             assert "rad/N" not in text and "m/(N m)" not in text, f"{name}: {text!r}"
-    source = pathlib.Path(plotting.__file__).read_text()
+    source = "".join(p.read_text() for p in pathlib.Path(plotting.__file__).parent.glob("*.py"))
     assert "rad/N" not in source and "m/(N m)" not in source
 
 
@@ -334,7 +359,7 @@ def test_schematic_draws_massless_bars_dashed_and_says_so(name, massless):
 
 
 def test_spread_keeps_labels_apart_near_their_anchors_and_inside():
-    centres = plotting._spread([10.0, 11.0, 12.0, 50.0, 99.0], [6.0, 6.0, 6.0, 6.0, 6.0], 0.0, 100.0)
+    centres = plotting.schematic._spread([10.0, 11.0, 12.0, 50.0, 99.0], [6.0, 6.0, 6.0, 6.0, 6.0], 0.0, 100.0)
     assert np.all(np.diff(centres) >= 6.0 - 1e-9)
     assert np.isclose(centres[:3].mean(), 11.0)  # the crowded three are centred on their anchors
     assert centres[3] == 50.0 and centres[4] == 97.0  # the last one is pushed inside the row

@@ -34,7 +34,7 @@ import numpy as np
 
 from . import __version__
 from .base.checks import MAX_FREQUENCIES, check_band, check_int_at_least, check_positive, check_work
-from .base.conventions import ALL_ELEMENTS, ELEMENT_TEX, ELEMENT_UNITS, ELEMENTS
+from .base.conventions import ALL_ELEMENTS, ELEMENT_UNITS, ELEMENTS
 from .base.errors import BadInput
 from .base.errors import InputError as PackageInputError
 from .base.files import atomic_write, check_output_path
@@ -254,16 +254,9 @@ def receptance_figure(track: Track, f: np.ndarray, alpha: np.ndarray) -> Figure:
     -------
     matplotlib.figure.Figure
     """
-    from matplotlib.figure import Figure  # no pyplot: the CLI selects no backend
+    from .plotting.receptance import receptance_figure as draw  # the book's figure; no backend selected
 
-    fig = Figure(figsize=(10, 3.4), layout="constrained")
-    axes = fig.subplots(1, len(ELEMENTS))
-    for ax, (name, (i, k)) in zip(axes, ELEMENTS.items()):
-        ax.semilogy(f, np.abs(alpha[:, i, k]), "k-", lw=1.2)
-        ax.set_xlabel("Frequency (Hz)")
-        ax.set_ylabel(f"|{ELEMENT_TEX[name]}| ({ELEMENT_UNITS[name]})")
-        ax.grid(alpha=0.3)
-    fig.suptitle(f"Semi-infinite track '{track.name}': end receptance")
+    fig, _ = draw(f, {track.name: alpha}, title=f"Semi-infinite track '{track.name}': end receptance")
     return fig
 
 

@@ -1,0 +1,266 @@
+"""The house style of the book's figures: line styles, rcParams, figures, axes and legends.
+
+Figures are :class:`matplotlib.figure.Figure` objects made by :func:`new_figure`, attached to no
+pyplot backend, and each figure function runs inside :func:`house_style` (:func:`house_figure`),
+so that nothing here changes the global rcParams and the command line draws the same figures
+without selecting a backend. Methods and kinds of end keep one line style throughout
+(:data:`METHOD_STYLE`); element names, labels and units come from
+:mod:`semitrack.base.conventions`. Legends sit outside the panels (below them, or in a spare
+panel), where they cover no curve, and every panel with no panel below it shows its x tick labels.
+"""
+
+from __future__ import annotations
+
+import functools
+from contextlib import contextmanager
+
+import matplotlib as mpl
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from ..base.conventions import ELEMENT_TEX, ELEMENT_UNITS, EXACT_LABEL
+
+#: Line styles per method, used in every figure so that a method always looks the same.
+METHOD_STYLE = {
+    EXACT_LABEL: dict(color="k", lw=1.4, ls="-"),
+    "transfer": dict(color="k", lw=1.4, ls="-"),
+    "wavenumber": dict(color="tab:orange", lw=1.1, ls="--"),
+    "paper system": dict(color="tab:red", lw=1.1, ls=":"),
+    "our system": dict(color="tab:blue", lw=1.1, ls="--"),
+    "pinned": dict(color="0.45", lw=1.1, ls="-."),
+    "free": dict(color="tab:brown", lw=1.0, ls="-."),
+    "exact end stiffness": dict(color="tab:green", lw=1.1, ls="-"),
+}
+#: Colours of the receptance elements, as in the paper's Fig. 8 (black, green, red).
+ELEMENT_COLOR = {"alpha11": "k", "alpha12": "tab:green", "alpha22": "tab:red"}
+
+RC = {
+    "figure.figsize": (7.0, 4.0), "figure.dpi": 110, "axes.grid": True, "grid.alpha": 0.3,
+    "axes.spines.top": False, "axes.spines.right": False, "legend.frameon": False,
+    "font.size": 10, "axes.titlesize": 10, "legend.fontsize": 9,
+}
+
+
+@contextmanager
+def house_style():
+    """Context manager applying the house rcParams (:data:`RC`) inside a ``with`` block."""
+    with mpl.rc_context(RC):
+        yield
+
+
+def house_figure(draw):
+    """Decorator: ``draw`` runs inside :func:`house_style`, so its figure has the house style and
+    the global rcParams are left as they were."""
+
+    @functools.wraps(draw)
+    def drawn(*args, **kwargs):
+        with house_style():
+            return draw(*args, **kwargs)
+
+    return drawn
+
+
+def apply_house_style() -> None:
+    """Apply the house rcParams globally: a notebook's own choice, for the panels it draws itself."""
+    mpl.rcParams.update(RC)
+
+
+def magnitude_axes(ax, ylabel: str, xlabel: str = "Frequency (Hz)", logx: bool = False):
+    """Log-magnitude axes with units on both axes.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes.
+    ylabel, xlabel : str
+        Axis labels, with units.
+    logx : bool
+        Logarithmic frequency axis too.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        ``ax``.
+    """
+    ax.set_yscale("log")
+    if logx:
+        ax.set_xscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    return ax
+
+
+def plot_magnitude(ax, f, values, label: str, **style):
+    """Plot ``|values|`` against ``f``.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes.
+    f : array_like
+        Frequencies (Hz).
+    values : array_like
+        Complex values, same length as ``f``.
+    label : str
+        Legend label.
+    **style
+        Line properties (e.g. ``**METHOD_STYLE["exact"]``).
+
+    Returns
+    -------
+    list of matplotlib.lines.Line2D
+    """
+    return ax.plot(f, np.abs(values), label=label, **style)
+
+
+def plot_phase(ax, f, values, label: str, **style):
+    """Plot the phase of ``values`` (rad, in [-pi, pi]) against ``f``.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes.
+    f : array_like
+        Frequencies (Hz).
+    values : array_like
+        Complex values, same length as ``f``.
+    label : str
+        Legend label.
+    **style
+        Line properties.
+
+    Returns
+    -------
+    list of matplotlib.lines.Line2D
+    """
+    ax.set_ylabel("Phase (rad)")
+    ax.set_yticks([-np.pi, -np.pi / 2, 0, np.pi / 2, np.pi], ["$-\\pi$", "$-\\pi/2$", "0", "$\\pi/2$", "$\\pi$"])
+    return ax.plot(f, np.angle(values), label=label, **style)
+
+
+def mark_frequencies(ax, freqs, labels=None, **style):
+    """Thin vertical lines at characteristic frequencies, with optional labels at the top.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes.
+    freqs : sequence of float
+        Frequencies (Hz).
+    labels : sequence of str, optional
+        One label per frequency.
+    **style
+        Line properties overriding the thin grey dotted default.
+    """
+    style = {"color": "0.5", "lw": 0.7, "ls": ":", **style}
+    for i, fr in enumerate(freqs):
+        ax.axvline(fr, **style)
+        if labels is not None:
+            ax.annotate(labels[i], (fr, 1.0), xycoords=("data", "axes fraction"), rotation=90,
+                        ha="right", va="top", fontsize=8, color="0.35")
+
+
+#: Keywords of :func:`new_figure` that go to :meth:`matplotlib.figure.Figure.subplots`.
+_SUBPLOTS_KEYWORDS = ("sharex", "sharey", "squeeze", "width_ratios", "height_ratios", "subplot_kw", "gridspec_kw")
+
+
+def new_figure(nrows: int = 1, ncols: int = 1, **kwargs):
+    """A :class:`matplotlib.figure.Figure` with a grid of panels, the house style and a constrained layout.
+
+    The figure belongs to no pyplot backend: it is drawn and saved the same way in a notebook
+    (display it), a script or the command line, which selects no backend.
+
+    Parameters
+    ----------
+    nrows, ncols : int
+        Grid of panels.
+    **kwargs
+        ``figsize``, ``dpi`` and the other :class:`~matplotlib.figure.Figure` arguments, and
+        ``sharex``, ``sharey``, ``squeeze``... for :meth:`~matplotlib.figure.Figure.subplots`.
+
+    Returns
+    -------
+    fig, axes
+
+    Examples
+    --------
+    >>> fig, axes = new_figure(1, 2)
+    >>> type(fig).__name__, axes.shape
+    ('Figure', (2,))
+    """
+    kwargs.setdefault("layout", "constrained")
+    subplots = {key: kwargs.pop(key) for key in _SUBPLOTS_KEYWORDS if key in kwargs}
+    with house_style():
+        fig = Figure(**kwargs)
+        FigureCanvasAgg(fig)  # a canvas that renders (text sizes, savefig) without selecting a backend
+        return fig, fig.subplots(nrows, ncols, **subplots)
+
+
+def panels(n: int, **kwargs):
+    """A row of ``n`` panels from :func:`new_figure`, the axes always an array."""
+    fig, axes = new_figure(1, n, **kwargs)
+    return fig, np.atleast_1d(axes)
+
+
+def magnitude_label(element: str) -> str:
+    """Axis label ``|alpha_ij| (unit)`` of a receptance element, from the package's conventions."""
+    return f"$|{ELEMENT_TEX[element].strip('$')}|$ ({ELEMENT_UNITS[element]})"
+
+
+def phase_label(element: str) -> str:
+    """Axis label ``arg alpha_ij (rad)`` of a receptance element, with the symbol of its magnitude."""
+    return rf"$\arg\,{ELEMENT_TEX[element].strip('$')}$ (rad)"
+
+
+#: Axis labels of the central responses (paper Eq. 14-18): the receptances' units come from the
+#: conventions (w1 per force is alpha11's, psi2 per moment alpha22's).
+CENTRAL_LABELS = {
+    "w1": rf"$|\tilde w_1|$ ({ELEMENT_UNITS['alpha11']})",
+    "psi2": rf"$|\tilde\psi_2|$ ({ELEMENT_UNITS['alpha22']})",
+    "Q2": r"$|\tilde Q_2|$ (N/(N m))",
+    "M1": r"$|\tilde M_1|$ (N m/N)",
+    "det": r"$|\det\alpha^{-1}|$ (N$^2$)",
+}
+
+
+def show_lowest_tick_labels(axes) -> None:
+    """x tick labels on every panel with no panel shown below it in its column.
+
+    A shared x-axis hides the tick labels of all but the bottom row, also above a panel that is
+    hidden or turned off; the x label is kept only where the tick labels are.
+    """
+    for column in np.atleast_2d(axes).T:
+        shown = [ax for ax in column if ax.get_visible() and ax.axison]
+        for ax in shown[:-1]:
+            ax.xaxis.set_tick_params(which="both", labelbottom=False)
+            ax.set_xlabel("")
+        if shown:
+            shown[-1].xaxis.set_tick_params(which="both", labelbottom=True)
+            shown[-1].xaxis.offsetText.set_visible(True)
+
+
+def legend_below(fig, ax, **kwargs):
+    """One legend for the figure, below its panels (where it covers no data), from ``ax``'s lines.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure (with a constrained layout).
+    ax : matplotlib.axes.Axes
+        The panel whose labelled artists make the legend.
+    **kwargs
+        Passed to :meth:`matplotlib.figure.Figure.legend`.
+
+    Returns
+    -------
+    matplotlib.legend.Legend
+    """
+    handles, labels = ax.get_legend_handles_labels()
+    kwargs.setdefault("ncols", min(len(labels), 4))
+    return fig.legend(handles, labels, loc="outside lower center", **kwargs)
+
+
+def shade_above(ax, f_from: float, f_to: float) -> None:
+    """Shade the frequencies above a fit band (where the N = 5 systems were not fitted), with a legend entry."""
+    ax.axvspan(f_from, f_to, color="0.92", zorder=-1, label="above the N = 5 fit band")
