@@ -301,3 +301,27 @@ def test_roughness_refuses_lines_off_its_period():
         st.Roughness([15.0], [1e-6], [0.0], speed=SPEED, period=0.1)
     with pytest.raises(ValueError, match="amplitudes must be non-negative"):
         st.Roughness([10.0], [-1e-6], [0.0], speed=SPEED, period=0.1)
+
+
+def test_several_wheels_start_quietly_and_one_in_a_list_is_one():
+    """Two wheels (different preloads) stand still on a smooth rail: the static start holds them
+    on their preloads through the rail's coupling (measured 1e-11); a list of one wheel is the
+    single-wheel run; a roughness reaches a wheel s ahead s / v earlier."""
+    model = st.TruncatedTrack(st.slab_track(damping="viscous"), 4, elements_per_bay=6)
+    wheels = [st.Wheel(), st.Wheel(preload=5e4, primary_stiffness=1e6, primary_damping=1e4)]
+    res = st.wheel_rail_response(model, wheels, x_contact=[-0.4, 0.9], dt=5e-5, duration=0.05)
+    assert res.force.shape == (1001, 2) and res.n_dof == model.n_dof + 2
+    np.testing.assert_allclose(res.force, np.tile([1e5, 5e4], (1001, 1)), rtol=1e-9)
+    rough = st.corrugation(SPEED, 0.2, 1e-6)
+    one = st.wheel_rail_response(model, st.Wheel(), rough, dt=5e-5, duration=0.05)
+    listed = st.wheel_rail_response(model, [st.Wheel()], rough, dt=5e-5, duration=0.05)
+    np.testing.assert_array_equal(one.force, listed.force)
+    two = st.wheel_rail_response(model, [st.Wheel(), st.Wheel()], rough, x_contact=[0.0, 0.05], dt=5e-5,
+                                 duration=0.05, ramp=1e-3)
+    late = two.t > 2e-3
+    ahead = 1e-6 * np.cos(2 * np.pi * SPEED / 0.2 * (two.t[late] + 0.05 / SPEED))
+    np.testing.assert_allclose(two.roughness[late, 1], ahead, atol=1e-15)
+    with pytest.raises(ValueError, match="contact_transfer takes one wheel's run, got 2 wheels"):
+        st.contact_transfer(two)
+    with pytest.raises(ValueError, match=r"x_contact must give one position per wheel \(2\)"):
+        st.wheel_rail_response(model, wheels, dt=5e-5, duration=0.05)

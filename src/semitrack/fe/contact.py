@@ -40,6 +40,7 @@ linear frequency-domain theory ``-1 / (alpha_W + alpha_C + alpha_R)``.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -127,9 +128,11 @@ class ContactResponse:
     period : float or None
         The roughness's period (s); None without roughness.
     n_dof : int
-        DOFs integrated: the FE model's and the wheel (boundary states not counted).
+        DOFs integrated: the FE model's and the wheels' (boundary states not counted).
     elapsed : float
         Wall time of the time integration (s).
+    wheels : tuple of Wheel
+        Every wheel (``wheel`` is the first); with several, the histories have a column each.
     """
 
     t: np.ndarray
@@ -145,6 +148,7 @@ class ContactResponse:
     period: float | None
     n_dof: int
     elapsed: float
+    wheels: tuple = ()
 
     @property
     def dt(self) -> float:
@@ -204,15 +208,23 @@ class ContactResponse:
         return np.mod(self.x + 0.5 * d, d)
 
 
-def _check_inputs(model, wheel, roughness, x_contact, speed, dt, duration, ramp):
-    """The checked scalars of :func:`wheel_rail_response`, and the contact's path along the rail."""
+def _as_wheels(wheel) -> tuple[Wheel, ...]:
+    wheels = (wheel,) if isinstance(wheel, Wheel) else tuple(wheel) if isinstance(wheel, (list, tuple)) else None
+    if not wheels or not all(isinstance(w, Wheel) for w in wheels):
+        raise InputTypeError(f"wheel must be a semitrack Wheel (e.g. st.Wheel()) or a list of them, got {wheel!r}")
+    return wheels
+
+
+def _check_inputs(model, wheels, roughness, x_contact, speed, dt, duration, ramp):
+    """The checked scalars of :func:`wheel_rail_response`, and the contacts' paths along the rail."""
     require_model(model)
-    if not isinstance(wheel, Wheel):
-        raise InputTypeError(f"wheel must be a semitrack Wheel (e.g. st.Wheel()), got {type(wheel).__name__}")
     if roughness is not None and not isinstance(roughness, Roughness):
         raise InputTypeError(f"roughness must be None (a smooth rail) or a Roughness (roughness_from_spectrum, "
-                        f"corrugation), got {type(roughness).__name__}")
-    x_contact, speed = check_real("x_contact", x_contact), check_nonnegative("speed", speed)
+                             f"corrugation), got {type(roughness).__name__}")
+    x0 = np.array([check_real("x_contact", x) for x in np.atleast_1d(np.asarray(x_contact, dtype=object))])
+    if x0.size != len(wheels):
+        raise InputError(f"x_contact must give one position per wheel ({len(wheels)}), got {x_contact!r}")
+    speed = check_nonnegative("speed", speed)
     dt, duration, ramp = check_positive("dt", dt), check_positive("duration", duration), check_positive("ramp", ramp)
     if not duration > ramp:
         raise InputError(f"duration must exceed ramp = {ramp!r} s (the roughness's fade-in), got {duration!r}")
@@ -224,11 +236,12 @@ def _check_inputs(model, wheel, roughness, x_contact, speed, dt, duration, ramp)
         work = (n_steps + 1) * roughness.frequencies.size
         check_work(work, MAX_ROUGHNESS_WORK, f"duration / dt = {n_steps} steps x {roughness.frequencies.size} "
                    f"roughness lines give {work} values", "use a larger dt, a shorter duration or fewer lines")
-    x = x_contact + speed * dt * np.arange(n_steps + 1)
+    x = x0[None, :] + speed * dt * np.arange(n_steps + 1)[:, None]
     for name, value in (("x_contact", x[0]), ("x_contact + speed * duration", x[-1])):
-        if not model.x[0] <= value <= model.x[-1]:
+        off = (value < model.x[0]) | (value > model.x[-1])
+        if np.any(off):
             raise InputError(f"{name} must lie on the rail, {model.x[0]:.6g} <= x <= {model.x[-1]:.6g} m, "
-                             f"got {value!r}")
+                             f"got {value[off][0]!r}")
     return dt, ramp, n_steps, x
 
 
@@ -237,41 +250,55 @@ def _wheel_system(wheel: Wheel) -> SecondOrderSystem:
     return SecondOrderSystem([[wheel.mass]], [[wheel.primary_damping]], [[wheel.primary_stiffness]])
 
 
-def _static_start(model: FETrack, wheel: Wheel, K: sp.csc_matrix, contact: PointSet) -> tuple[np.ndarray, float]:
-    """The static equilibrium under the preload with the contact at its first position.
+def _static_start(model: FETrack, wheels: tuple[Wheel, ...], K: sp.csc_matrix,
+                  contacts: PointSet) -> tuple[np.ndarray, np.ndarray]:
+    """The static equilibrium under the preloads with the contacts at their first positions.
 
-    Returns the state ``u0`` (model DOFs, then the wheel's) and the constant load on the wheel,
-    ``P0 + k1 w0`` (w0 the wheel's static deflection: the suspension carries none of the preload).
+    Returns the state ``u0`` (model DOFs, then the wheels') and the constant loads on the wheels,
+    ``P0 + k1 w0`` (w0 a wheel's static deflection: its suspension carries none of the preload).
     """
-    u0 = np.zeros(model.n_dof + 1)
-    rail_load = contact.matrix(model.n_dof, 0).T @ np.array([wheel.preload])
-    u0[:-1] = factorise(K).solve(rail_load)
-    u0[-1] = contact.values(u0[:-1], 0)[0] + wheel.static_approach
-    return u0, wheel.preload + wheel.primary_stiffness * u0[-1]
+    n = model.n_dof
+    preload = np.array([w.preload for w in wheels])
+    u0 = np.zeros(n + len(wheels))
+    u0[:n] = factorise(K).solve(contacts.matrix(n, 0).T @ preload)
+    u0[n:] = contacts.values(u0[:n], 0) + np.array([w.static_approach for w in wheels])
+    return u0, preload + np.array([w.primary_stiffness for w in wheels]) * u0[n:]
 
 
-def wheel_rail_response(model: FETrack, wheel: Wheel, roughness: Roughness | None = None, *, x_contact: float = 0.0,
-                        speed: float = 0.0, dt: float = 1e-5, duration: float = 0.1, ramp: float = 0.02,
-                        f_ref: float | dict | None = None) -> ContactResponse:
-    """The wheel on an FE track in time: nonlinear Hertzian contact driven by roughness or by rolling.
+def _contact_points(model: FETrack, x: np.ndarray, moving: bool) -> PointSet:
+    """The wheels' contact points: fixed at ``x[0]``, or along their paths ``x`` (steps, wheels)."""
+    if not moving:
+        return model.points(x[0], name="x_contact")
+    paths = [model.points(x[:, i], moving=True, name="x_contact") for i in range(x.shape[1])]
+    return PointSet(np.concatenate([p.dofs for p in paths], 1), np.concatenate([p.weights for p in paths], 1),
+                    tuple(f"wheel {i}" for i in range(x.shape[1])))
+
+
+def wheel_rail_response(model: FETrack, wheel: Wheel | Sequence[Wheel], roughness: Roughness | None = None, *,
+                        x_contact: float | Sequence[float] = 0.0, speed: float = 0.0, dt: float = 1e-5,
+                        duration: float = 0.1, ramp: float = 0.02, f_ref: float | dict | None = None,
+                        compiled: bool | None = None) -> ContactResponse:
+    """Wheels on an FE track in time: nonlinear Hertzian contacts driven by roughness or by rolling.
 
     Parameters
     ----------
     model : FETrack
         The track model (e.g. :class:`semitrack.TruncatedTrack` with ``"boundary"``, ``"pinned"``
         or ``"equivalent"`` ends; not ``"exact"``).
-    wheel : Wheel
-        Unsprung mass, primary suspension, preload and Hertz constant.
+    wheel : Wheel or sequence of Wheel
+        Unsprung mass, primary suspension (to a bogie held still), preload and Hertz constant; a
+        list for several wheels, each on its own suspension, coupled through the rail.
     roughness : Roughness, optional
-        The roughness at the contact (:func:`semitrack.roughness_from_spectrum`,
-        :func:`semitrack.corrugation`), faded in over ``ramp``; None for a smooth rail.
-        With a rolling wheel its speed must be the wheel's.
-    x_contact : float
-        The contact position (m, model coordinates: 0 is the central mid-span), or a rolling
-        wheel's start.
+        The roughness along the rail (:func:`semitrack.roughness_from_spectrum`,
+        :func:`semitrack.corrugation`) as the first wheel sees it, faded in over ``ramp``; None
+        for a smooth rail. A wheel a distance ``s`` ahead of the first sees it ``s / v`` earlier
+        (:meth:`Roughness.shifted`). With rolling wheels its speed must be theirs.
+    x_contact : float or sequence of float
+        The contact positions (m, model coordinates: 0 is the central mid-span), one per wheel,
+        or rolling wheels' starts.
     speed : float
-        The wheel's speed along the model (m/s), >= 0; 0 holds the wheel still while the
-        roughness passes (moving-irregularity model). The contact must stay on the rail.
+        The wheels' speed along the model (m/s), >= 0; 0 holds them still while the roughness
+        passes (moving-irregularity model). The contacts must stay on the rail.
     dt : float
         Time step (s). The average-acceleration rule shifts a frequency f to
         ``tan(pi f dt) / (pi dt)``: +0.2 % at 2.5 kHz with the default 10 us.
@@ -282,10 +309,14 @@ def wheel_rail_response(model: FETrack, wheel: Wheel, roughness: Roughness | Non
         Duration (s) of the roughness's ``sin^2`` fade-in.
     f_ref : None, float or dict
         Reference frequencies of the track's viscous damping (Hz), see :meth:`FETrack.matrices`.
+    compiled : bool, optional
+        The step loop: compiled (True), NumPy (False) or compiled where it can run (None);
+        see :func:`semitrack.dynamics.simulate.simulate`.
 
     Returns
     -------
     ContactResponse
+        With one wheel its histories are 1-D; with k wheels each is ``(n_steps + 1, k)``.
 
     Examples
     --------
@@ -297,21 +328,26 @@ def wheel_rail_response(model: FETrack, wheel: Wheel, roughness: Roughness | Non
     >>> bool(abs(res.force[-1] / 1e5 - 1) < 0.01), res.lost_contact
     (True, False)
     """
-    dt, ramp, n_steps, x = _check_inputs(model, wheel, roughness, x_contact, speed, dt, duration, ramp)
+    wheels = _as_wheels(wheel)
+    dt, ramp, n_steps, x = _check_inputs(model, wheels, roughness, x_contact, speed, dt, duration, ramp)
+    k = len(wheels)
     track = model.time_domain_system(f_ref)
-    system = union({"track": track, "wheel": _wheel_system(wheel)})
+    system = union({"track": track, **{f"wheel {i}": _wheel_system(w) for i, w in enumerate(wheels)}})
     t = dt * np.arange(n_steps + 1)
-    contact = model.points(x, moving=True, name="x_contact") if speed > 0 else model.points(x[:1], name="x_contact")
-    u0, wheel_load = _static_start(model, wheel, track.K, contact)
-    r = np.zeros(t.size) if roughness is None else roughness.sampled(dt, t.size) * sin2_ramp(t, ramp)
-    wheel_dof = system.dofs("wheel")
-    contacts = HertzContacts(wheel_dof, contact, [wheel.hertz_constant], r[:, None])
-    res = simulate(system, Newmark(dt), n_steps, loads=[(PointSet.on_dofs(wheel_dof), np.full(t.size, wheel_load))],
-                   contacts=contacts, u0=u0)
-    return ContactResponse(t=t, force=res["contact force"][:, 0], w_wheel=res["wheel"][:, 0], w_rail=res["rail"][:, 0],
-                           roughness=r, x=x, track=model.track, wheel=wheel, speed=float(speed), ramp=ramp,
-                           period=None if roughness is None else roughness.period, n_dof=model.n_dof + 1,
-                           elapsed=res.elapsed)
+    points = _contact_points(model, x, speed > 0)
+    u0, wheel_loads = _static_start(model, wheels, track.K, points)
+    fade = sin2_ramp(t, ramp)
+    r = np.zeros((t.size, k)) if roughness is None else np.column_stack(
+        [roughness.shifted(x[0, i] - x[0, 0]).sampled(dt, t.size) * fade for i in range(k)])
+    wheel_dofs = np.concatenate([system.dofs(f"wheel {i}") for i in range(k)])
+    contacts = HertzContacts(wheel_dofs, points, [w.hertz_constant for w in wheels], r)
+    loads = [(PointSet.on_dofs(wheel_dofs), np.tile(wheel_loads, (t.size, 1)))]
+    res = simulate(system, Newmark(dt), n_steps, loads=loads, contacts=contacts, u0=u0, compiled=compiled)
+    one = (lambda a: a[:, 0]) if k == 1 else (lambda a: a)
+    return ContactResponse(t=t, force=one(res["contact force"]), w_wheel=one(res["wheel"]), w_rail=one(res["rail"]),
+                           roughness=one(r), x=one(x), track=model.track, wheel=wheels[0], speed=float(speed),
+                           ramp=ramp, period=None if roughness is None else roughness.period, n_dof=model.n_dof + k,
+                           elapsed=res.elapsed, wheels=wheels)
 
 
 @dataclass(frozen=True, eq=False)
@@ -386,6 +422,9 @@ def contact_transfer(response: ContactResponse, band: tuple[float, float] = (50.
     """
     if not isinstance(response, ContactResponse):
         raise InputTypeError(f"response must be a ContactResponse (wheel_rail_response), got {type(response).__name__}")
+    if response.force.ndim != 1:
+        raise InputError(f"contact_transfer takes one wheel's run, got {response.force.shape[1]} wheels; the "
+                         "force per roughness of several coupled wheels is a matrix (one column each)")
     if response.period is None or response.speed != 0:
         raise InputError("contact_transfer needs a stationary wheel (speed=0) driven by a roughness, got "
                          f"speed={response.speed!r} m/s and period={response.period!r}")

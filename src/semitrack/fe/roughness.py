@@ -187,6 +187,23 @@ class Roughness:
         with np.errstate(divide="ignore"):
             return 10 * np.log10(power / REFERENCE_ROUGHNESS**2)
 
+    def shifted(self, distance: float) -> Roughness:
+        """The roughness a ``distance`` (m) further along the rail: ``r_s(t) = r(t + distance / speed)``.
+
+        Parameters
+        ----------
+        distance : float
+            How far ahead (m); negative behind.
+
+        Returns
+        -------
+        Roughness
+            The same lines, their phases advanced by ``2 pi f distance / speed``.
+        """
+        distance = check_real("distance", distance)
+        return replace(self, phases=np.mod(self.phases + 2 * np.pi * self.frequencies * distance / self.speed,
+                                           2 * np.pi))
+
     def sampled(self, dt: float, n: int) -> np.ndarray:
         """The roughness at the times ``k dt``, ``k = 0 .. n - 1`` (m): what a time-stepping run reads.
 
