@@ -25,7 +25,7 @@ from .contact import MAX_NEWTON, solve_hertz
 
 __all__ = ["run_compiled"]
 
-_jit = numba.njit(cache=True, nogil=True)
+_jit = numba.njit(cache=True, nogil=True, error_model="numpy")  # no division checks on the solve's chains
 _hertz = _jit(solve_hertz)
 
 
@@ -106,12 +106,14 @@ def _contact_responses(unit, dinv, wheels, dofs, weights, g, G, work):
     """The load vectors' responses ``g[:, i] = K_eff^-1 b_i`` and the compliance ``G = B^T g``."""
     n, k = g.shape
     for i in range(k):
-        work[:] = 0.0
+        for j in range(n):
+            work[j] = 0.0
         for q in range(dofs.shape[1]):
             work[dofs[i, q]] += weights[i, q]
         work[wheels[i]] -= 1.0
         _ldl_solve(unit, dinv, work)
-        g[:, i] = work
+        for j in range(n):
+            g[j, i] = work[j]
     for i in range(k):
         for j in range(k):
             s = -g[wheels[i], j]
@@ -121,7 +123,7 @@ def _contact_responses(unit, dinv, wheels, dofs, weights, g, G, work):
 
 
 @_jit
-def _step_contacts(k, u, c_wheels, c_dofs, c_w, c_h, c_r, unit, dinv, g, G, a_c, force, rail, work):
+def _step_contacts(k, u, c_wheels, c_dofs, c_w, c_h, c_r, unit, dinv, g, G, a_c, force, rail, work, hertz_work):
     """The contact forces of step ``k`` added to the free step ``u`` (in place)."""
     row = k if c_dofs.shape[0] > 1 else 0
     if k == 1 or c_dofs.shape[0] > 1:
@@ -129,7 +131,7 @@ def _step_contacts(k, u, c_wheels, c_dofs, c_w, c_h, c_r, unit, dinv, g, G, a_c,
     _interpolate(c_dofs[row], c_w[row], u, rail)
     for i in range(c_wheels.size):
         a_c[i] = u[c_wheels[i]] - rail[i] - c_r[k, i]
-    if _hertz(c_h, a_c, G, force) > MAX_NEWTON:
+    if _hertz(c_h, a_c, G, force, hertz_work) > MAX_NEWTON:
         raise RuntimeError("the contact forces did not converge")
     for i in range(c_wheels.size):
         if force[i] > 0.0:
@@ -147,7 +149,7 @@ def _record(k, u, rec, out_rec, pf_dofs, pf_w, out_pf, pm_dofs, pm_w, out_pm):
 
 
 @_jit
-def _run(n_steps, coef, dt, gamma, mc, ldl, offset, u, v, a, lf, lm, st, ct, pr, rec, out):
+def _run(n_steps, coef, dt, gamma, mc, ldl, offset, u, v, a, lf, lm, st, ct, pr, rec, out):  # noqa: C901
     """Long by design: one loop over the steps, so that numba compiles it as one function.
 
     ``ldl`` is the factor (unit, dinv) of :func:`_ldl_solve`, ``offset`` a constant load (empty
@@ -167,11 +169,13 @@ def _run(n_steps, coef, dt, gamma, mc, ldl, offset, u, v, a, lf, lm, st, ct, pr,
     x, x_new, ub, du = np.zeros(e_p.size - 1), np.zeros(e_p.size - 1), np.empty(nb), np.empty(nb)
     g, G, work = np.zeros((n, k_c)), np.zeros((k_c, k_c)), np.empty(n)
     a_c, force, rail = np.empty(k_c), np.empty(k_c), np.empty(k_c)
+    hertz_work = np.zeros((k_c, k_c + 5))
     for k in range(1, n_steps + 1):
         for i in range(n):
             y[i] = a0 * u[i] + a2 * v[i] + a3 * a[i]
             y[n + i] = a1 * u[i] + a4 * v[i] + a5 * a[i]
-        rhs[:] = 0.0
+        for i in range(n):
+            rhs[i] = 0.0
         _band_product(mc[0], mc[1], y, rhs)
         if offset.size:
             rhs += offset
@@ -181,7 +185,8 @@ def _run(n_steps, coef, dt, gamma, mc, ldl, offset, u, v, a, lf, lm, st, ct, pr,
         if nb:
             for i in range(nb):
                 ub[i] = u[s_dofs[i]]
-            du[:] = 0.0
+            for i in range(nb):
+                du[i] = 0.0
             _csr_product(h_p, h_i, h_d, x, du, 1.0)
             for i in range(nb):
                 s = du[i]
@@ -189,19 +194,24 @@ def _run(n_steps, coef, dt, gamma, mc, ldl, offset, u, v, a, lf, lm, st, ct, pr,
                     s -= block[i, j] * ub[j]
                 rhs[s_dofs[i]] -= s
         _ldl_solve(ldl[0], ldl[1], rhs)
-        u_new[:] = rhs
+        for i in range(n):
+            u_new[i] = rhs[i]
         if k_c:
-            _step_contacts(k, u_new, c_wheels, c_dofs, c_w, c_h, c_r, ldl[0], ldl[1], g, G, a_c, force, rail, work)
-            out_f[k], out_ww[k] = force, u_new[c_wheels]
-            _interpolate(c_dofs[k if c_dofs.shape[0] > 1 else 0], c_w[k if c_dofs.shape[0] > 1 else 0], u_new,
-                         out_wr[k])
+            _step_contacts(k, u_new, c_wheels, c_dofs, c_w, c_h, c_r, ldl[0], ldl[1], g, G, a_c, force, rail, work,
+                           hertz_work)
+            row = k if c_dofs.shape[0] > 1 else 0
+            for i in range(k_c):
+                out_f[k, i], out_ww[k, i] = force[i], u_new[c_wheels[i]]
+            _interpolate(c_dofs[row], c_w[row], u_new, out_wr[k])
         if nb:
             for i in range(nb):
                 du[i] = u_new[s_dofs[i]] - ub[i]
-            x_new[:] = 0.0
+            for i in range(x.size):
+                x_new[i] = 0.0
             _csr_product(e_p, e_i, e_d, x, x_new, 1.0)
             _csr_product(f_p, f_i, f_d, du, x_new, 1.0)
-            x[:] = x_new
+            for i in range(x.size):
+                x[i] = x_new[i]
         for i in range(n):
             a_new = a0 * (u_new[i] - u[i]) - a2 * v[i] - a3 * a[i]
             v[i] += dt * ((1.0 - gamma) * a[i] + gamma * a_new)

@@ -95,8 +95,11 @@ class Outputs:
 
 def _add_loads(rhs: np.ndarray, loads: list, k: int) -> None:
     for points, amplitude in loads:
-        dofs, weights = points.at(k)
-        np.add.at(rhs, dofs.ravel(), (amplitude[k][:, None] * weights).ravel())
+        if isinstance(points, np.ndarray):  # fixed points as a dense (n, n_points) matrix
+            rhs += points @ amplitude[k]
+        else:
+            dofs, weights = points.at(k)
+            np.add.at(rhs, dofs.ravel(), (amplitude[k][:, None] * weights).ravel())
 
 
 class _ContactStep:
@@ -104,19 +107,20 @@ class _ContactStep:
 
     def __init__(self, contacts: HertzContacts, factor, n: int):
         self.contacts, self.factor, self.n = contacts, factor, n
-        self.B = self.g = self.G = None
+        self.g = self.G = None
         self.force = np.zeros(contacts.n_contacts)
+        self.work = np.zeros((contacts.n_contacts, contacts.n_contacts + 5))
 
     def __call__(self, k: int, u_free: np.ndarray) -> np.ndarray:
         c = self.contacts
         if self.g is None or c.points.moving:
-            self.B = c.load_vectors(self.n, k)
-            self.g = self.factor.solve(self.B.toarray())
-            self.G = np.asarray(self.B.T @ self.g)
+            B = c.load_vectors(self.n, k)
+            self.g = self.factor.solve(B.toarray())
+            self.G = np.asarray(B.T @ self.g)
             if not np.all(np.diagonal(self.G) > 0):
                 raise RuntimeError(f"the contacts' step compliance must be positive, got {np.diagonal(self.G)} m/N")
-        a = -(self.B.T @ u_free) - c.irregularity[k]
-        if solve_hertz(c.hertz_constants, a, self.G, self.force) > MAX_NEWTON:
+        a = c.approach(u_free, k)
+        if solve_hertz(c.hertz_constants, a, self.G, self.force, self.work) > MAX_NEWTON:
             raise RuntimeError(f"the contact forces did not converge in {MAX_NEWTON} Newton steps at step {k}")
         return u_free + self.g @ self.force if np.any(self.force > 0) else u_free
 
@@ -143,6 +147,10 @@ def run_numpy(arrays: StepArrays) -> Outputs:
     u, v, a = arrays.u.copy(), arrays.v.copy(), arrays.a.copy()
     states, contacts = arrays.states, arrays.contacts
     x = np.zeros(states.n_states) if states is not None else None
+    if states is not None:  # a few hundred states: dense products skip SciPy's per-call overhead
+        E, Phi_P, H = (X.toarray() for X in (states.E, states.Phi_P, states.history_x))
+    loads = [(p.matrix(n).T.toarray() if not p.moving and n * p.n_points <= 10**6 else p, amp)
+             for p, amp in arrays.loads]
     contact = _ContactStep(contacts, arrays.factor, n) if contacts is not None else None
     out = Outputs.empty(arrays)
     out.write(0, u, arrays.probes, arrays.record)
@@ -151,16 +159,16 @@ def run_numpy(arrays: StepArrays) -> Outputs:
     y = np.empty(2 * n)
     for k in range(1, arrays.n_steps + 1):
         rhs = arrays.MC @ s.predict(u, v, a, y)
-        _add_loads(rhs, arrays.loads, k)
+        _add_loads(rhs, loads, k)
         if arrays.offset.size:
             rhs += arrays.offset
         if states is not None:
-            rhs[states.dofs] -= states.history_x @ x - states.block @ u[states.dofs]
+            rhs[states.dofs] -= H @ x - states.block @ u[states.dofs]
         u_new = arrays.factor.solve(rhs)
         if contact is not None:
             u_new = contact(k, u_new)
         if states is not None:
-            x = states.E @ x + states.Phi_P @ (u_new[states.dofs] - u[states.dofs])
+            x = E @ x + Phi_P @ (u_new[states.dofs] - u[states.dofs])
         v, a = s.correct(u, v, a, u_new)
         u = u_new
         out.write(k, u, arrays.probes, arrays.record)

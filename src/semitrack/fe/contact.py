@@ -94,7 +94,8 @@ def hertz_contact_force(c_h: float, a: float, beta: float) -> float:
     True
     """
     force = np.zeros(1)
-    if solve_hertz(np.array([float(c_h)]), np.array([float(a)]), np.array([[float(beta)]]), force) > MAX_NEWTON:
+    if solve_hertz(np.array([float(c_h)]), np.array([float(a)]), np.array([[float(beta)]]), force,
+                   np.zeros((1, 6))) > MAX_NEWTON:
         raise RuntimeError(f"the contact force did not converge in {MAX_NEWTON} Newton steps")
     return float(force[0])
 
