@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 from scipy.linalg import lapack, solve_banded
-from scipy.sparse.csgraph import reverse_cuthill_mckee
+from scipy.sparse.csgraph import connected_components, reverse_cuthill_mckee
 from scipy.sparse.linalg import splu
 
 __all__ = ["BAND_FILL", "BandOrder", "BandCholesky", "BandLU", "SparseLU", "factorise", "band_solve"]
@@ -65,6 +65,11 @@ class BandOrder:
             return None
         graph = sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=(n, n))
         perm = reverse_cuthill_mckee(graph, symmetric_mode=False).astype(np.int64)
+        # Largest connected part first (the track), small ones (wheels, a vehicle) last: a load on
+        # the track then has nothing before it in the band, and its forward sweep starts at it.
+        _, label = connected_components(graph, directed=False)
+        size = np.bincount(label)
+        perm = perm[np.argsort(-size[label[perm]], kind="stable")]
         where = np.empty(n, dtype=np.int64)
         where[perm] = np.arange(n)
         width = int(np.max(np.abs(where[rows] - where[cols]))) if rows.size else 0
