@@ -53,6 +53,9 @@ class SecondOrderSystem:
     states : sequence of StateBlock
         First-order elements attached to DOFs (their static stiffness and dashpot, if any, are
         part of ``K`` and ``C``).
+    order : array_like of int, optional
+        A suggested elimination order of the DOFs (a permutation), e.g. by position along a
+        track; the factorisation takes it where it gives a narrower band than its own.
 
     Examples
     --------
@@ -66,6 +69,7 @@ class SecondOrderSystem:
     K: sp.csc_matrix
     blocks: Mapping[str, slice] = field(default_factory=dict)
     states: tuple[StateBlock, ...] = ()
+    order: np.ndarray | None = None
 
     def __post_init__(self):
         M = as_real_matrix("M", self.M)
@@ -75,6 +79,11 @@ class SecondOrderSystem:
         object.__setattr__(self, "K", as_real_matrix("K", self.K, n))
         object.__setattr__(self, "blocks", dict(self.blocks) or {"dofs": slice(0, n)})
         object.__setattr__(self, "states", tuple(self.states))
+        if self.order is not None:
+            order = np.asarray(self.order, dtype=np.int64)
+            if order.shape != (n,) or not np.array_equal(np.sort(order), np.arange(n)):
+                raise InputError(f"order must be a permutation of the {n} DOFs, got {self.order!r}")
+            object.__setattr__(self, "order", order)
         for blk in self.states:
             if not isinstance(blk, StateBlock):
                 raise InputTypeError(f"states must be StateBlocks, got {type(blk).__name__}")
@@ -138,7 +147,7 @@ def union(parts: Mapping[str, SecondOrderSystem], connections: Sequence[Connecti
     >>> two.K.toarray().tolist(), two.dofs("lower").tolist()
     ([[100.0, -100.0], [-100.0, 100.0]], [1])
     """
-    offsets, blocks, states, start = {}, {}, [], 0
+    offsets, blocks, states, orders, start = {}, {}, [], [], 0
     for name, part in parts.items():
         if not isinstance(part, SecondOrderSystem):
             raise InputTypeError(f"part {name!r} must be a SecondOrderSystem, got {type(part).__name__}")
@@ -147,6 +156,7 @@ def union(parts: Mapping[str, SecondOrderSystem], connections: Sequence[Connecti
             key = name if len(part.blocks) == 1 else f"{name}.{block}"
             blocks[key] = slice(start + (s.start or 0), start + (s.stop if s.stop is not None else part.n_dof))
         states.extend(blk.renumbered(start + np.arange(part.n_dof)) for blk in part.states)
+        orders.append(start + (part.order if part.order is not None else np.arange(part.n_dof)))
         start += part.n_dof
     matrices = [sp.block_diag([getattr(p, X) for p in parts.values()], format="lil") for X in "MCK"]
     M, C, K = matrices
@@ -157,7 +167,8 @@ def union(parts: Mapping[str, SecondOrderSystem], connections: Sequence[Connecti
             for i, si in zip(idx, sign):
                 for j, sj in zip(idx, sign):
                     X[i, j] += si * sj * value
-    return SecondOrderSystem(M.tocsc(), C.tocsc(), K.tocsc(), blocks, tuple(states))
+    order = np.concatenate(orders) if any(p.order is not None for p in parts.values()) else None
+    return SecondOrderSystem(M.tocsc(), C.tocsc(), K.tocsc(), blocks, tuple(states), order)
 
 
 def _global(offsets: dict, parts: Mapping, end: tuple[str, int]) -> int:

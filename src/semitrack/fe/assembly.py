@@ -33,7 +33,7 @@ ordering is recomputed at every frequency: measured 2-3 times faster per frequen
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
@@ -93,17 +93,21 @@ class Pattern:
         Matrix size.
     keys : ndarray of int64
         ``col * n + row`` of each stored entry, sorted (CSC order).
+    hint : ndarray of int, optional
+        An order of the indices that :attr:`band` tries beside reverse Cuthill-McKee.
     """
 
     n: int
     keys: np.ndarray
+    hint: np.ndarray | None = field(default=None, compare=False)
 
     @classmethod
-    def union(cls, n: int, rows: Iterable[np.ndarray], cols: Iterable[np.ndarray]) -> Pattern:
+    def union(cls, n: int, rows: Iterable[np.ndarray], cols: Iterable[np.ndarray],
+              hint: np.ndarray | None = None) -> Pattern:
         """The pattern holding every ``(row, col)`` given; negative (removed) indices are skipped."""
         rr, cc = np.concatenate(list(rows)), np.concatenate(list(cols))
         ok = (rr >= 0) & (cc >= 0)
-        return cls(n, np.unique(cc[ok].astype(np.int64) * n + rr[ok]))
+        return cls(n, np.unique(cc[ok].astype(np.int64) * n + rr[ok]), hint)
 
     @cached_property
     def indices(self) -> np.ndarray:
@@ -136,7 +140,7 @@ class Pattern:
         each stored entry in LAPACK's band storage (:mod:`semitrack.dynamics.factor`); None when the
         pattern is not a narrow band (not a chain: :meth:`solve` falls back to a sparse LU)."""
         rows, cols = self.indices.astype(np.int64), self.keys // max(self.n, 1)
-        order = BandOrder.of(rows, cols, self.n)
+        order = BandOrder.of(rows, cols, self.n, self.hint)
         return None if order is None else (order, order.general_positions(rows, cols))
 
     def solve(self, data: np.ndarray, rhs: np.ndarray) -> np.ndarray:
@@ -243,7 +247,8 @@ def assemble(track: Track, mesh: Mesh, dofs: DofMap, foundation: Foundation,
     reduced = {key: (dofs.index[r], dofs.index[c], v) for key, (r, c, v) in coo.items()}
     blocks = _end_blocks(mesh, dofs, ends)
     pattern = Pattern.union(dofs.n_dof, [r for r, _, _ in reduced.values()] + [r for r, _ in blocks.values()],
-                            [c for _, c, _ in reduced.values()] + [c for _, c in blocks.values()])
+                            [c for _, c, _ in reduced.values()] + [c for _, c in blocks.values()],
+                            dofs.along_track(mesh))
     data = {key: pattern.sum(*entries) for key, entries in reduced.items()}
     exact = {side: pattern.positions(r, c) for side, (r, c) in blocks.items()}
     return TrackMatrices(pattern=pattern, data=data, exact=exact)

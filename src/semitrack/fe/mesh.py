@@ -138,6 +138,29 @@ class DofMap:
         """Number of DOFs of the model (pinned DOFs removed)."""
         return int(np.count_nonzero(self.index >= 0))
 
+    def along_track(self, mesh: Mesh) -> np.ndarray:
+        """The model's DOFs in the order of their place along the track: each node's (w, psi),
+        then its sleeper; an end's own DOFs beside its end node.
+
+        A band order for the factorisations (:class:`semitrack.dynamics.factor.BandOrder`): a
+        sleeper right after its rail node keeps the half-bandwidth at 3, where reverse
+        Cuthill-McKee places the sleepers so that it is 6.
+        """
+        n_rail = 2 * mesh.n_nodes
+        position = np.empty(self.n_full)
+        rank = np.empty(self.n_full)
+        position[:n_rail] = np.repeat(mesh.x, 2)
+        rank[:n_rail] = np.tile([0.0, 1.0], mesh.n_nodes)
+        position[self.foundation] = mesh.x[mesh.support_nodes[: self.foundation.size]]
+        rank[self.foundation] = 2.0
+        for side, internal in self.systems.items():
+            node = mesh.end_node(side)
+            position[internal] = mesh.x[node]
+            rank[internal] = (-1.0 if side == "left" else 3.0) + np.arange(internal.size) / (internal.size + 1)
+        full = np.lexsort((rank, position))
+        model = self.index[full]
+        return model[model >= 0]
+
 
 def rail_dof(node: int, kind: Kind = "w") -> int:
     """Full index of the rail DOF ``kind`` ("w" or "psi") at ``node``."""

@@ -486,7 +486,8 @@ class FETrack:
             One DOF block, ``"track"``.
         """
         M, C, K = self.matrices(f_ref)
-        return SecondOrderSystem(M, C, K, {"track": slice(0, self.n_dof)}, tuple(self.boundary_states()))
+        return SecondOrderSystem(M, C, K, {"track": slice(0, self.n_dof)}, tuple(self.boundary_states()),
+                                 self.dofs.along_track(self.mesh))
 
     def __repr__(self):
         return (f"{type(self).__name__}({self.track.name!r}, bays {self.n_left}+{self.n_right}, ends "
@@ -512,8 +513,9 @@ class TruncatedTrack(FETrack):
     n_bays : int
         Bays on each side of the centre (>= 1; 0 is allowed with "equivalent"/"exact" ends and
         then reduces to the paper's Sec. 5.3 pair of mirrored systems).
-    ends : {"pinned", "free", "equivalent", "exact"}
-        End condition at both ends (see :mod:`semitrack.fe.models`).
+    ends : {"pinned", "free", "equivalent", "boundary", "exact"} or End
+        End condition at both ends (see :mod:`semitrack.fe.models`), by name or as an end object
+        of :mod:`semitrack.fe.ends`.
     system : EquivalentSystem or BroadbandBoundary, optional
         Required with ``ends="equivalent"`` (e.g. ``paper_table4()`` for the slab track,
         ``paper_table7()`` for the ballasted one, or a fitted system) and with

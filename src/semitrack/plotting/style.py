@@ -20,6 +20,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from ..base.conventions import ELEMENT_TEX, ELEMENT_UNITS, EXACT_LABEL
+from ..fe.ends import FREE, PINNED
 
 #: Line styles per method, used in every figure so that a method always looks the same.
 METHOD_STYLE = {
@@ -28,8 +29,8 @@ METHOD_STYLE = {
     "wavenumber": dict(color="tab:orange", lw=1.1, ls="--"),
     "paper system": dict(color="tab:red", lw=1.1, ls=":"),
     "our system": dict(color="tab:blue", lw=1.1, ls="--"),
-    "pinned": dict(color="0.45", lw=1.1, ls="-."),
-    "free": dict(color="tab:brown", lw=1.0, ls="-."),
+    PINNED.label: dict(color="0.45", lw=1.1, ls="-."),
+    FREE.label: dict(color="tab:brown", lw=1.0, ls="-."),
     "exact end stiffness": dict(color="tab:green", lw=1.1, ls="-"),
 }
 #: Colours of the receptance elements, as in the paper's Fig. 8 (black, green, red).
