@@ -56,12 +56,14 @@ def small_roughness():
 
 
 def best(repeat: int, call):
-    """(best wall time, last result) of ``repeat`` calls."""
+    """(wall time, result) of the fastest of ``repeat`` calls."""
     wall, out = np.inf, None
     for _ in range(repeat):
         start = time.perf_counter()
-        out = call()
-        wall = min(wall, time.perf_counter() - start)
+        result = call()
+        elapsed = time.perf_counter() - start
+        if elapsed < wall:
+            wall, out = elapsed, result
     return wall, out
 
 
