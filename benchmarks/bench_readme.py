@@ -1,6 +1,6 @@
 """The README's commands timed as a reader runs them, with and without OPENBLAS_NUM_THREADS=1.
 
-Run: python benchmarks/bench_readme.py [--threads default one both] [--skip-book] [--skip-tests]
+Run: python benchmarks/bench_readme.py [--threads default one both] [--skip-book] [--skip-tests] [--busy]
 
 For each thread mode (``default``: the BLAS thread variables unset, as the README's commands run;
 ``one``: set to 1, as .ci/run sets them), in a child process with that environment:
@@ -9,9 +9,11 @@ For each thread mode (``default``: the BLAS thread variables unset, as the READM
   working tree (so that the copy's ``_build`` starts empty and this tree's is left alone);
 - the test command, ``python -m pytest``, in the same copy;
 - one ``fit_equivalent`` of the slab track (N = 5, the paper's band, seed 0), best of three;
-- a 500-frequency exact sweep of alpha (the paper's grid), best of twenty.
+- a 500-frequency exact sweep of alpha (the paper's grid), best of twenty;
+- the paper's 500-frequency wavenumber sweep of the slab track (its Eq. 14), once.
 
-Prints the wall times side by side. Nothing is asserted: the numbers go into the notes. Cell by
+With ``--busy`` another CPU-bound process runs all the while (a busy 2-core machine: a reader's
+browser, another build). Prints the wall times side by side. Nothing is asserted: the numbers go into the notes. Cell by
 cell times of the notebooks are :mod:`bench_book`'s job. Takes about twice (book + tests).
 """
 
@@ -51,7 +53,10 @@ def best(func, repeat):
 slab = st.slab_track()
 print("fit", best(lambda: st.fit_equivalent(slab, layout="slab", n_bars=5, band=(3.0, 900.0), seed=0), 3))
 print("sweep", best(lambda: st.semi_infinite_receptance(slab, PAPER_GRID), 20))
+print("wavenumber", best(lambda: st.semi_infinite_receptance(slab, PAPER_GRID, method="wavenumber"), 1))
 """
+#: The busy job of ``--busy``: one core's worth of pure Python.
+_BUSY = "while True: sum(i * i for i in range(10000))"
 
 
 def environment(mode: str) -> dict[str, str]:
@@ -95,12 +100,20 @@ def main() -> None:
     parser.add_argument("--threads", choices=("default", "one", "both"), default="both")
     parser.add_argument("--skip-book", action="store_true")
     parser.add_argument("--skip-tests", action="store_true")
+    parser.add_argument("--busy", action="store_true", help="run another CPU-bound process all the while")
     args = parser.parse_args()
     modes = ("default", "one") if args.threads == "both" else (args.threads,)
-    print(f"{os.cpu_count()} CPUs; load average {os.getloadavg()[0]:.2f} at the start", flush=True)
-    results = {mode: measure(mode, args.skip_book, args.skip_tests) for mode in modes}
+    busy = subprocess.Popen([sys.executable, "-c", _BUSY]) if args.busy else None
+    print(f"{os.cpu_count()} CPUs; load average {os.getloadavg()[0]:.2f} at the start"
+          + ("; a CPU-bound job runs beside" if busy else ""), flush=True)
+    try:
+        results = {mode: measure(mode, args.skip_book, args.skip_tests) for mode in modes}
+    finally:
+        if busy is not None:
+            busy.kill()
     labels = {"book": "jupyter-book build . --all (s)", "tests": "python -m pytest (s)",
-              "fit": "fit_equivalent, slab, N = 5 (s)", "sweep": "500-frequency exact sweep (s)"}
+              "fit": "fit_equivalent, slab, N = 5 (s)", "sweep": "500-frequency exact sweep (s)",
+              "wavenumber": "500-frequency wavenumber sweep (s)"}
     print(f"{'':<34}" + "".join(f"{mode:>12}" for mode in modes))
     for key, label in labels.items():
         if key in results[modes[0]]:
