@@ -6,6 +6,8 @@ small roughness on a 10-bay truncated track with broadband-boundary ends; the co
 every step; convergence as the time step halves; the support-passing frequency v / d.
 """
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -241,9 +243,12 @@ def test_wheel_rail_response_refuses_bad_input(small_model, kwargs, error, match
 
 
 def test_a_roughness_too_long_to_evaluate_is_refused(small_model):
+    """Its samples are one inverse FFT when its period is a whole number of steps (31 600 lines,
+    2e6 steps a period: a fraction of a second); otherwise the cosine sums, refused beyond the limit."""
     rough = st.roughness_from_spectrum(SPEED, period=2.0)  # 31 600 lines
-    with pytest.raises(ValueError, match="roughness lines give .* more than the limit"):
-        st.wheel_rail_response(small_model, st.Wheel(), rough, dt=1e-6, duration=0.1)
+    assert rough.sampled(1e-6, 100_001).shape == (100_001,)
+    with pytest.raises(ValueError, match="roughness lines give .* cosines .* more than the limit"):
+        st.wheel_rail_response(small_model, st.Wheel(), rough, dt=1.1e-6, duration=0.1)
 
 
 def test_force_spectrum_reads_a_line_s_amplitude():
@@ -323,5 +328,10 @@ def test_several_wheels_start_quietly_and_one_in_a_list_is_one():
     np.testing.assert_allclose(two.roughness[late, 1], ahead, atol=1e-15)
     with pytest.raises(ValueError, match="contact_transfer takes one wheel's run, got 2 wheels"):
         st.contact_transfer(two)
+    f, amplitude = two.force_spectrum(after=0.01)
+    assert amplitude.shape == (f.size, 2)  # a spectrum per wheel, each as one wheel's record gives it
+    for j in range(2):
+        np.testing.assert_allclose(dataclasses.replace(two, force=two.force[:, j]).force_spectrum(after=0.01)[1],
+                                   amplitude[:, j], rtol=0, atol=1e-9 * amplitude.max())
     with pytest.raises(ValueError, match=r"x_contact must give one position per wheel \(2\)"):
         st.wheel_rail_response(model, wheels, dt=5e-5, duration=0.05)

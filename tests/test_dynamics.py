@@ -243,3 +243,33 @@ def test_motion_far_from_the_load_is_zero_not_subnormal(compiled):
                    record=None, compiled=compiled)
     u = np.abs(res["dofs"][-1])
     assert not np.any((u > 0) & (u < 1e-300)) and np.any(u == 0) and u.max() > 1e-9
+
+
+@needs_numba
+def test_compiled_loop_takes_a_contact_on_a_pinned_end_node():
+    """At a pinned end node the rail's weights are all zero: the wheel then rests on nothing but
+    its own DOF, and both loops must agree (the compiled contact solve once dropped it)."""
+    model = st.TruncatedTrack(st.slab_track(damping="viscous"), 3, elements_per_bay=4)
+    for x0, speed in ((model.x[0], 0.0), (model.x[-1] - 0.5, 50.0)):
+        duration = 0.01
+        runs = [st.wheel_rail_response(model, st.Wheel(), x_contact=x0, speed=speed, dt=2e-5, duration=duration,
+                                       ramp=0.005, compiled=c) for c in (False, True)]
+        np.testing.assert_allclose(runs[1].force, runs[0].force, rtol=0, atol=1e-9 * np.abs(runs[0].force).max())
+        np.testing.assert_allclose(runs[1].w_wheel, runs[0].w_wheel, rtol=0, atol=1e-11 * np.abs(runs[0].w_wheel).max())
+
+
+@needs_numba
+def test_a_wheel_coupled_to_the_track_runs_the_numpy_loop(slab_model):
+    """The compiled contact solve needs each wheel apart from the track; a wheel tied to a rail DOF
+    by a spring is run by the NumPy loop (compiled=None) or refused (compiled=True)."""
+    dt, n = 2e-5, 100
+    system, contacts, loads, u0 = _wheels_on(slab_model, [0.0], 0.0, n, dt)
+    track = slab_model.time_domain_system()
+    wheel = SecondOrderSystem([[600.0]], [[0.0]], [[0.0]])
+    spring = Connection(("track", slab_model.dof(slab_model.x[5])), ("wheel 0", 0), 1e5)
+    tied = union({"track": track, "wheel 0": wheel}, [spring])
+    res = simulate(tied, Newmark(dt), n, loads=loads, contacts=contacts, u0=u0)
+    assert not res.compiled
+    with pytest.raises(ValueError, match="compiled=True needs each wheel apart from the track"):
+        simulate(tied, Newmark(dt), n, loads=loads, contacts=contacts, u0=u0, compiled=True)
+    assert simulate(system, Newmark(dt), n, loads=loads, contacts=contacts, u0=u0).compiled

@@ -56,7 +56,6 @@ MAX_FREQUENCY = 1e6
 BLOCK = 50  # frequencies per progress step
 #: Formats of ``receptance --plot``, by file suffix (matplotlib's names).
 PLOT_FORMATS = ("png", "pdf", "svg")
-PACKAGE_DIR = Path(__file__).resolve().parent
 
 #: Unit of the magnitude of each quantity of ``semitrack features`` (those of
 #: :class:`semitrack.CentralResponse` and :data:`semitrack.base.conventions.ELEMENT_UNITS`).

@@ -19,7 +19,10 @@ processes load it in about 0.2 s. Importing this module imports numba (0.2-0.6 s
 
 from __future__ import annotations
 
+import contextlib
+import hashlib
 import math
+from pathlib import Path
 
 import numba
 import numpy as np
@@ -143,10 +146,12 @@ def _contact_vectors(unit, dinv, wheels, dofs, weights, P, support, count, G, p,
     matter (``P[i, :count[i]]`` at the DOFs ``support[i, :count[i]]``), and the step's compliance
     ``G_ij = b_i^T K_eff^-1 b_j = p_i^T D^-1 p_j``.
 
-    The track comes first in the band order, the wheels (and any vehicle) last, and they are not
-    coupled in the effective stiffness: the rail part of ``b_i`` is swept from its first DOF
-    until it decays (a few bays: ``L^-1`` of a chain decays geometrically), the wheel part from
-    the wheel's DOF. ``p`` (n) and ``dense`` (k, n) are zeroed workspaces, left zeroed.
+    It needs every wheel after its contact's rail DOFs in the band order and not coupled to them
+    in the effective stiffness (:func:`semitrack.dynamics.simulate.compiled_contacts_hold`
+    checks it: the track comes first, the wheels last): the rail part of ``b_i`` is swept from
+    its first DOF until it decays (a few bays: ``L^-1`` of a chain decays geometrically), the
+    wheel part from the wheel's DOF. A contact point with no weight (a pinned end node) has no
+    rail part. ``p`` (n) and ``dense`` (k, n) are zeroed workspaces, left zeroed.
     """
     k, n = P.shape
     for i in range(k):
@@ -155,14 +160,15 @@ def _contact_vectors(unit, dinv, wheels, dofs, weights, P, support, count, G, p,
             if weights[i, q] != 0.0:
                 first = min(first, np.int64(dofs[i, q]))
                 p[dofs[i, q]] += weights[i, q]
-        stop = _forward_local(unit, p, first, wheel) if first < wheel else first
+        stop = _forward_local(unit, p, first, wheel) if first < wheel else wheel  # no rail part: none to sweep
         p[wheel] -= 1.0
         end = _forward_local(unit, p, wheel, n)
+        lo = min(first, wheel)
         largest = 0.0
-        for j in range(first, end):
+        for j in range(lo, end):
             largest = max(largest, abs(p[j]))
         m = 0
-        for j in range(first, end):
+        for j in range(lo, end):
             if abs(p[j]) > NEGLIGIBLE * largest and (j < stop or j >= wheel):
                 support[i, m], P[i, m], dense[i, j] = j, p[j], p[j]
                 m += 1
@@ -298,3 +304,28 @@ def run_compiled(n_steps, coef, dt, gamma, mc, ldl, offset, u, v, a, lf, lm, st,
     if not math.isfinite(dt):
         raise InputError(f"dt must be finite, got {dt!r}")
     _run(n_steps, coef, dt, gamma, mc, ldl, offset, u, v, a, lf, lm, st, ct, pr, rec, out)
+
+
+def _forget_stale_kernels() -> None:
+    """Delete this module's cached kernels when a module they compile in has changed.
+
+    numba keys a function's on-disk cache on its own file only, but the cached loop holds the
+    compiled code of what it calls: :func:`semitrack.dynamics.contact.solve_hertz` and the
+    constants of :mod:`semitrack.dynamics.loop`. A digest of those sources, kept beside the
+    cache, says when the kernels must be compiled again. Where the cache cannot be written,
+    numba does not cache either, and nothing is done.
+    """
+    here = Path(__file__).resolve().parent
+    digest = hashlib.sha256(b"".join((here / name).read_bytes() for name in ("contact.py", "loop.py"))).hexdigest()
+    with contextlib.suppress(AttributeError, OSError):
+        folder = Path(_run._cache._cache_path)
+        stamp = folder / "compiled.dependencies.sha256"
+        if stamp.is_file() and stamp.read_text() == digest:
+            return
+        for cached in folder.glob("compiled.*.nb[ic]"):
+            cached.unlink(missing_ok=True)
+        folder.mkdir(parents=True, exist_ok=True)
+        stamp.write_text(digest)
+
+
+_forget_stale_kernels()

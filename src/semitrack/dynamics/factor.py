@@ -47,11 +47,14 @@ class BandOrder:
         The inverse: the position of original index i.
     width : int
         Half-bandwidth in the band order.
+    part : ndarray of int64, optional
+        The connected part of the pattern each original index belongs to (parts are not coupled).
     """
 
     perm: np.ndarray
     where: np.ndarray
     width: int
+    part: np.ndarray | None = None
 
     @classmethod
     def of(cls, rows: np.ndarray, cols: np.ndarray, n: int, hint: np.ndarray | None = None) -> BandOrder | None:
@@ -83,7 +86,7 @@ class BandOrder:
             where[perm] = np.arange(n)
             width = int(np.max(np.abs(where[rows] - where[cols]))) if rows.size else 0
             if best is None or width < best.width:
-                best = cls(perm, where, width)
+                best = cls(perm, where, width, label)
         if (2 * best.width + 1) * n > BAND_FILL * max(rows.size, 1):
             return None
         return best

@@ -154,7 +154,7 @@ def run_numpy(arrays: StepArrays) -> Outputs:
     x = np.zeros(states.n_states) if states is not None else None
     if states is not None:  # a few hundred states: dense products skip SciPy's per-call overhead
         E, Phi_P, H = (X.toarray() for X in (states.E, states.Phi_P, states.history_x))
-    loads = [(p.matrix(n).T.toarray() if not p.moving and n * p.n_points <= 10**6 else p, amp)
+    loads = [(p.matrix(n).T.toarray() if not p.moving and p.n_points <= 16 else p, amp)  # a few fixed points: dense
              for p, amp in arrays.loads]
     contact = _ContactStep(contacts, arrays.factor, n) if contacts is not None else None
     out = Outputs.empty(arrays)

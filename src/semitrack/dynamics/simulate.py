@@ -11,8 +11,10 @@ and 2e-11 through repeated losses of contact, whose impacts amplify their differ
 orders).
 
 The compiled loop needs a banded Cholesky factor (a real symmetric positive definite effective
-stiffness in band order, which every track model with its wheels and ends has) and numba; else,
-or with ``compiled=False``, the NumPy loop runs.
+stiffness in band order, which every track model with its wheels and ends has), wheels that
+touch the track by their contacts only, the track being the largest part of the system
+(:func:`compiled_contacts_hold`), and numba; else, or with ``compiled=False``, the NumPy loop
+runs.
 
 Limits, checked before any work: steps times DOFs :data:`MAX_STEP_DOFS`, recorded values
 :data:`MAX_RECORDED`.
@@ -40,7 +42,8 @@ from .response import TimeResponse
 from .states import TrapezoidalStates
 from .system import SecondOrderSystem
 
-__all__ = ["MAX_STEP_DOFS", "MAX_RECORDED", "simulate", "compiled_available"]
+__all__ = ["MAX_STEP_DOFS", "MAX_RECORDED", "simulate", "compiled_available", "compiled_contacts_hold",
+           "check_limits"]
 
 #: Most steps x DOFs of one integration (compiled ~12 ns each, NumPy ~50 ns: 5e9 ~ 1-4 min).
 MAX_STEP_DOFS = 5_000_000_000
@@ -68,6 +71,29 @@ def _initial_acceleration(M: sp.spmatrix, r0: np.ndarray) -> np.ndarray:
                          "force; start from rest with zero load at t = 0") from None
 
 
+def check_limits(n_steps: int, n_dof: int, n_out: int) -> None:
+    """Refuse, before any work, a run beyond :data:`MAX_STEP_DOFS` or :data:`MAX_RECORDED`.
+
+    Parameters
+    ----------
+    n_steps, n_dof, n_out : int
+        Steps, DOFs and recorded outputs of the run.
+    """
+    check_work(n_steps * n_dof, MAX_STEP_DOFS, f"n_steps = {n_steps} steps x {n_dof} DOFs give "
+               f"{n_steps * n_dof} step-DOFs", "use a larger dt, a shorter duration or a smaller model")
+    check_work((n_steps + 1) * n_out, MAX_RECORDED, f"n_steps = {n_steps} steps x {n_out} outputs give "
+               f"{(n_steps + 1) * n_out} recorded values", "record fewer outputs (outputs=...) or fewer steps")
+
+
+def _check_points(name: str, points, n: int, rows: int) -> None:
+    if not isinstance(points, PointSet):
+        raise InputTypeError(f"{name} must be a PointSet, got {type(points).__name__}")
+    if points.moving and points.dofs.shape[0] != rows:
+        raise InputError(f"{name} moves: it needs {rows} rows (one per step), got {points.dofs.shape[0]}")
+    if points.dofs.size and points.dofs.max() >= n:
+        raise InputError(f"{name} reaches DOF {points.dofs.max()} of a system of {n}")
+
+
 def _check_loads(loads, n: int, rows: int) -> list:
     out = []
     for i, item in enumerate(loads):
@@ -76,17 +102,13 @@ def _check_loads(loads, n: int, rows: int) -> list:
         except (TypeError, ValueError):
             raise InputTypeError(f"loads[{i}] must be a pair (PointSet, amplitudes), "
                                  f"got {type(item).__name__}") from None
+        _check_points(f"loads[{i}]", points, n, rows)
         amplitude = np.asarray(amplitude, dtype=float)
         if amplitude.ndim == 1 and points.n_points == 1:
             amplitude = amplitude[:, None]
         if amplitude.shape != (rows, points.n_points):
             raise InputError(f"loads[{i}] amplitudes must have shape ({rows}, {points.n_points}), "
                              f"got {amplitude.shape}")
-        if points.moving and points.dofs.shape[0] != rows:
-            raise InputError(f"loads[{i}] moves: its points need {rows} rows (one per step), "
-                             f"got {points.dofs.shape[0]}")
-        if points.dofs.size and points.dofs.max() >= n:
-            raise InputError(f"loads[{i}] acts on DOF {points.dofs.max()} of a system of {n}")
         out.append((points, amplitude))
     return out
 
@@ -190,18 +212,23 @@ def simulate(system: SecondOrderSystem, stepper: Newmark, n_steps: int, *,
         raise InputTypeError(f"stepper must be a Newmark stepper, got {type(stepper).__name__}")
     n = system.n_dof
     n_steps = check_int_at_least("n_steps", n_steps, 1)
-    check_work(n_steps * n, MAX_STEP_DOFS, f"n_steps = {n_steps} steps x {n} DOFs give {n_steps * n} step-DOFs",
-               "use a larger dt, a shorter duration or a smaller model")
     record = np.arange(n) if record is None else np.asarray(record, dtype=np.int64).ravel()
     if record.size and (record.min() < 0 or record.max() >= n):
         raise InputError(f"record must hold DOF indices in [0, {n}), got {record.tolist()[:5]}")
     probes = dict(probes or {})
     n_out = record.size + sum(p.n_points for p in probes.values()) + 3 * (contacts.n_contacts if contacts else 0)
-    check_work((n_steps + 1) * n_out, MAX_RECORDED, f"n_steps = {n_steps} steps x {n_out} outputs give "
-               f"{(n_steps + 1) * n_out} recorded values", "record fewer outputs (outputs=...) or fewer steps")
+    check_limits(n_steps, n, n_out)
     loads = _check_loads(loads, n, n_steps + 1)
-    if contacts is not None and contacts.irregularity.shape[0] != n_steps + 1:
-        raise InputError(f"the contacts' irregularity needs {n_steps + 1} rows, got {contacts.irregularity.shape[0]}")
+    for name, points in probes.items():
+        _check_points(f"probes[{name!r}]", points, n, n_steps + 1)
+    if contacts is not None:
+        if not isinstance(contacts, HertzContacts):
+            raise InputTypeError(f"contacts must be HertzContacts or None, got {type(contacts).__name__}")
+        _check_points("contacts.points", contacts.points, n, n_steps + 1)
+        if contacts.irregularity.shape[0] != n_steps + 1 or contacts.wheel_dofs.max() >= n:
+            raise InputError(f"the contacts' irregularity needs {n_steps + 1} rows and their wheels DOFs of a system "
+                             f"of {n}, got {contacts.irregularity.shape[0]} rows and DOFs "
+                             f"{contacts.wheel_dofs.tolist()}")
     arrays = _prepare(system, stepper, n_steps, loads, contacts, probes, record, u0, v0)
     use_compiled = _choose(compiled, arrays)
     start = time.perf_counter()
@@ -211,14 +238,35 @@ def simulate(system: SecondOrderSystem, stepper: Newmark, n_steps: int, *,
     return _response(arrays, out, probes, contacts, stepper.dt, elapsed, use_compiled)
 
 
+def compiled_contacts_hold(factor, contacts: HertzContacts | None) -> bool:
+    """Whether the compiled loop's contact solve applies: each wheel after its contact's rail DOFs
+    in the band order, and not coupled to them (in another connected part of the effective
+    stiffness: a wheel on its own suspension, or a vehicle that touches the track only through
+    its contacts). The NumPy loop has no such condition."""
+    if contacts is None:
+        return True
+    order = factor.order
+    dofs, weights = contacts.points.dofs, contacts.points.weights
+    wheel = contacts.wheel_dofs[None, :, None]
+    touched = weights != 0
+    apart = order.part[dofs] != order.part[wheel]
+    after = order.where[dofs] < order.where[wheel]
+    return bool(np.all(apart[touched] & after[touched]))
+
+
 def _choose(compiled: bool | None, arrays: StepArrays) -> bool:
     cholesky = isinstance(arrays.factor, BandCholesky)
+    holds = cholesky and compiled_contacts_hold(arrays.factor, arrays.contacts)
     if compiled is None:
-        return cholesky and compiled_available()
+        return holds and compiled_available()
     if compiled and not cholesky:
         raise InputError("compiled=True needs a real symmetric positive definite effective stiffness with a narrow "
                          f"band (a chain); this one was factorised as {type(arrays.factor).__name__}: "
                          "use compiled=None")
+    if compiled and not holds:
+        raise InputError("compiled=True needs each wheel apart from the track (coupled to it by its contact only) "
+                         "and after it in the band order (the track the largest part of the system); use "
+                         "compiled=None, which runs the NumPy loop")
     if compiled and not compiled_available():
         raise InputError("compiled=True needs numba, which is not installed (pip install numba); use compiled=None")
     return bool(compiled)

@@ -174,7 +174,7 @@ def union(parts: Mapping[str, SecondOrderSystem], connections: Sequence[Connecti
 def _global(offsets: dict, parts: Mapping, end: tuple[str, int]) -> int:
     name, local = end
     if name not in parts:
-        raise KeyError(f"connection names part {name!r}; the parts are {list(parts)}")
+        raise InputError(f"connection names part {name!r}; the parts are {list(parts)}")
     if not 0 <= local < parts[name].n_dof:
         raise InputError(f"connection DOF {local} of part {name!r} must be in [0, {parts[name].n_dof})")
     return offsets[name] + int(local)

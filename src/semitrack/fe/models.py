@@ -87,6 +87,9 @@ class FETrack:
     dofs : DofMap
         The DOF numbering: rail (w, psi) per node, then sleeper DOFs (ballasted track), then the
         internal DOFs of attached equivalent systems; pinned DOFs removed.
+    end_models : dict
+        ``{"left": End, "right": End}``: the ends as objects of :mod:`semitrack.fe.ends`
+        (:attr:`left` and :attr:`right` are their names).
 
     Examples
     --------
@@ -105,8 +108,8 @@ class FETrack:
         self.foundation: Foundation = foundation_of(self.track)
         self.n_left = check_int_at_least("n_left", n_left, 0)
         self.n_right = check_int_at_least("n_right", n_right, 0)
-        self.ends: dict[str, End] = model_ends(left, right, system, self.n_left + self.n_right)
-        self.left, self.right = self.ends["left"].name, self.ends["right"].name
+        self.end_models: dict[str, End] = model_ends(left, right, system, self.n_left + self.n_right)
+        self.left, self.right = self.end_models["left"].name, self.end_models["right"].name
         ne = check_int_at_least("elements_per_bay", elements_per_bay, 2)
         if ne % 2:
             raise InputError(f"elements_per_bay must be even (mid-spans are nodes), got {ne}")
@@ -117,9 +120,9 @@ class FETrack:
         self.system = system
         self.mesh: Mesh = bay_mesh(track.spacing, self.n_left, self.n_right, ne)
         self.dofs: DofMap = dof_map(self.mesh, self.foundation.n_dofs(self.mesh.support_nodes.size),
-                                    {side: end.internal_dofs for side, end in self.ends.items()},
-                                    [side for side, end in self.ends.items() if end.removes_w])
-        self._parts: TrackMatrices = assemble(track, self.mesh, self.dofs, self.foundation, self.ends)
+                                    {side: end.internal_dofs for side, end in self.end_models.items()},
+                                    [side for side, end in self.end_models.items() if end.removes_w])
+        self._parts: TrackMatrices = assemble(track, self.mesh, self.dofs, self.foundation, self.end_models)
 
     def _end_dofs(self, side: str) -> np.ndarray:
         """The model DOFs ``(w, psi)`` of the rail at an end (-1 where removed)."""
@@ -326,7 +329,7 @@ class FETrack:
 
     def _exact_blocks(self, omega: np.ndarray) -> dict:
         """``{side: (n_f, 2, 2)}`` end stiffness of each frequency-dependent end (exact, boundary)."""
-        return {side: end.stiffness(self.track, omega, side) for side, end in self.ends.items()
+        return {side: end.stiffness(self.track, omega, side) for side, end in self.end_models.items()
                 if end.frequency_dependent}
 
     def _z_data(self, k0: np.ndarray, omega: float, exact: dict, i: int) -> np.ndarray:
@@ -447,7 +450,7 @@ class FETrack:
             ``K`` and ``C`` include the boundary's static stiffness and dashpot at the end DOFs;
             its states come from :meth:`boundary_states`.
         """
-        time = {side: end.time_matrices(side) for side, end in self.ends.items()}
+        time = {side: end.time_matrices(side) for side, end in self.end_models.items()}
         fr = reference_frequencies(self.track, f_ref)
         tr, d = self.track, self._parts.data
         K = d["K_rail"] + d["K_pad"] + d["K_ballast"] + d["K_end"]
@@ -470,7 +473,7 @@ class FETrack:
             on the rail are ``-P (K0 P u + D P du/dt + C x)`` with ``dx/dt = A x + B P du/dt``;
             :meth:`matrices` already holds the ``K0`` and ``D`` parts.
         """
-        return [block for side, end in self.ends.items() for block in end.states(self._end_dofs(side), side)]
+        return [block for side, end in self.end_models.items() for block in end.states(self._end_dofs(side), side)]
 
     def time_domain_system(self, f_ref: float | dict | None = None) -> SecondOrderSystem:
         """The model as a second-order system for the time domain: :meth:`matrices` and :meth:`boundary_states`.
@@ -544,8 +547,8 @@ class TruncatedTrack(FETrack):
         if n == 0 and not kind.closes_alone:
             raise InputError(f"n_bays must be >= 1 with ends={kind.name!r}, got 0")
         self.n_bays = n
-        self.ends = ends
         super().__init__(track, n, n, ends, ends, system, elements_per_bay)
+        self.ends = kind.name  # the end condition's name; the end objects are end_models
 
 
 # ------------------------------------------------------------------------------------------------

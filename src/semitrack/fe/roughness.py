@@ -49,6 +49,9 @@ REFERENCE_ROUGHNESS = 1e-6
 MAX_LINES = 100_000
 #: Half the width of a one-third-octave band on a log10 scale (base-10 bands, IEC 61260).
 _HALF_BAND = 0.05
+#: Most samples x lines summed as cosines by :meth:`Roughness.sampled` when its period is no whole
+#: number of steps (~10 ns each: 2e9 ~ 20 s); the inverse FFT of the other case costs milliseconds.
+MAX_COSINE_WORK = 2_000_000_000
 #: Times x lines evaluated at once by :meth:`Roughness.__call__` (memory of one chunk, 8 bytes each).
 _CHUNK = 2_000_000
 
@@ -235,6 +238,10 @@ class Roughness:
         steps = self.period / dt
         N = int(round(steps))
         if N < 2 or abs(steps - N) > 1e-9 * steps:
+            work = n * self.frequencies.size
+            check_work(work, MAX_COSINE_WORK, f"{n} samples x {self.frequencies.size} roughness lines give {work} "
+                       f"cosines (the period {self.period!r} s is no whole number of steps dt={dt!r} s)",
+                       "use a period of whole steps, a larger dt, a shorter run or fewer lines")
             return self(dt * np.arange(n))
         m = np.round(self.frequencies * self.period).astype(np.int64) % N
         mirrored = m > N - m  # cos(2 pi m k / N + phi) = cos(2 pi (N - m) k / N - phi)
