@@ -168,8 +168,7 @@ def _wheels_on(model, xs, speed, n, dt, static=True, depth=6e-4):
     t = dt * np.arange(n + 1)
     paths = np.array(xs)[None, :] + speed * t[:, None]
     if speed > 0:
-        sets = [model.points(paths[:, i], moving=True) for i in range(k)]
-        points = PointSet(np.concatenate([p.dofs for p in sets], 1), np.concatenate([p.weights for p in sets], 1))
+        points = PointSet.stacked(model.points(paths[:, i], moving=True) for i in range(k))
     else:
         points = model.points(xs)
     r = depth * np.sin(2 * np.pi * 400 * t[:, None] + np.arange(k)) * sin2_ramp(t - 0.002, 0.004)[:, None]
@@ -229,6 +228,10 @@ def test_point_sets():
     assert p.matrix(3, 1).toarray().tolist() == [[0.0, 0.25, 0.75]]
     with pytest.raises(ValueError, match="dofs must be non-negative"):
         PointSet([[[-1]]], [[[1.0]]])
+    both = PointSet.stacked([PointSet.on_dofs([2]), PointSet(p.dofs[:1], p.weights[:1])])
+    assert both.n_points == 2 and both.values(u).tolist() == [4.0, 1.0]
+    with pytest.raises(ValueError, match="point sets stack only with the same rows"):
+        PointSet.stacked([p, PointSet.on_dofs([0])])
 
 
 @pytest.mark.parametrize("compiled", [False, pytest.param(True, marks=needs_numba)])

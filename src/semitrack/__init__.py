@@ -15,6 +15,7 @@ __version__ = "0.1.0"
 
 #: Every public name: ``{name: (module, attribute in it)}``, in the order of ``__all__``.
 _EXPORTS: dict[str, tuple[str, str]] = {
+    "BadInput": ("base.errors", "BadInput"),
     "PAPER_FIT_BANDS": ("base.paper_values", "FIT_BANDS"),
     "PAPER_GRID": ("base.paper_values", "PAPER_GRID"),
     "BroadbandBoundary": ("boundary.fitting", "BroadbandBoundary"),

@@ -13,11 +13,13 @@ the forces see through the structure within the step. The forces solve
     F_i = c_i max(delta_i, 0)^(3/2),     i.e.   delta + G h(delta) = a,   h_i = c_i max(delta_i, 0)^(3/2),
 
 (:func:`solve_hertz`). ``h`` is continuously differentiable, so Newton's method on ``delta``
-converges quadratically; it starts from the upper bound ``delta = a`` (``G`` couples wheels
-through the rail with non-negative entries, so no force makes an approach larger). A contact
-with ``a_i <= 0`` carries no force (loss of contact: the force is never negative). With one
-wheel the residual is convex and increasing and the iterates fall monotonically to the root
-within ``[0, a]``; with several, a step that would not reduce the residual is halved.
+converges quadratically; it starts from ``delta = a``, the upper bound where the wheels' mutual
+compliances are non-negative (the static case; within a step the rail's inertia makes the far
+ones oscillate in sign, but they are small beside each wheel's own). A contact with
+``a_i <= 0`` and no neighbour pressing it down carries no force (loss of contact: the force is
+never negative). With one wheel the residual is convex and increasing and the iterates fall
+monotonically to the root within ``[0, a]``; with several, a step that would not reduce the
+residual is halved.
 
 The same source runs as plain Python in the NumPy loop and compiled in the fast one.
 """

@@ -1,9 +1,10 @@
-"""One factorisation for both domains: chains solved as band matrices in reverse Cuthill-McKee order.
+"""One factorisation for both domains: chains solved as band matrices in a band order.
 
-A track model is a chain: renumbered once by reverse Cuthill-McKee (RCM), its matrices are a
-narrow band (3-7 off-diagonals for the paper's tracks, ends, wheels and attached systems
-included), and a band factorisation costs O(n) where a general sparse LU recomputes a
-fill-reducing ordering. Three factorisations share the order (:class:`BandOrder`):
+A track model is a chain: renumbered once (reverse Cuthill-McKee, or the order along the track
+where that is narrower: :meth:`BandOrder.of`), its matrices are a narrow band (3 off-diagonals
+for the paper's tracks, more with an equivalent system's DOFs at an end), and a band
+factorisation costs O(n) where a general sparse LU recomputes a fill-reducing ordering. Three
+factorisations share the order (:class:`BandOrder`):
 
 * :class:`BandCholesky` (LAPACK ``dpbtrf``/``dpbtrs``) for a real symmetric positive definite
   matrix, the effective stiffness of a time step ``K + 2/dt C + 4/dt^2 M``: half the storage and

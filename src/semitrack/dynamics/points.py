@@ -81,6 +81,22 @@ class PointSet:
             dofs[0, j, : hi - lo], weights[0, j, : hi - lo] = B.indices[lo:hi], B.data[lo:hi]
         return cls(dofs, weights, labels)
 
+    @classmethod
+    def stacked(cls, sets) -> PointSet:
+        """Several point sets as one, their points in order (all fixed, or all moving over the same steps)."""
+        sets = list(sets)
+        width = max(p.dofs.shape[2] for p in sets)
+        rows = {p.dofs.shape[0] for p in sets}
+        if len(rows) != 1:
+            raise InputError(f"point sets stack only with the same rows (fixed, or the same steps), got {sorted(rows)}")
+
+        def padded(p, key):
+            a = getattr(p, key)
+            return np.pad(a, ((0, 0), (0, 0), (0, width - a.shape[2])))
+
+        return cls(np.concatenate([padded(p, "dofs") for p in sets], 1),
+                   np.concatenate([padded(p, "weights") for p in sets], 1), sum((p.labels for p in sets), ()))
+
     @property
     def n_points(self) -> int:
         """Number of points."""

@@ -45,7 +45,7 @@ from .system import SecondOrderSystem
 __all__ = ["MAX_STEP_DOFS", "MAX_RECORDED", "simulate", "compiled_available", "compiled_contacts_hold",
            "check_limits"]
 
-#: Most steps x DOFs of one integration (compiled ~12 ns each, NumPy ~50 ns: 5e9 ~ 1-4 min).
+#: Most steps x DOFs of one integration (compiled ~12 ns each, NumPy ~100 ns: 5e9 ~ 1-8 min).
 MAX_STEP_DOFS = 5_000_000_000
 #: Most recorded values, (n_steps + 1) x outputs (8 bytes each: 2e8 ~ 1.6 GB).
 MAX_RECORDED = 200_000_000

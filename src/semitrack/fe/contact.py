@@ -1,24 +1,24 @@
-"""A wheel on an FE track in time: Hertzian contact, roughness input, loss of contact.
+"""Wheels on an FE track in time: Hertzian contacts, roughness input, loss of contact.
 
-The wheel (:class:`semitrack.Wheel`: unsprung mass m, optional primary suspension k1, c1 to a
+Each wheel (:class:`semitrack.Wheel`: unsprung mass m, optional primary suspension k1, c1 to a
 bogie held still, preload P0) becomes one more DOF of the FE track's equations of motion, and
-the two meet only through the contact force F, the compression of the Hertzian spring:
+they meet only through the contact forces F, the compressions of the Hertzian springs (one
+wheel written out):
 
     track:  M a + C v + K u = N^T F            (N: shape weights of w at the contact point)
     wheel:  m a_W + c1 v_W + k1 w_W = P(t) - F
     F = C_H max(delta, 0)^(3/2),   delta = w_W - N u - r(t)
 
 with displacements downward and r the rail surface's downward displacement (r > 0 a dip), the
-convention of :func:`semitrack.wheel_rail_force`. Both are integrated by Newmark's average
-acceleration (:func:`semitrack.fe.timedomain.newmark`, with a broadband boundary's states by the
-trapezoidal rule). Each step is linear in F: with ``b = [N^T; -1]`` the new state is
-``u = u_free + g F``, ``g = K_eff^-1 b`` (one extra solve, once for a stationary contact and at
-every step for a rolling wheel), and the approach ``delta = a - beta F`` with ``beta = b^T g > 0``.
-The contact force then solves the scalar equation ``F = C_H max(a - beta F, 0)^(3/2)``: zero
-when ``a <= 0`` (loss of contact: the force is never negative), else the approach is found by
-Newton's method on ``delta + beta C_H delta^(3/2) = a`` started at its upper bound ``delta = a``
-(the function is convex and increasing, so the iterates fall monotonically to the root within
-the bracket ``[0, a]``).
+convention of :func:`semitrack.wheel_rail_force`. All are integrated together by Newmark's
+average acceleration with a broadband boundary's states by the trapezoidal rule
+(:func:`semitrack.dynamics.simulate.simulate`). Each step is linear in the forces: with
+``b_i = [N_i^T; -1]`` the new state is ``u = u_free + sum_i K_eff^-1 b_i F_i`` and the approaches
+``delta = a - G F`` with the step's compliance ``G_ij = b_i^T K_eff^-1 b_j``; the forces solve
+``F = C_H max(a - G F, 0)^(3/2)`` (:mod:`semitrack.dynamics.contact`): zero where ``a <= 0``
+(loss of contact: a force is never negative), else by Newton's method from the upper bound
+``delta = a``. For one wheel the equation is scalar, convex and increasing, and the iterates fall
+monotonically to the root within ``[0, a]``.
 
 The start is quiet: the run starts at rest in the static equilibrium under the preload (track
 deflected, contact compressed by ``(P0 / C_H)^(2/3)``, the contact force P0 included in the
@@ -263,9 +263,7 @@ def _contact_points(model: FETrack, x: np.ndarray, moving: bool) -> PointSet:
     """The wheels' contact points: fixed at ``x[0]``, or along their paths ``x`` (steps, wheels)."""
     if not moving:
         return model.points(x[0], name="x_contact")
-    paths = [model.points(x[:, i], moving=True, name="x_contact") for i in range(x.shape[1])]
-    return PointSet(np.concatenate([p.dofs for p in paths], 1), np.concatenate([p.weights for p in paths], 1),
-                    tuple(f"wheel {i}" for i in range(x.shape[1])))
+    return PointSet.stacked(model.points(x[:, i], moving=True, name="x_contact") for i in range(x.shape[1]))
 
 
 def wheel_rail_response(model: FETrack, wheel: Wheel | Sequence[Wheel], roughness: Roughness | None = None, *,
