@@ -27,6 +27,7 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "EquivalentSystem": ("equivalent.systems", "EquivalentSystem"),
     "ErrorSummary": ("equivalent.metrics", "ErrorSummary"),
     "FETrack": ("fe.models", "FETrack"),
+    "InfiniteTrack": ("methods.infinite", "InfiniteTrack"),
     "FitResult": ("equivalent.fitting", "FitResult"),
     "PeriodicCell": ("model.tracks", "PeriodicCell"),
     "QUANTITIES": ("methods.features", "QUANTITIES"),

@@ -218,7 +218,7 @@ def _end_blocks(mesh: Mesh, dofs: DofMap, ends: Mapping[Side, End]) -> dict:
 
 
 def assemble(track: Track, mesh: Mesh, dofs: DofMap, foundation: Foundation,
-             ends: Mapping[Side, End]) -> TrackMatrices:
+             ends: Mapping[Side, End], supports: Mapping[str, np.ndarray]) -> TrackMatrices:
     """Assemble every family of a track model on one pattern (see the module docstring).
 
     Parameters
@@ -234,6 +234,8 @@ def assemble(track: Track, mesh: Mesh, dofs: DofMap, foundation: Foundation,
     ends : mapping of side to End
         The model's ends (:mod:`semitrack.fe.ends`): their own matrices are assembled, and the
         2x2 blocks of the frequency-dependent ones are put in the pattern.
+    supports : mapping
+        Each support's values (:func:`semitrack.fe.supports.support_values`).
 
     Returns
     -------
@@ -241,7 +243,7 @@ def assemble(track: Track, mesh: Mesh, dofs: DofMap, foundation: Foundation,
     """
     parts = {key: _Triplets() for key in FAMILIES}
     _add_rail(parts, mesh, track)
-    foundation.assemble(parts, mesh.support_nodes, dofs.foundation, track)
+    foundation.assemble(parts, mesh.support_nodes, dofs.foundation, supports)
     _add_ends(parts, mesh, dofs, ends)
     coo = {key: t.coo() for key, t in parts.items()}
     reduced = {key: (dofs.index[r], dofs.index[c], v) for key, (r, c, v) in coo.items()}

@@ -24,6 +24,8 @@ their viscous equivalents (``damping="viscous"``), which are exactly the dampers
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike
@@ -36,13 +38,14 @@ from ..dynamics.points import PointSet
 from ..dynamics.states import StateBlock
 from ..dynamics.system import SecondOrderSystem
 from ..equivalent.systems import EquivalentSystem
+from ..methods.infinite import check_changes
 from ..model.tracks import Track, require_track
 from .assembly import TrackMatrices, assemble
 from .damping import reference_frequencies
 from .element import shear_parameter, timoshenko_shape_functions
 from .ends import FREE, PINNED, End, EndName, FarEndName, end_kinds, make_far_end, model_ends
 from .mesh import KINDS, DofMap, Kind, Mesh, bay_mesh, dof_map, rail_dof
-from .supports import Foundation, foundation_of
+from .supports import Foundation, foundation_of, support_values
 
 __all__ = [
     "FETrack",
@@ -79,6 +82,11 @@ class FETrack:
         FE error is second order in the element length; with 12 (the default) the discretisation
         error of w1 and alpha over 3-3000 Hz has a median of 0.25-0.4 % (8: 0.6-0.9 %).
         ``elements_per_bay * (n_left + n_right)`` may not exceed :data:`MAX_ELEMENTS` (200 000).
+    changes : mapping of int to mapping or None, optional
+        ``{k: {field: value}}`` sets ``kv``, ``kphi``, ``sleeper_mass`` or ``kb`` of support k
+        (at ``x = (k + 1/2) d``, as :class:`semitrack.InfiniteTrack` numbers them; ``kb=0`` a
+        hanging sleeper); ``{k: None}`` removes its pad (its sleeper, if any, stays on the
+        ballast, off the rail). Supports outside the model are ignored.
 
     Attributes
     ----------
@@ -103,7 +111,7 @@ class FETrack:
 
     def __init__(self, track: Track, n_left: int, n_right: int, left: EndName | End = PINNED,
                  right: EndName | End = PINNED, system: EquivalentSystem | BroadbandBoundary | None = None,
-                 elements_per_bay: int = 12):
+                 elements_per_bay: int = 12, changes: Mapping[int, Mapping[str, float] | None] | None = None):
         self.track = require_track(track)
         self.foundation: Foundation = foundation_of(self.track)
         self.n_left = check_int_at_least("n_left", n_left, 0)
@@ -122,7 +130,9 @@ class FETrack:
         self.dofs: DofMap = dof_map(self.mesh, self.foundation.n_dofs(self.mesh.support_nodes.size),
                                     {side: end.internal_dofs for side, end in self.end_models.items()},
                                     [side for side, end in self.end_models.items() if end.removes_w])
-        self._parts: TrackMatrices = assemble(track, self.mesh, self.dofs, self.foundation, self.end_models)
+        self.changes = check_changes(changes, lambda k: self.track.is_ballasted)
+        supports = support_values(self.track, self.mesh.support_nodes.size, -self.n_left, self.changes)
+        self._parts: TrackMatrices = assemble(track, self.mesh, self.dofs, self.foundation, self.end_models, supports)
 
     def _end_dofs(self, side: str) -> np.ndarray:
         """The model DOFs ``(w, psi)`` of the rail at an end (-1 where removed)."""
@@ -525,6 +535,8 @@ class TruncatedTrack(FETrack):
         ``ends="boundary"`` (from :func:`semitrack.fit_boundary`).
     elements_per_bay : int
         Elements per support spacing, even.
+    changes : mapping of int to mapping or None, optional
+        Changed or removed supports, as :class:`FETrack` takes them.
 
     Examples
     --------
@@ -541,13 +553,14 @@ class TruncatedTrack(FETrack):
     """
 
     def __init__(self, track: Track, n_bays: int, ends: EndName | End = PINNED,
-                 system: EquivalentSystem | BroadbandBoundary | None = None, elements_per_bay: int = 12):
+                 system: EquivalentSystem | BroadbandBoundary | None = None, elements_per_bay: int = 12,
+                 changes: Mapping[int, Mapping[str, float] | None] | None = None):
         n = check_int_at_least("n_bays", n_bays, 0)
         kind = type(ends) if isinstance(ends, End) else end_kinds(ends)[0]
         if n == 0 and not kind.closes_alone:
             raise InputError(f"n_bays must be >= 1 with ends={kind.name!r}, got 0")
         self.n_bays = n
-        super().__init__(track, n, n, ends, ends, system, elements_per_bay)
+        super().__init__(track, n, n, ends, ends, system, elements_per_bay, changes)
         self.ends = kind.name  # the end condition's name; the end objects are end_models
 
 

@@ -18,14 +18,59 @@ have yet: :func:`foundation_of` says so.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
 
+from ..base.errors import InputError
 from ..model.tracks import Track
 
-__all__ = ["Foundation", "RigidFoundation", "SleepersOnBallast", "foundation_of"]
+__all__ = ["FE_SUPPORT_FIELDS", "Foundation", "RigidFoundation", "SleepersOnBallast", "foundation_of", "support_values"]
+
+
+#: The support fields an FE model's ``changes`` may set (a loss factor is its family's: the same at every support).
+FE_SUPPORT_FIELDS = ("kv", "kphi", "sleeper_mass", "kb")
+
+
+def support_values(track: Track, n_supports: int, first: int, changes: Mapping | None) -> dict[str, np.ndarray]:
+    """Each support's ``kv``, ``kphi``, ``sleeper_mass`` and ``kb``, and whether it is there.
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+    n_supports : int
+        Supports of the model, in order along x.
+    first : int
+        The index k of the first (support k sits at ``x = (k + 1/2) d``).
+    changes : mapping, optional
+        ``{k: {field: value}}`` (fields of :data:`FE_SUPPORT_FIELDS`) or ``{k: None}`` (no support).
+
+    Returns
+    -------
+    dict
+        ``{"kv", "kphi", "sleeper_mass", "kb": ndarray, "present": ndarray of bool}``, one entry
+        per support (sleeper and ballast values 0 on a slab track), and the track's own
+        ``"kb_track"`` and ``"sleeper_mass_track"`` (for a removed support's sleeper).
+    """
+    values = {name: np.full(n_supports, float(getattr(track, name) or 0.0)) for name in FE_SUPPORT_FIELDS}
+    values["present"] = np.ones(n_supports, dtype=bool)
+    values["kb_track"], values["sleeper_mass_track"] = values["kb"].copy(), values["sleeper_mass"].copy()
+    for k, fields in (changes or {}).items():
+        i = k - first
+        if not 0 <= i < n_supports:
+            continue
+        if fields is None:
+            values["present"][i] = False
+            continue
+        for name, value in fields.items():
+            if name not in FE_SUPPORT_FIELDS:
+                raise InputError(f"changes[{k}][{name!r}]: the FE models change {FE_SUPPORT_FIELDS} of a support; a "
+                                 "loss factor is its family's, the same at every support (InfiniteTrack takes it)")
+            values[name][i] = value
+    return values
 
 
 @dataclass(frozen=True)
@@ -38,7 +83,8 @@ class Foundation:
         """Number of DOFs the foundation adds for ``n_supports`` supports."""
         return 0
 
-    def assemble(self, parts: dict, support_nodes: np.ndarray, dofs: np.ndarray, track: Track) -> None:
+    def assemble(self, parts: dict, support_nodes: np.ndarray, dofs: np.ndarray, values: Mapping[str, np.ndarray]
+                 ) -> None:
         """Add the pads and what is under them to the families ``parts`` (triplets of full DOF indices).
 
         Parameters
@@ -49,12 +95,11 @@ class Foundation:
             The rail nodes that carry a support.
         dofs : ndarray of int
             Full indices of the foundation's own DOFs (:meth:`n_dofs` of them).
-        track : Track
-            Pad and foundation parameters.
+        values : mapping
+            Each support's values (:func:`support_values`).
         """
         psi = 2 * support_nodes + 1
-        if track.kphi > 0:
-            parts["K_pad"].add_many(psi[:, None], np.array([[track.kphi]]))
+        parts["K_pad"].add_many(psi[:, None], (values["kphi"] * values["present"])[:, None, None])
 
 
 @dataclass(frozen=True)
@@ -63,26 +108,36 @@ class RigidFoundation(Foundation):
 
     name: ClassVar[str] = "rigid foundation"
 
-    def assemble(self, parts: dict, support_nodes: np.ndarray, dofs: np.ndarray, track: Track) -> None:
-        super().assemble(parts, support_nodes, dofs, track)
-        parts["K_pad"].add_many(2 * support_nodes[:, None], np.array([[track.kv]]))
+    def assemble(self, parts: dict, support_nodes: np.ndarray, dofs: np.ndarray, values: Mapping[str, np.ndarray]
+                 ) -> None:
+        super().assemble(parts, support_nodes, dofs, values)
+        parts["K_pad"].add_many(2 * support_nodes[:, None], (values["kv"] * values["present"])[:, None, None])
 
 
 @dataclass(frozen=True)
 class SleepersOnBallast(Foundation):
-    """Pads on sleeper masses on ballast springs (the paper's ballasted track): one DOF per support."""
+    """Pads on sleeper masses on ballast springs (the paper's ballasted track): one DOF per support.
+
+    A removed support keeps its sleeper DOF, the track's sleeper on the track's ballast but with
+    no pad to the rail (decoupled, it changes no response of the rail), so that the numbering
+    stays the same.
+    """
 
     name: ClassVar[str] = "sleepers on ballast"
 
     def n_dofs(self, n_supports: int) -> int:
         return n_supports
 
-    def assemble(self, parts: dict, support_nodes: np.ndarray, dofs: np.ndarray, track: Track) -> None:
-        super().assemble(parts, support_nodes, dofs, track)
-        pad = track.kv * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    def assemble(self, parts: dict, support_nodes: np.ndarray, dofs: np.ndarray, values: Mapping[str, np.ndarray]
+                 ) -> None:
+        super().assemble(parts, support_nodes, dofs, values)
+        on = values["present"]
+        pad = (values["kv"] * on)[:, None, None] * np.array([[1.0, -1.0], [-1.0, 1.0]])
         parts["K_pad"].add_many(np.stack([2 * support_nodes, dofs], 1), pad)
-        parts["K_ballast"].add_many(dofs[:, None], np.array([[track.kb]]))
-        parts["M"].add_many(dofs[:, None], np.array([[track.sleeper_mass]]))
+        kb = np.where(on, values["kb"], values["kb_track"])
+        mass = np.where(on, values["sleeper_mass"], values["sleeper_mass_track"])
+        parts["K_ballast"].add_many(dofs[:, None], kb[:, None, None])
+        parts["M"].add_many(dofs[:, None], mass[:, None, None])
 
 
 def foundation_of(track: Track) -> Foundation:

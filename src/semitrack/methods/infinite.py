@@ -1,0 +1,355 @@
+"""The exact infinite track with the load and the response anywhere, local changes, a transition and joints.
+
+The rail is cut at two mid-spans ``X_L < X_R`` that enclose every change, joint, load and
+response point. Outside them the track is periodic and semi-infinite, and closes the core by its
+exact end stiffness (:func:`semitrack.methods.transfer.end_stiffness`: Bloch waves, nothing
+truncated). Inside, the rail is exact Timoshenko segments
+(:func:`semitrack.model.timoshenko.segment_dynamic_stiffness`) between nodes at every support,
+load and response point, joint and the transition; each support adds its dynamic stiffness at
+its node. No mesh, no truncation: the periodic track is the special case without changes.
+
+Positions are measured from the central cross-section, a mid-span (x = 0), as in the FE models:
+support k sits at ``x = (k + 1/2) d`` (k any integer, d the spacing). A transition at the
+mid-span ``x_t = kt d`` puts the rail on the second track's supports at
+``x_t + (j + 1/2) d2`` (support k = kt + j) and makes the semi-infinite right part that track;
+the rails meet at ``x_t``. A joint at x cuts the rail there (not at a support) and joins it by a
+rotational spring (0: a hinge); w and the shear force stay continuous.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..base.checks import as_frequencies, check_int_at_least, check_nonnegative, check_real
+from ..base.errors import InputError, InputTypeError
+from ..model.timoshenko import segment_dynamic_stiffness
+from ..model.tracks import Track, require_track
+from .transfer import end_stiffness
+
+__all__ = ["SUPPORT_FIELDS", "InfiniteTrack", "support_dynamic_stiffness", "check_changes"]
+
+#: The fields of a support that ``changes`` may set.
+SUPPORT_FIELDS = ("kv", "kphi", "eta_pad", "sleeper_mass", "kb", "eta_ballast")
+#: Positions closer than this fraction of the spacing are one node.
+_SAME = 1e-9
+
+
+def _loss(track: Track, family: str, eta: float, f: np.ndarray) -> np.ndarray:
+    """The loss factor law of ``track`` for a family, with the loss factor ``eta``: constant
+    (hysteretic) or ``eta f / f_ref`` with the track's own reference frequency (viscous)."""
+    if track.damping == "hysteretic" or eta == 0:
+        return np.full(f.shape, float(eta))
+    return eta * f / track.reference_frequencies()[family]
+
+
+def support_dynamic_stiffness(track: Track, f: np.ndarray, fields: Mapping[str, float] | None = None
+                              ) -> tuple[np.ndarray, np.ndarray]:
+    """The vertical and rotational dynamic stiffness of one support of ``track``, some fields changed.
+
+    The pad ``kv (1 + i eta_pad)`` in series with the sleeper on ballast
+    ``kb (1 + i eta_ballast) - omega^2 m_s`` (a ballasted track), or on the ground; the
+    rotational pad ``kphi (1 + i eta_pad)`` on the ground. A viscous track's changed dampers
+    keep the track's reference frequencies (:meth:`semitrack.Track.reference_frequencies`).
+
+    Parameters
+    ----------
+    track : Track
+        The track whose support this is (not a flexible slab).
+    f : ndarray
+        Frequencies (Hz).
+    fields : mapping, optional
+        New values of :data:`SUPPORT_FIELDS` (SI); ``kb=0`` is a hanging sleeper.
+
+    Returns
+    -------
+    kv_dyn, kphi_dyn : ndarray of complex
+        N/m and N m/rad, the shape of ``f``.
+    """
+    p = {name: getattr(track, name) for name in SUPPORT_FIELDS}
+    p.update(fields or {})
+    omega = 2 * np.pi * f
+    pad = 1 + 1j * _loss(track, "pad", p["eta_pad"], f)
+    kv, kphi = p["kv"] * pad, p["kphi"] * pad
+    if track.is_ballasted:
+        ballast = p["kb"] * (1 + 1j * _loss(track, "ballast", p["eta_ballast"], f)) - omega**2 * p["sleeper_mass"]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            kv = np.where(kv == 0, 0.0, kv * ballast / (kv + ballast))  # 1 / (1/kv + 1/ballast)
+    return np.broadcast_to(kv, f.shape).astype(complex), np.broadcast_to(kphi, f.shape).astype(complex)
+
+
+def check_changes(changes, ballasted: Callable[[int], bool]) -> dict[int, dict | None]:
+    """``changes`` checked: ``{support index: {field: value >= 0} or None}``.
+
+    Parameters
+    ----------
+    changes : mapping or None
+        As :class:`InfiniteTrack` takes it.
+    ballasted : callable
+        ``ballasted(k)``: whether support k has a sleeper (so that its sleeper and ballast fields
+        may be set).
+
+    Returns
+    -------
+    dict
+    """
+    if changes is None:
+        return {}
+    if not isinstance(changes, Mapping):
+        raise InputTypeError(f"changes must be a mapping {{support index: {{field: value}} or None}}, got {changes!r}")
+    out = {}
+    for k, fields in changes.items():
+        k = check_int_at_least("changes key (a support index)", k, -10**9)
+        if fields is None:
+            out[k] = None
+            continue
+        if not isinstance(fields, Mapping):
+            raise InputTypeError(f"changes[{k}] must be a mapping of support fields or None (no support), "
+                                 f"got {fields!r}")
+        unknown = sorted(set(fields) - set(SUPPORT_FIELDS))
+        if unknown:
+            raise InputError(f"changes[{k}] names unknown support fields {unknown}; the fields are {SUPPORT_FIELDS}")
+        if not ballasted(k) and {"sleeper_mass", "kb", "eta_ballast"} & set(fields):
+            raise InputError(f"changes[{k}] sets sleeper or ballast fields on a support of a track without sleepers")
+        out[k] = {name: check_nonnegative(f"changes[{k}][{name!r}]", value) for name, value in fields.items()}
+    return out
+
+
+class InfiniteTrack:
+    """The exact infinite track, possibly with changed supports, a transition and rail joints.
+
+    Parameters
+    ----------
+    track : Track
+        The track (left of a transition, or everywhere); not a flexible slab.
+    changes : mapping of int to mapping or None, optional
+        ``{k: {field: value}}`` sets fields of :data:`SUPPORT_FIELDS` at support k (at
+        ``x = (k + 1/2) d``; past a transition, the second track's support ``j = k - kt``); a
+        hanging sleeper is ``{"kb": 0.0}``, a worn pad a lower ``kv``; ``{k: None}`` removes the
+        support (pad and sleeper gone).
+    right : Track, optional
+        The track from the transition on (its rail and supports; not a flexible slab).
+    transition : int, optional
+        ``kt``: the transition sits at the mid-span ``x_t = kt d``; required with ``right``.
+    joints : mapping of float to float, optional
+        ``{x: k_rot}``: the rail is cut at x (m, not at a support) and joined by a rotational
+        spring of ``k_rot`` N m/rad (0: a hinge).
+
+    Examples
+    --------
+    A hanging sleeper at x = d/2 of the ballasted track, the receptance there and a bay away:
+
+    >>> import semitrack as st
+    >>> inf = st.InfiniteTrack(st.ballasted_track(), changes={0: {"kb": 0.0}})
+    >>> inf.receptance([100.0, 500.0], 0.3, [0.3, 0.9]).shape
+    (2, 2, 2, 2)
+    """
+
+    def __init__(self, track: Track, changes: Mapping[int, Mapping[str, float] | None] | None = None, *,
+                 right: Track | None = None, transition: int | None = None,
+                 joints: Mapping[float, float] | None = None):
+        self.track = _plain(require_track(track), "track")
+        self.right = None if right is None else _plain(require_track(right, "right"), "right")
+        if (right is None) != (transition is None):
+            raise InputError("right and transition go together: give the second track and the mid-span index kt "
+                             f"of the transition, got right={'a Track' if right is not None else None}, "
+                             f"transition={transition!r}")
+        self.transition = None if transition is None else check_int_at_least("transition", transition, -10**9)
+        self.x_t = None if self.transition is None else self.transition * self.track.spacing
+        self.changes = check_changes(changes, lambda k: self._track_of(k).is_ballasted)
+        self.joints = self._check_joints(joints)
+
+    # --------------------------------------------------------------------------------------------
+    def _track_of(self, k: int) -> Track:
+        """The track that support k belongs to."""
+        return self.right if self.transition is not None and k >= self.transition else self.track
+
+    def support_position(self, k: int) -> float:
+        """Position of support k (m from the centre).
+
+        Parameters
+        ----------
+        k : int
+            The support's index: ``(k + 1/2) d``, or past a transition ``x_t + (k - kt + 1/2) d2``.
+
+        Returns
+        -------
+        float
+        """
+        if self.transition is not None and k >= self.transition:
+            return self.x_t + (k - self.transition + 0.5) * self.right.spacing
+        return (k + 0.5) * self.track.spacing
+
+    def _support_index_near(self, x: float) -> int | None:
+        """The support at x (within rounding), if any."""
+        if self.transition is not None and x > self.x_t:
+            d, k0, x0 = self.right.spacing, self.transition, self.x_t
+        else:
+            d, k0, x0 = self.track.spacing, 0, 0.0
+        k = int(np.floor((x - x0) / d))
+        return k + k0 if abs(x - x0 - (k + 0.5) * d) <= _SAME * d else None
+
+    def _check_joints(self, joints) -> dict[float, float]:
+        if joints is None:
+            return {}
+        if not isinstance(joints, Mapping):
+            raise InputTypeError(f"joints must be a mapping {{x (m): rotational stiffness (N m/rad)}}, got {joints!r}")
+        out = {}
+        for x, k_rot in joints.items():
+            x = check_real("joints key (a position, m)", x)
+            if not np.isfinite(x):
+                raise InputError(f"joints positions must be finite, got {x!r}")
+            if self._support_index_near(x) is not None:
+                raise InputError(f"a joint cuts the rail between supports: x={x!r} m is support "
+                                 f"{self._support_index_near(x)}")
+            if self.x_t is not None and abs(x - self.x_t) <= _SAME * self.track.spacing:
+                raise InputError(f"a joint at the transition x_t={self.x_t!r} m is not modelled; move it off")
+            out[x] = check_nonnegative(f"joints[{x!r}]", k_rot)
+        return out
+
+    # --------------------------------------------------------------------------------------------
+    def _core(self, points: np.ndarray) -> tuple[float, float]:
+        """The cuts X_L < X_R (mid-spans of the periodic parts) that enclose everything local."""
+        d = self.track.spacing
+        left = [k for k in self.changes if self.transition is None or k < self.transition]
+        right = [k for k in self.changes if self.transition is not None and k >= self.transition]
+        xs = np.concatenate([points, list(self.joints)])
+        k_lo = int(np.floor(min(xs.min() / d, min(left, default=0), self.transition if self.x_t is not None else 0)))
+        x_left = min(k_lo, min(left, default=k_lo)) * d - d  # a bay to spare: the cut is a clean mid-span
+        if self.transition is None:
+            k_hi = int(np.ceil(max(xs.max() / d, max(left, default=0) + 1)))
+            return x_left, (k_hi + 1) * d
+        d2 = self.right.spacing
+        j_hi = int(np.ceil(max((xs.max() - self.x_t) / d2, max((k - self.transition + 1 for k in right), default=0),
+                               0)))
+        return x_left, self.x_t + (j_hi + 1) * d2
+
+    def _nodes(self, points: np.ndarray) -> tuple[np.ndarray, dict, float, float]:
+        """Node positions, ``{node: support index}`` and the cuts."""
+        x_left, x_right = self._core(points)
+        supports = {}
+        if self.transition is None:
+            ks = range(int(round(x_left / self.track.spacing)), int(round(x_right / self.track.spacing)))
+        else:
+            kt, d2 = self.transition, self.right.spacing
+            ks = [*range(int(round(x_left / self.track.spacing)), kt),
+                  *range(kt, kt + int(round((x_right - self.x_t) / d2)))]
+        for k in ks:
+            supports[self.support_position(k)] = k
+        extra = [x_left, x_right, *points, *self.joints] + ([self.x_t] if self.x_t is not None else [])
+        xs = np.unique(np.concatenate([list(supports), extra]))
+        tol = _SAME * min(self.track.spacing, self.right.spacing if self.right is not None else np.inf)
+        keep = np.concatenate([[True], np.diff(xs) > tol])
+        xs = xs[keep]
+        at_support = {int(np.argmin(np.abs(xs - x))): k for x, k in supports.items()}
+        return xs, at_support, x_left, x_right
+
+    def _dofs(self, xs: np.ndarray) -> tuple[np.ndarray, np.ndarray, dict[int, int]]:
+        """DOFs: w and psi per node, a second psi at a joint (its right side)."""
+        joint_nodes = {int(np.argmin(np.abs(xs - x))): k for x, k in self.joints.items()}
+        w, psi_left, psi_right, n = [], [], [], 0
+        for j in range(xs.size):
+            w.append(n)
+            psi_left.append(n + 1)
+            psi_right.append(n + 2 if j in joint_nodes else n + 1)
+            n += 3 if j in joint_nodes else 2
+        return np.array(w), (np.array(psi_left), np.array(psi_right), n), joint_nodes
+
+    def _assemble(self, f: np.ndarray, xs: np.ndarray, at_support: dict, x_left: float, x_right: float):
+        omega = 2 * np.pi * f
+        w, (psi_l, psi_r, n), joint_nodes = self._dofs(xs)
+        Z = np.zeros((f.size, n, n), dtype=complex)
+        lengths = np.diff(xs)
+        mids = 0.5 * (xs[:-1] + xs[1:])
+        on_right = (mids > self.x_t) if self.x_t is not None else np.zeros(lengths.size, bool)
+        for rail, which in ((self.track, ~on_right), (self.right, on_right)):
+            if rail is None or not which.any():
+                continue
+            segs = segment_dynamic_stiffness(rail, omega, lengths[which])  # (m, n_f, 4, 4)
+            for seg, j in zip(segs, np.flatnonzero(which)):
+                idx = np.array([w[j], psi_r[j], w[j + 1], psi_l[j + 1]])
+                Z[:, idx[:, None], idx] += seg
+        for node, k in at_support.items():
+            fields = self.changes.get(k, {})
+            if fields is None:
+                continue  # the support removed
+            kv, kphi = support_dynamic_stiffness(self._track_of(k), f, fields)
+            Z[:, w[node], w[node]] += kv
+            Z[:, psi_l[node], psi_l[node]] += kphi
+        for node, k_rot in joint_nodes.items():
+            a, b = psi_l[node], psi_r[node]
+            Z[:, a, a] += k_rot
+            Z[:, b, b] += k_rot
+            Z[:, a, b] -= k_rot
+            Z[:, b, a] -= k_rot
+        self._add_ends(Z, omega, xs, w, psi_l, psi_r, x_left, x_right)
+        return Z, w, psi_l
+
+    def _add_ends(self, Z, omega, xs, w, psi_l, psi_r, x_left, x_right) -> None:
+        left_cell = self.track.cell()
+        k_left = end_stiffness(left_cell, omega, left_cell.central_section + x_left)[1]
+        first = np.array([w[0], psi_l[0]])
+        Z[:, first[:, None], first] += k_left
+        if self.transition is None:
+            k_right = end_stiffness(left_cell, omega, left_cell.central_section + x_right)[0]
+        else:
+            right_cell = self.right.cell()
+            k_right = end_stiffness(right_cell, omega, right_cell.central_section + (x_right - self.x_t))[0]
+        last = np.array([w[-1], psi_r[-1]])
+        Z[:, last[:, None], last] += k_right
+
+    def receptance(self, f: ArrayLike, x_load: float, x: ArrayLike) -> np.ndarray:
+        """Response (w, psi) at each ``x`` to a unit force and a unit moment on the rail at ``x_load``.
+
+        Parameters
+        ----------
+        f : array_like
+            Frequencies (Hz), positive.
+        x_load : float
+            Where the force and the moment act (m from the centre); not at a joint.
+        x : float or array_like
+            Where the rail's displacement and rotation are read (m); not at a joint.
+
+        Returns
+        -------
+        ndarray of complex, shape (n_f, n_x, 2, 2)
+            ``[..., i, k]``: w (m, i = 0) or psi (rad, i = 1) per F (N, k = 0) or M (N m, k = 1),
+            w downward and psi clockwise as everywhere in the package. Reciprocal:
+            ``receptance(f, a, [b])[:, 0] == receptance(f, b, [a])[:, 0].transpose(0, 2, 1)``.
+        """
+        f = np.atleast_1d(as_frequencies(f))
+        x_load = check_real("x_load", x_load)
+        xr = np.atleast_1d(np.asarray(x, dtype=float)).ravel()
+        points = np.concatenate([[x_load], xr])
+        if not np.all(np.isfinite(points)) or np.any(np.abs(points) > 1e6):
+            raise InputError(f"x_load and x must be finite positions within 1e6 m, got {points[:5]}")
+        for p in points:
+            if any(abs(p - j) <= _SAME * self.track.spacing for j in self.joints):
+                raise InputError(f"a load or response point at the joint x={p!r} m has two rotations; move it off")
+        xs, at_support, x_left, x_right = self._nodes(points)
+        Z, w, psi = self._assemble(f, xs, at_support, x_left, x_right)
+        node = lambda p: int(np.argmin(np.abs(xs - p)))  # noqa: E731
+        load = node(x_load)
+        rhs = np.zeros((Z.shape[1], 2))
+        rhs[w[load], 0] = rhs[psi[load], 1] = 1.0
+        u = _scaled_solve(Z, rhs)
+        rows = np.array([[w[node(p)], psi[node(p)]] for p in xr])
+        return u[:, rows, :]
+
+
+def _plain(track: Track, name: str) -> Track:
+    if track.has_flexible_slab:
+        raise InputError(f"{name}: InfiniteTrack holds pads on a rigid foundation or on sleepers; a flexible slab "
+                         "(track.slab) is not modelled with changes: use semi_infinite_receptance or "
+                         "point_receptance for the periodic floating-slab track")
+    return track
+
+
+def _scaled_solve(Z: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """``Z^-1 rhs`` per frequency with symmetric diagonal scaling (w and psi differ by decades)."""
+    s = 1.0 / np.sqrt(np.abs(np.diagonal(Z, axis1=1, axis2=2)))
+    scaled = s[:, :, None] * Z * s[:, None, :]
+    return s[:, :, None] * np.linalg.solve(scaled, s[:, :, None] * rhs[None])
+
