@@ -22,6 +22,7 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 from numpy.typing import ArrayLike
+from scipy.linalg import solve_banded
 
 from ..base.checks import as_frequencies, check_int_at_least, check_nonnegative, check_real
 from ..base.errors import InputError, InputTypeError
@@ -257,10 +258,12 @@ class InfiniteTrack:
             n += 3 if j in joint_nodes else 2
         return np.array(w), (np.array(psi_left), np.array(psi_right), n), joint_nodes
 
-    def _assemble(self, f: np.ndarray, xs: np.ndarray, at_support: dict, x_left: float, x_right: float):
+    def _assemble(self, f: np.ndarray, xs: np.ndarray, at_support: dict, x_left: float, x_right: float
+                  ) -> tuple[_Band, np.ndarray, np.ndarray]:
+        """The core's dynamic stiffness in band storage (the nodes run along x: a chain)."""
         omega = 2 * np.pi * f
         w, (psi_l, psi_r, n), joint_nodes = self._dofs(xs)
-        Z = np.zeros((f.size, n, n), dtype=complex)
+        Z = _Band(f.size, n, 4 if joint_nodes else 3)
         lengths = np.diff(xs)
         mids = 0.5 * (xs[:-1] + xs[1:])
         on_right = (mids > self.x_t) if self.x_t is not None else np.zeros(lengths.size, bool)
@@ -269,36 +272,23 @@ class InfiniteTrack:
                 continue
             segs = segment_dynamic_stiffness(rail, omega, lengths[which])  # (m, n_f, 4, 4)
             for seg, j in zip(segs, np.flatnonzero(which)):
-                idx = np.array([w[j], psi_r[j], w[j + 1], psi_l[j + 1]])
-                Z[:, idx[:, None], idx] += seg
+                Z.add([w[j], psi_r[j], w[j + 1], psi_l[j + 1]], seg)
         for node, k in at_support.items():
             fields = self.changes.get(k, {})
             if fields is None:
                 continue  # the support removed
             kv, kphi = support_dynamic_stiffness(self._track_of(k), f, fields)
-            Z[:, w[node], w[node]] += kv
-            Z[:, psi_l[node], psi_l[node]] += kphi
+            Z.add([w[node]], kv[:, None, None])
+            Z.add([psi_l[node]], kphi[:, None, None])
         for node, k_rot in joint_nodes.items():
-            a, b = psi_l[node], psi_r[node]
-            Z[:, a, a] += k_rot
-            Z[:, b, b] += k_rot
-            Z[:, a, b] -= k_rot
-            Z[:, b, a] -= k_rot
-        self._add_ends(Z, omega, xs, w, psi_l, psi_r, x_left, x_right)
-        return Z, w, psi_l
-
-    def _add_ends(self, Z, omega, xs, w, psi_l, psi_r, x_left, x_right) -> None:
+            Z.add([psi_l[node], psi_r[node]], np.broadcast_to(k_rot * np.array([[1.0, -1.0], [-1.0, 1.0]]),
+                                                              (f.size, 2, 2)))
         left_cell = self.track.cell()
-        k_left = end_stiffness(left_cell, omega, left_cell.central_section + x_left)[1]
-        first = np.array([w[0], psi_l[0]])
-        Z[:, first[:, None], first] += k_left
-        if self.transition is None:
-            k_right = end_stiffness(left_cell, omega, left_cell.central_section + x_right)[0]
-        else:
-            right_cell = self.right.cell()
-            k_right = end_stiffness(right_cell, omega, right_cell.central_section + (x_right - self.x_t))[0]
-        last = np.array([w[-1], psi_r[-1]])
-        Z[:, last[:, None], last] += k_right
+        Z.add([w[0], psi_l[0]], end_stiffness(left_cell, omega, left_cell.central_section + x_left)[1])
+        right_cell = left_cell if self.transition is None else self.right.cell()
+        x_cut = right_cell.central_section + (x_right if self.transition is None else x_right - self.x_t)
+        Z.add([w[-1], psi_r[-1]], end_stiffness(right_cell, omega, x_cut)[0])
+        return Z, w, psi_l
 
     def receptance(self, f: ArrayLike, x_load: float, x: ArrayLike) -> np.ndarray:
         """Response (w, psi) at each ``x`` to a unit force and a unit moment on the rail at ``x_load``.
@@ -329,14 +319,17 @@ class InfiniteTrack:
             if any(abs(p - j) <= _SAME * self.track.spacing for j in self.joints):
                 raise InputError(f"a load or response point at the joint x={p!r} m has two rotations; move it off")
         xs, at_support, x_left, x_right = self._nodes(points)
-        Z, w, psi = self._assemble(f, xs, at_support, x_left, x_right)
         node = lambda p: int(np.argmin(np.abs(xs - p)))  # noqa: E731
-        load = node(x_load)
-        rhs = np.zeros((Z.shape[1], 2))
-        rhs[w[load], 0] = rhs[psi[load], 1] = 1.0
-        u = _scaled_solve(Z, rhs)
-        rows = np.array([[w[node(p)], psi[node(p)]] for p in xr])
-        return u[:, rows, :]
+        out = np.empty((f.size, xr.size, 2, 2), dtype=complex)
+        for start in range(0, f.size, _CHUNK):  # a few MB of band storage at a time
+            part = slice(start, start + _CHUNK)
+            Z, w, psi = self._assemble(f[part], xs, at_support, x_left, x_right)
+            load = node(x_load)
+            rhs = np.zeros((Z.n, 2))
+            rhs[w[load], 0] = rhs[psi[load], 1] = 1.0
+            rows = np.array([[w[node(p)], psi[node(p)]] for p in xr])
+            out[part] = Z.solve(rhs)[:, rows, :]
+        return out
 
 
 def _plain(track: Track, name: str) -> Track:
@@ -347,9 +340,35 @@ def _plain(track: Track, name: str) -> Track:
     return track
 
 
-def _scaled_solve(Z: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """``Z^-1 rhs`` per frequency with symmetric diagonal scaling (w and psi differ by decades)."""
-    s = 1.0 / np.sqrt(np.abs(np.diagonal(Z, axis1=1, axis2=2)))
-    scaled = s[:, :, None] * Z * s[:, None, :]
-    return s[:, :, None] * np.linalg.solve(scaled, s[:, :, None] * rhs[None])
+#: Frequencies assembled and solved at a time.
+_CHUNK = 256
 
+
+class _Band:
+    """A stack of band matrices (one per frequency) in LAPACK's storage, ``ab[:, w + i - j, j] = A[i, j]``."""
+
+    def __init__(self, n_f: int, n: int, width: int):
+        self.ab = np.zeros((n_f, 2 * width + 1, n), dtype=complex)
+        self.n, self.width = n, width
+
+    def add(self, idx, block: np.ndarray) -> None:
+        """Add the ``(n_f, p, p)`` blocks on the DOFs ``idx``."""
+        w = self.width
+        for a, i in enumerate(idx):
+            for b, j in enumerate(idx):
+                self.ab[:, w + i - j, j] += block[:, a, b]
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """``A^-1 rhs`` per frequency (banded LU with partial pivoting), ``(n_f, n, c)``.
+
+        The system is scaled symmetrically by ``|A_ii|^-1/2`` first: w and psi differ by decades.
+        """
+        w, n = self.width, self.n
+        s = 1.0 / np.sqrt(np.abs(self.ab[:, w, :]))  # (n_f, n)
+        i = np.arange(2 * w + 1)[:, None] - w + np.arange(n)[None, :]  # row of each stored entry
+        inside = (i >= 0) & (i < n)
+        scaled = self.ab * np.where(inside, s[:, np.clip(i, 0, n - 1)], 0.0) * s[:, None, :]
+        out = np.empty((self.ab.shape[0], n, rhs.shape[1]), dtype=complex)
+        for k in range(self.ab.shape[0]):
+            out[k] = s[k][:, None] * solve_banded((w, w), scaled[k], s[k][:, None] * rhs, check_finite=False)
+        return out
