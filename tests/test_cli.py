@@ -354,3 +354,19 @@ def test_fit_to_a_flexible_slab(slab_files, tmp_path):
     errors = st.error_summary(st.load_system_json(out).receptance(grid),
                               st.semi_infinite_receptance(example_track("floating-slab"), grid))
     assert f"median relative error {errors.median:.4f}, maximum {errors.max:.4f}" in result.stdout
+
+
+def test_decay_writes_the_rates_and_a_plot(tmp_path):
+    track = tmp_path / "ballasted.toml"
+    track.write_text(example_path("ballasted").read_text())
+    result = run("decay", track, "--band", "500", "1000", "--df", "5", "-o", tmp_path / "tdr.csv",
+                 "--plot", tmp_path / "tdr.png")
+    assert result.returncode == 0, result.stderr
+    table = pd.read_csv(tmp_path / "tdr.csv", comment="#")
+    expected = st.track_decay_rate(st.ballasted_track(), bands=(500, 1000), df=5.0)
+    np.testing.assert_allclose(table["decay_rate_dB_per_m"], expected.decay_rate, rtol=1e-5)
+    assert (tmp_path / "tdr.png").stat().st_size > 1000
+    slab = tmp_path / "floating.toml"
+    slab.write_text(example_path("floating-slab").read_text())
+    refused = run("decay", slab)
+    assert refused.returncode == 2 and "without a flexible slab" in refused.stderr

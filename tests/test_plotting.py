@@ -159,6 +159,10 @@ def _all_figures():
                           force_spectrum=lambda after: (np.linspace(0.0, 2000.0, 50), np.linspace(1.0, 10.0, 50)))
     yield "force history", plotting.force_history_figure({"a": run, "b": run}, (0.0, 0.05), zero_line=True)[0]
     yield "rolling", plotting.rolling_figure({"300 km/h": run}, 0.65, after=0.0)[0]
+    bands3 = np.array([250.0, 500.0, 1000.0])
+    tdr = SimpleNamespace(centres=bands3, decay_rate=np.array([3.0, 1.0, 0.5]), valid=np.array([True, False, True]),
+                          wave_attenuation=np.array([2.5, 0.8, 0.4]))
+    yield "decay", plotting.decay_rate_figure({"slab": tdr}, st.ISO3095_TDR_LIMIT)[0]
 
 
 @pytest.fixture(scope="module")

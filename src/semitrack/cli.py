@@ -296,6 +296,47 @@ def cmd_receptance(args: argparse.Namespace) -> int:
     return 0
 
 
+def decay_csv(track: Track, tdr) -> str:
+    """The CSV of ``semitrack decay``: a row per band, with the standard's checks."""
+    buf = io.StringIO()
+    buf.write(f"# track decay rate of {printable(track.name)!r} ({track_kind(track)}), EN 15461 grid and Formula 1, "
+              f"{tdr.frf} averaged over lines {tdr.df:g} Hz apart; Formula 2 floor {tdr.floor:.4f} dB/m\n")
+    buf.write("# band_Hz: exact one-third-octave centre; valid: suitable (floor <= rate / 2) and a far-point drop "
+              ">= 10 dB; wave: the least attenuated Bloch wave at the centre\n")
+    buf.write("band_Hz,decay_rate_dB_per_m,wave_dB_per_m,far_point_drop_dB,suitable,valid\n")
+    for row in zip(tdr.centres, tdr.decay_rate, tdr.wave_attenuation, tdr.far_point_drop, tdr.suitable, tdr.valid):
+        buf.write(f"{row[0]:.6g},{row[1]:.6g},{row[2]:.6g},{row[3]:.6g},{int(row[4])},{int(row[5])}\n")
+    return buf.getvalue()
+
+
+def cmd_decay(args: argparse.Namespace) -> int:
+    from .methods.decay import ISO3095_TDR_LIMIT, track_decay_rate
+
+    track = _track(args.track)
+    fmin, fmax = checked(check_band, args.band, "--band")
+    frequency("--band", fmax)
+    checked(check_positive, "--df", args.df)
+    out, plot = output_paths(("-o", None if args.output == "-" else args.output), ("--plot", args.plot))
+    if plot is not None:
+        plot_format(plot)
+    if track.has_flexible_slab:
+        raise InputError("semitrack decay takes a track without a flexible slab ([slab]): the decay rate's exact "
+                         "transfer functions are InfiniteTrack's, which holds pads on a rigid foundation or sleepers")
+    tdr = track_decay_rate(track, bands=(fmin, fmax), df=args.df, frf=args.frf)
+    text = decay_csv(track, tdr)
+    if out is None:
+        stdout()
+        emit(text)
+    else:
+        atomic_write(out, lambda fh: fh.write(text), binary=False)
+    if plot is not None:
+        from .plotting.decay import decay_rate_figure
+
+        fig, _ = decay_rate_figure({track.name: tdr}, ISO3095_TDR_LIMIT)
+        atomic_write(plot, lambda fh: fig.savefig(fh, format=plot_format(plot), dpi=110), binary=True)
+    return 0
+
+
 def cmd_fit(args: argparse.Namespace) -> int:
     track = _track(args.track)
     fmin, fmax = checked(check_band, args.band, "--band")
@@ -530,6 +571,20 @@ def build_parser() -> argparse.ArgumentParser:
                                   f"{', '.join('.' + f for f in PLOT_FORMATS)}")
     p.add_argument("--quiet", action="store_true", help="no progress line")
     p.set_defaults(func=cmd_receptance)
+
+    p = sub.add_parser("decay", help="track decay rate by one-third-octave band (EN 15461) to CSV",
+                       formatter_class=argparse.RawDescriptionHelpFormatter,
+                       epilog="example:\n  semitrack decay ballasted.toml -o tdr.csv --plot tdr.png")
+    p.add_argument("track", help="track description file (TOML)")
+    p.add_argument("--band", type=number, nargs=2, metavar=("FMIN", "FMAX"), default=[100.0, 5000.0],
+                   help="lowest and highest band centres, Hz (default 100 5000)")
+    p.add_argument("--df", type=number, default=2.0, help="spacing of the lines averaged in each band, Hz (default 2)")
+    p.add_argument("--frf", choices=("accelerance", "mobility", "receptance"), default="accelerance",
+                   help="transfer function averaged in the bands (default accelerance, the standard's)")
+    p.add_argument("-o", "--output", default="-", help="CSV file to write (default: stdout)")
+    p.add_argument("--plot", help="also write a plot beside the ISO 3095 limit; its suffix gives the format: "
+                                  f"{', '.join('.' + f for f in PLOT_FORMATS)}")
+    p.set_defaults(func=cmd_decay)
 
     p = sub.add_parser("fit", help="fit an equivalent multi-rigid-body system or a broadband boundary",
                        formatter_class=argparse.RawDescriptionHelpFormatter,

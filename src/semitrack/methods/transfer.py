@@ -46,7 +46,7 @@ from ..model.tracks import PeriodicCell
 _MAX_DOUBLINGS = 64
 _CONVERGED = 1e-15
 # Rail loss factor standing in for "vanishing damping" where the track has none.
-_VANISHING_DAMPING = 1e-9
+VANISHING_DAMPING = 1e-9
 # An end stiffness is refused when K12 and K21 differ by more than this (relative), or when it
 # generates power beyond this (relative) rounding level.
 _RECIPROCITY_TOL = 1e-6
@@ -145,7 +145,7 @@ def _distance_past(x: float, x_cut: float, period: float) -> float:
     return period if dist < 1e-9 * period or dist > (1 - 1e-9) * period else dist
 
 
-def _cyclic_reduction(d: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def cyclic_reduction(d: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Solvents of the Bloch recurrence of a chain of periods with dynamic stiffness ``d``.
 
     Returns ``g_right`` (u_{n+1} = g_right u_n for the waves decaying towards +x), ``g_left``
@@ -211,12 +211,12 @@ def end_stiffness(cell: PeriodicCell, omega: np.ndarray, x_cut: float) -> tuple[
     omega = np.atleast_1d(omega)
     # Without rail damping a wave may keep |lambda| = 1 (above the shear cut-on, two may) and the
     # doubling would stall or settle on a wrong solvent: take the limit of vanishing damping.
-    extra_loss = _VANISHING_DAMPING if cell.track.eta_rail < _VANISHING_DAMPING else 0.0
+    extra_loss = VANISHING_DAMPING if cell.track.eta_rail < VANISHING_DAMPING else 0.0
     # Overflow warnings would only precede the clearer error below: every result is checked.
     with np.errstate(all="ignore"):
         try:
             d = period_dynamic_stiffness(cell, omega, x_cut, extra_loss)
-            g_right, g_left, converged = _cyclic_reduction(d)
+            g_right, g_left, converged = cyclic_reduction(d)
             k_right = d[:, :2, :2] + d[:, :2, 2:] @ g_right
             k_left = d[:, 2:, 2:] + d[:, 2:, :2] @ g_left
             good = converged & _physical(k_right) & _physical(k_left)
@@ -286,7 +286,7 @@ def slab_cut_end_stiffness(cell: PeriodicCell, omega: np.ndarray) -> np.ndarray:
     k_next, _ = end_stiffness(cell, omega, cell.joint)  # the track beyond the cut slab's far joint
     rest = PeriodicCell(track, n_right * d, tuple(d * (np.arange(n_right) + 0.5)),
                         foundation=functools.partial(slab.receptance, spacing=d, from_span=k))
-    extra_loss = _VANISHING_DAMPING if track.eta_rail < _VANISHING_DAMPING else 0.0
+    extra_loss = VANISHING_DAMPING if track.eta_rail < VANISHING_DAMPING else 0.0
     with np.errstate(all="ignore"):
         try:
             stiff, _, _ = _period_model(rest, omega, 0.0, extra_loss)  # from the cut to the joint
@@ -337,7 +337,7 @@ def infinite_response(cell: PeriodicCell, omega: np.ndarray, x: float) -> tuple[
         h = np.linalg.inv(k_right + k_left)
         return h, k_right @ h
     k_right, k_left = end_stiffness(cell, omega, joint)
-    extra_loss = _VANISHING_DAMPING if cell.track.eta_rail < _VANISHING_DAMPING else 0.0
+    extra_loss = VANISHING_DAMPING if cell.track.eta_rail < VANISHING_DAMPING else 0.0
     with np.errstate(all="ignore"):
         k, edges, segments = _period_model(cell, omega, joint, extra_loss, point=x)
         k[:, :2, :2] += k_left  # the track before the slab's first joint
