@@ -126,3 +126,17 @@ def test_bad_input_is_refused_with_its_name():
         st.InfiniteTrack(st.example_track("floating-slab"))
     with pytest.raises(ValueError, match="the FE models change"):
         st.TruncatedTrack(track, 3, changes={0: {"eta_pad": 0.1}})
+
+
+@pytest.mark.parametrize("change", [{0: None}, {0: {"kb": 0.0}}, {0: {"kv": 1e7}}])
+def test_a_load_on_a_changed_support_scales_every_response_alike(change):
+    """With the load over the only changed support the change adds one vertical force at the load
+    point (the rail does not turn there, by symmetry, so no moment), and w(x) moves by one factor at
+    every x: a property the solver does not build in."""
+    track = st.ballasted_track()
+    x0 = 0.5 * track.spacing  # support 0
+    xs = [-1.7, 0.1, x0, 1.2, 4.4]
+    ratio = st.InfiniteTrack(track, change).receptance(F, x0, xs)[:, :, 0, 0] / \
+        st.InfiniteTrack(track).receptance(F, x0, xs)[:, :, 0, 0]
+    assert np.max(np.abs(ratio / ratio[:, [2]] - 1)) < 1e-9
+    assert np.max(np.abs(ratio[:, 2] - 1)) > 1e-3  # and the change is felt

@@ -163,6 +163,8 @@ def _all_figures():
     tdr = SimpleNamespace(centres=bands3, decay_rate=np.array([3.0, 1.0, 0.5]), valid=np.array([True, False, True]),
                           wave_attenuation=np.array([2.5, 0.8, 0.4]))
     yield "decay", plotting.decay_rate_figure({"slab": tdr}, st.ISO3095_TDR_LIMIT)[0]
+    changes = {f"case {i}": np.abs(ALPHA[:, :2, 0]) * (1 + 0.1 * i) for i in range(7)}  # more cases than colours
+    yield "local change", plotting.local_change_figure(F, changes, ("above", "a bay on"), "case 0")[0]
 
 
 @pytest.fixture(scope="module")

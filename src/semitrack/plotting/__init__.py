@@ -27,7 +27,7 @@ from .contact import (  # noqa: F401
     linear_force_figure,
     rolling_figure,
 )
-from .decay import decay_rate_figure  # noqa: F401
+from .decay import decay_rate_figure, local_change_figure  # noqa: F401
 from .receptance import (  # noqa: F401
     central_response_figure,
     convergence_figure,

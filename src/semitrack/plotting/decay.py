@@ -1,7 +1,8 @@
-"""The track decay rate by band (EN 15461), beside the ISO 3095 limit."""
+"""The track decay rate by band (EN 15461) beside the ISO 3095 limit; a local change beside the perfect track."""
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Mapping
 
 import numpy as np
@@ -55,3 +56,42 @@ def decay_rate_figure(rates: Mapping[str, object], limit: Mapping[float, float] 
     ax.set_title(title or "Track decay rate (open markers: bands the standard's checks reject)")
     legend_below(fig, ax, fontsize=8)
     return fig, ax
+
+
+@house_figure
+def local_change_figure(f, curves: Mapping[str, np.ndarray], positions: tuple[str, ...], reference: str,
+                        title: str = ""):
+    """|w/F| at each response position (a panel each), a line per case, the reference in black.
+
+    Parameters
+    ----------
+    f : array_like
+        Frequencies (Hz).
+    curves : mapping of str to ndarray
+        Case to ``(n_f, n_positions)`` w per F (m/N), from
+        :func:`semitrack.paper.decay_study.local_change_curves`.
+    positions : tuple of str
+        A title for each position's panel.
+    reference : str
+        The case drawn in black (the perfect track).
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    fig, axes
+    """
+    fig, axes = new_figure(1, len(positions), figsize=(5.2 * len(positions), 3.8), sharey=True, squeeze=False)
+    colours = itertools.cycle(("tab:red", "tab:blue", "tab:green", "tab:purple", "tab:orange"))
+    styles = {case: (dict(color="k", lw=1.4) if case == reference else dict(color=next(colours), lw=1.0, ls="--"))
+              for case in curves}
+    for j, (ax, label) in enumerate(zip(axes[0], positions)):
+        for case, h in curves.items():
+            ax.loglog(f, np.abs(h[:, j]), label=case, **styles[case])
+        ax.set_title(label)
+        ax.set_xlabel("Frequency (Hz)")
+    axes[0, 0].set_ylabel("|w / F| (m/N)")
+    legend_below(fig, axes[0, 0], fontsize=8)
+    if title:
+        fig.suptitle(title)
+    return fig, axes[0]

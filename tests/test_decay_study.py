@@ -1,0 +1,46 @@
+"""The decay chapter's studies: tables built from the package's results, checked against them."""
+
+import numpy as np
+import pandas as pd
+
+import semitrack as st
+from semitrack.paper import decay_study as study
+
+F = np.array([50.0, 150.0, 400.0, 1200.0, 2500.0])
+
+
+def test_local_change_curves_are_point_receptances():
+    track = st.ballasted_track()
+    cases = {"perfect": st.InfiniteTrack(track), "hanging": st.InfiniteTrack(track, {0: {"kb": 0.0}})}
+    xs = [0.3, 0.9]
+    curves = study.local_change_curves(cases, F, xs)
+    for label, inf in cases.items():
+        assert curves[label].shape == (F.size, 2)
+        for j, x in enumerate(xs):
+            np.testing.assert_allclose(curves[label][:, j], inf.receptance(F, x, [x])[:, 0, 0, 0], rtol=1e-13)
+
+
+def test_change_ratio_table_takes_the_largest_ratio_in_each_range():
+    f = np.array([10.0, 20.0, 30.0, 40.0])
+    ref = np.ones((4, 1), dtype=complex)
+    curves = {"ref": ref, "soft": np.array([[2.0], [3.0j], [1.0], [0.5]])}
+    table = study.change_ratio_table(f, curves, "ref", ("here",), {"low": (10.0, 20.0), "high": (25.0, 40.0)})
+    assert table.loc[("soft", "here"), "low"] == 3.0 and table.loc[("soft", "here"), "high"] == 1.0
+    assert list(table.index) == [("soft", "here")]
+
+
+def test_pinned_length_table_is_twenty_db_over_the_lowest_rate_above_the_range():
+    rates = {"slab": st.track_decay_rate(st.slab_track(), bands=(100.0, 1000.0), df=5.0)}
+    table = study.pinned_length_table(rates, {"slab": 0.65})
+    tdr = rates["slab"]
+    keep = tdr.centres > 240
+    lowest = tdr.decay_rate[keep].min()
+    row = table.loc["slab"]
+    assert row["lowest decay rate (dB/m)"] == lowest and row["20 dB away (m)"] == 20 / lowest
+    assert row["bays"] == 20 / lowest / 0.65 and row["pinned model around one wheel (m)"] == 40 / lowest
+    decay = study.decay_table(rates)
+    limit = decay["ISO 3095 limit (dB/m)"]
+    meets = decay["slab: meets the limit"]
+    assert np.isnan(limit.loc[100.0]) and np.isnan(meets.loc[100.0])  # the standard sets no limit there
+    assert ((decay["slab: decay rate (dB/m)"] >= limit) == (meets == 1))[limit.notna()].all()
+    assert isinstance(decay, pd.DataFrame) and decay.index.name == "band (Hz)"
