@@ -541,15 +541,8 @@ def _track_and_grid_arguments(p: argparse.ArgumentParser, step: str) -> None:
     p.add_argument("--df", type=number, default=df, help=f"{step}, Hz (default {df:g})")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="semitrack", description=(
-        "Receptance of a semi-infinite periodic railway track and its equivalent multi-rigid-body "
-        "system. Track files are TOML; 'semitrack example slab > slab.toml' writes one to start from."),
-        epilog="Exit codes: 0 success, 2 bad input, 1 unexpected failure, 130 interrupted, 143 terminated. "
-               "'semitrack COMMAND --help' shows an example of each command.")
-    parser.add_argument("--version", action="version", version=f"semitrack {__version__}")
-    sub = parser.add_subparsers(dest="command", title="commands", metavar="COMMAND", parser_class=_Parser)
-
+def _example_parser(sub) -> None:
+    """The ``example`` command and its arguments, on the subparsers ``sub``."""
     p = sub.add_parser("example", help="print a shipped example track file (the paper's two tracks, and its "
                                        "rail on two flexible slabs)",
                        formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -559,6 +552,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--list", action="store_true", help="list the examples")
     p.set_defaults(func=cmd_example)
 
+
+def _receptance_parser(sub) -> None:
+    """The ``receptance`` command and its arguments, on the subparsers ``sub``."""
     p = sub.add_parser("receptance", help="receptance of the semi-infinite track to CSV",
                        formatter_class=argparse.RawDescriptionHelpFormatter,
                        epilog="example:\n  semitrack receptance slab.toml --fmin 3 --fmax 3000 --df 6 -o alpha.csv "
@@ -572,6 +568,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true", help="no progress line")
     p.set_defaults(func=cmd_receptance)
 
+
+def _decay_parser(sub) -> None:
+    """The ``decay`` command and its arguments, on the subparsers ``sub``."""
     p = sub.add_parser("decay", help="track decay rate by one-third-octave band (EN 15461) to CSV",
                        formatter_class=argparse.RawDescriptionHelpFormatter,
                        epilog="example:\n  semitrack decay ballasted.toml -o tdr.csv --plot tdr.png")
@@ -586,6 +585,9 @@ def build_parser() -> argparse.ArgumentParser:
                                   f"{', '.join('.' + f for f in PLOT_FORMATS)}")
     p.set_defaults(func=cmd_decay)
 
+
+def _fit_parser(sub) -> None:
+    """The ``fit`` command and its arguments, on the subparsers ``sub``."""
     p = sub.add_parser("fit", help="fit an equivalent multi-rigid-body system or a broadband boundary",
                        formatter_class=argparse.RawDescriptionHelpFormatter,
                        epilog="examples:\n  semitrack fit ballasted.toml --bars 5 --band {:g} {:g} --seed 0 "
@@ -606,6 +608,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true", help="no progress line")
     p.set_defaults(func=cmd_fit)
 
+
+def _export_parser(sub) -> None:
+    """The ``export`` command and its arguments, on the subparsers ``sub``."""
     p = sub.add_parser("export", help="export M, C, K of a fitted system",
                        formatter_class=argparse.RawDescriptionHelpFormatter,
                        epilog="example:\n  semitrack export system.json --format mat -o system.mat")
@@ -614,12 +619,27 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", required=True, help="file to write")
     p.set_defaults(func=cmd_export)
 
+
+def _features_parser(sub) -> None:
+    """The ``features`` command and its arguments, on the subparsers ``sub``."""
     p = sub.add_parser("features", help="characteristic frequencies (peaks and dips) as a table",
                        formatter_class=argparse.RawDescriptionHelpFormatter,
                        epilog="example:\n  semitrack features slab.toml --fmax 1500")
     _track_and_grid_arguments(p, "search grid step")
     p.add_argument("--csv", action="store_true", help="print CSV instead of a table")
     p.set_defaults(func=cmd_features)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="semitrack", description=(
+        "Receptance of a semi-infinite periodic railway track and its equivalent multi-rigid-body "
+        "system. Track files are TOML; 'semitrack example slab > slab.toml' writes one to start from."),
+        epilog="Exit codes: 0 success, 2 bad input, 1 unexpected failure, 130 interrupted, 143 terminated. "
+               "'semitrack COMMAND --help' shows an example of each command.")
+    parser.add_argument("--version", action="version", version=f"semitrack {__version__}")
+    sub = parser.add_subparsers(dest="command", title="commands", metavar="COMMAND", parser_class=_Parser)
+    for add in (_example_parser, _receptance_parser, _decay_parser, _fit_parser, _export_parser, _features_parser):
+        add(sub)
     return parser
 
 
