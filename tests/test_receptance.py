@@ -86,12 +86,16 @@ def test_eq14_refused_for_a_cell_without_mirror_symmetry():
     np.testing.assert_allclose(a[:, 0, 1], a[:, 1, 0], rtol=1e-10)
 
 
-def test_closed_form_refuses_active_or_missing_foundation():
+def test_closed_form_takes_any_passive_foundation_and_refuses_an_active_one():
+    """Passivity is Im(k) >= 0: a foundation with a negative real part (a mass above its resonance)
+    is passive and taken; a negative imaginary part (negative damping) is refused, naming the frequency."""
     t = st.slab_track()
-    with pytest.raises(ValueError, match="k_f must be"):
-        st.continuous_foundation_receptance(t, 100.0, -8e7)
-    with pytest.raises(ValueError, match="k_f must be"):
+    st.continuous_foundation_receptance(t, 100.0, -8e7)
+    st.continuous_foundation_receptance(t, 100.0, 8e7, -1.0)
+    with pytest.raises(ValueError, match="k_f is not passive at 100 Hz"):
         st.continuous_foundation_receptance(t, 100.0, 8e7 * (1 - 0.1j))  # negative damping
-    with pytest.raises(ValueError, match="k_r must be"):
-        st.continuous_foundation_receptance(t, 100.0, 8e7, -1.0)
+    with pytest.raises(ValueError, match="k_r is not passive at 250 Hz"):
+        st.continuous_foundation_receptance(t, [100.0, 250.0], 8e7, lambda f: 1e4 * (1 - 1j * (f > 200)))
+    with pytest.raises(ValueError, match="k_f is not finite"):
+        st.continuous_foundation_receptance(t, 100.0, np.inf)
     st.continuous_foundation_receptance(t, 100.0, 8e7, 0.0)  # no rotational foundation is fine

@@ -26,8 +26,9 @@ def test_ballasted_preset_is_paper_table5():
 
 def test_every_field_has_one_rule():
     """The rule table covers the Track's fields exactly (the track file reader applies it too)."""
-    # ``slab`` is a Slab, which checks its own fields (tests/test_slab.py).
-    assert set(FIELD_RULES) | {"slab"} == {f.name for f in dataclasses.fields(st.Track)}
+    # ``slab`` is a Slab, which checks its own fields (tests/test_slab.py); ``foundation`` is a curve,
+    # checked passive where it is evaluated (tests/test_curves.py).
+    assert set(FIELD_RULES) | {"slab", "foundation"} == {f.name for f in dataclasses.fields(st.Track)}
 
 
 def test_overrides_and_replace():

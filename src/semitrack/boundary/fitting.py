@@ -189,6 +189,17 @@ class BroadbandBoundary:
 GUARD_FACTOR = 30.0
 
 
+def _check_track_covers(track: Track, band: tuple[float, float]) -> None:
+    """Refuse, before any work, a measured track that is not defined where the fit evaluates it."""
+    lo, hi = track.frequency_band
+    need = (STATIC_FREQUENCY, band[1] * GUARD_FACTOR)
+    if lo > need[0] or hi < need[1]:
+        raise InputError(f"fit_boundary evaluates the track from {need[0]:g} Hz (its static stiffness K0) to "
+                         f"{need[1]:g} Hz (guard samples beyond the band), and this track's measured supports are "
+                         f"defined over {lo:g}-{hi:g} Hz only: extend the tables (a row at 0 Hz gives the static "
+                         "value) or let them hold their end values (outside = \"hold\")")
+
+
 def _fit_samples(band: tuple[float, float], df: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(fit frequencies, error-grid frequencies, guard mask).
 
@@ -295,6 +306,7 @@ def fit_boundary(track: Track, band: tuple[float, float] = (3.0, 3000.0), n_pole
     n_starts = check_int_at_least("n_starts", n_starts, 1)
     n_iter = check_int_at_least("n_iter", n_iter, 1)
     orders = ORDERS if n_poles is None else (check_n_poles(n_poles),)
+    _check_track_covers(track, band)
     start = time.perf_counter()
     f, grid, guard = _fit_samples(band, df)
     alpha = semi_infinite_receptance(track, f)

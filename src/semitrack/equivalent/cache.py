@@ -56,6 +56,7 @@ from ..base.checks import as_frequencies, check_band
 from ..base.errors import InputTypeError
 from ..base.paper_values import FIT_BANDS
 from ..methods.receptance import CentralResponse, Method, central_response
+from ..model.curves import FrequencyCurve
 from ..model.slab import Slab
 from ..model.tracks import Track, require_track
 from .assembly import Layout, check_layout
@@ -131,6 +132,8 @@ def _canonical(value):
                             for f in dataclasses.fields(value) if f.name != "name"]
     if isinstance(value, Slab):
         return ["slab"] + [[f.name, _canonical(getattr(value, f.name))] for f in dataclasses.fields(value)]
+    if isinstance(value, FrequencyCurve):  # a frequency-dependent pad or foundation: its data or parameters
+        return ["curve", type(value).__name__] + value.key()
     if callable(value):
         raise InputTypeError("cached_fit cannot key a callable target (its code and state have no stable identity); "
                         "pass sampled (f, alpha) or call fit_equivalent")

@@ -29,6 +29,7 @@ import math
 
 import numpy as np
 
+from ..model.curves import FrequencyCurve
 from ..model.tracks import Track
 from .assembly import Layout, assembly
 from .constraints import (
@@ -99,20 +100,29 @@ def references(track: Track, layout: Layout, char: dict[str, float]) -> dict[str
     m_bay = track.mass_per_length * track.spacing  # rail mass of one bay (paper's suggestion)
     L = 0.5 * track.spacing
     w_ref = _TWO_PI * (char["f_n"] if layout == "slab" else char["f_n1"])
-    eta = max(track.eta_pad, 0.01)
+    kv, eta_pad = _pad_scale(track, w_ref / _TWO_PI)
+    eta = max(eta_pad, 0.01)
     k_bend = track.E * track.I / track.spacing
     refs = {
-        "m": m_bay, "L": L, "k": track.kv, "J": 0.25 * m_bay * L**2,
-        "c_l": eta * track.kv / w_ref, "c_r": eta * track.kv / w_ref,
+        "m": m_bay, "L": L, "k": kv, "J": 0.25 * m_bay * L**2,
+        "c_l": eta * kv / w_ref, "c_r": eta * kv / w_ref,
         "k_phi": k_bend, "c_phi": max(eta, track.eta_rail) * k_bend / w_ref,
     }
     if layout == "ballasted":
         if track.is_ballasted:
             mu, s, eta_b = 0.5 * track.sleeper_mass, 0.5 * track.kb, max(track.eta_ballast, eta)
         else:
-            mu, s, eta_b = m_bay, track.kv, eta
+            mu, s, eta_b = m_bay, kv, eta
         refs.update(mu=mu, s=s, d_l=eta_b * s / w_ref, d_r=eta_b * s / w_ref)
     return refs
+
+
+def _pad_scale(track: Track, f: float) -> tuple[float, float]:
+    """The pad's stiffness scale (N/m) and loss factor (-): a constant pad's, or a curve's at ``f`` (Hz)."""
+    if not isinstance(track.kv, FrequencyCurve):
+        return track.kv, track.eta_pad
+    k = track.kv.sample(f)
+    return abs(k), max(k.imag, 0.0) / abs(k)
 
 
 class FitParametrisation:

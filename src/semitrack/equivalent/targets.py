@@ -257,7 +257,9 @@ def resolve_characteristic(track: Track, layout: Layout, band: tuple[float, floa
     """
     if characteristic is not None:
         return check_characteristic(layout, characteristic)
-    search = (min(CHARACTERISTIC_SEARCH_BAND[0], band[0]), max(CHARACTERISTIC_SEARCH_BAND[1], band[1]))
+    lo, hi = track.frequency_band  # a measured table's band, where it refuses to go beyond
+    search = (max(min(CHARACTERISTIC_SEARCH_BAND[0], band[0]), lo),
+              min(max(CHARACTERISTIC_SEARCH_BAND[1], band[1]), hi))
     if isinstance(target, tuple):
         search = (float(target[0][0]), float(target[0][-1]))
     return fit_characteristic_frequencies(track, layout, target=target, search_band=search)

@@ -45,7 +45,7 @@ from .damping import reference_frequencies
 from .element import shear_parameter, timoshenko_shape_functions
 from .ends import FREE, PINNED, End, EndName, FarEndName, end_kinds, make_far_end, model_ends
 from .mesh import KINDS, DofMap, Kind, Mesh, bay_mesh, dof_map, rail_dof
-from .supports import Foundation, foundation_of, support_values
+from .supports import CONSTANT_SUPPORTS_ONLY, Foundation, foundation_of, support_values
 
 __all__ = [
     "FETrack",
@@ -113,6 +113,7 @@ class FETrack:
                  right: EndName | End = PINNED, system: EquivalentSystem | BroadbandBoundary | None = None,
                  elements_per_bay: int = 12, changes: Mapping[int, Mapping[str, float] | None] | None = None):
         self.track = require_track(track)
+        self.track.require_constant("the finite-element track", CONSTANT_SUPPORTS_ONLY)
         self.foundation: Foundation = foundation_of(self.track)
         self.n_left = check_int_at_least("n_left", n_left, 0)
         self.n_right = check_int_at_least("n_right", n_right, 0)

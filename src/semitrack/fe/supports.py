@@ -25,6 +25,7 @@ from typing import ClassVar
 import numpy as np
 
 from ..base.errors import InputError
+from ..model.curves import FrequencyCurve
 from ..model.tracks import Track
 
 __all__ = ["FE_SUPPORT_FIELDS", "Foundation", "RigidFoundation", "SleepersOnBallast", "foundation_of", "support_values"]
@@ -32,6 +33,13 @@ __all__ = ["FE_SUPPORT_FIELDS", "Foundation", "RigidFoundation", "SleepersOnBall
 
 #: The support fields an FE model's ``changes`` may set (a loss factor is its family's: the same at every support).
 FE_SUPPORT_FIELDS = ("kv", "kphi", "sleeper_mass", "kb")
+
+
+#: What the FE models tell a track with frequency-dependent supports to do instead.
+CONSTANT_SUPPORTS_ONLY = (
+    "a measured curve is not a causal model, so no time step can carry it. In the frequency domain use "
+    "st.InfiniteTrack (exact, local changes too) or st.semi_infinite_receptance; for an FE or time-domain model "
+    "give constant kv, kphi, eta_pad fitted where it matters (and sleeper_mass, kb for a measured sleeper)")
 
 
 def support_values(track: Track, n_supports: int, first: int, changes: Mapping | None) -> dict[str, np.ndarray]:
@@ -69,6 +77,8 @@ def support_values(track: Track, n_supports: int, first: int, changes: Mapping |
             if name not in FE_SUPPORT_FIELDS:
                 raise InputError(f"changes[{k}][{name!r}]: the FE models change {FE_SUPPORT_FIELDS} of a support; a "
                                  "loss factor is its family's, the same at every support (InfiniteTrack takes it)")
+            if isinstance(value, FrequencyCurve):
+                raise InputError(f"changes[{k}][{name!r}] is a frequency-dependent curve: {CONSTANT_SUPPORTS_ONLY}")
             values[name][i] = value
     return values
 

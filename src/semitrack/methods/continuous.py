@@ -20,7 +20,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies, check_nonnegative
-from ..base.errors import InputError
+from ..base.errors import InputError, InputTypeError
+from ..model.curves import FrequencyCurve, as_curve, check_passive
 from ..model.tracks import Track, require_track
 
 
@@ -35,10 +36,13 @@ def continuous_foundation_receptance(track: Track, f: ArrayLike, k_f: complex, k
         ``damping="viscous"`` also the rail's reference frequency, which depends on ``spacing``.
     f : array_like
         Frequencies (Hz).
-    k_f : float or complex
-        Vertical foundation stiffness per unit length (N/m^2); complex to include damping.
-    k_r : float or complex
-        Rotational foundation stiffness per unit length (N m/rad/m).
+    k_f : float or complex or FrequencyCurve or callable
+        Vertical foundation stiffness per unit length (N/m^2); complex to include damping; a
+        stiffness curve or a callable ``k_f(f)`` (Hz) for a frequency-dependent one. Passive:
+        ``Im k_f >= 0`` at every frequency. The real part may be negative (a foundation above
+        its own resonance, such as a mass on a spring, is still passive).
+    k_r : float or complex or FrequencyCurve or callable
+        Rotational foundation stiffness per unit length (N m/rad/m), the same rules.
     x : float
         Distance from the load to the response point (m), x >= 0.
 
@@ -49,13 +53,7 @@ def continuous_foundation_receptance(track: Track, f: ArrayLike, k_f: complex, k
     """
     track = require_track(track)
     f = as_frequencies(f)
-    for name, value, allow_zero in (("k_f", k_f, False), ("k_r", k_r, True)):
-        k = complex(value)
-        ok = np.isfinite(k) and (k.real > 0 or (allow_zero and k == 0)) and k.imag >= 0
-        if not ok:
-            rule = "zero or " if allow_zero else ""
-            raise InputError(f"{name} must be {rule}a finite stiffness with positive real part and "
-                             f"non-negative imaginary part (a passive foundation), got {value!r}")
+    k_f, k_r = (_stiffness_per_length(name, value, f.ravel()) for name, value in (("k_f", k_f), ("k_r", k_r)))
     check_nonnegative("x", x)
     omega2 = (2 * np.pi * f.ravel()) ** 2
     ei, kag = track.rail_moduli(f.ravel())
@@ -66,7 +64,9 @@ def continuous_foundation_receptance(track: Track, f: ArrayLike, k_f: complex, k
     out = np.zeros((f.size, 2, 2), dtype=complex)
     for u in ((-c1 + disc) / (2 * c2), (-c1 - disc) / (2 * c2)):
         beta = np.sqrt(u + 0j)
-        beta = np.where(beta.imag > 0, beta, -beta)  # the pole in the upper half-plane
+        # the pole in the upper half-plane; on the real axis (no damping at all) the limit of a
+        # vanishing damping, the wave that carries energy away: e^{i beta x} with beta < 0
+        beta = np.where((beta.imag > 0) | ((beta.imag == 0) & (beta.real < 0)), beta, -beta)
         dp = 2 * beta * (2 * c2 * u + c1)  # d det / d beta
         a = kag * beta**2 + a0
         b = ei * beta**2 + b0
@@ -74,3 +74,18 @@ def continuous_foundation_receptance(track: Track, f: ArrayLike, k_f: complex, k
         adj = np.stack([np.stack([b, -c], -1), np.stack([c, a], -1)], -2)
         out += 1j * adj * (np.exp(1j * beta * x) / dp)[:, None, None]
     return out.reshape(f.shape + (2, 2))
+
+
+def _stiffness_per_length(name: str, value: object, f: np.ndarray) -> np.ndarray:
+    """A foundation stiffness at the frequencies ``f``: a number, or a curve evaluated, checked passive."""
+    curve = as_curve(name, value, "stiffness")
+    if isinstance(curve, FrequencyCurve):
+        return curve(f, name)
+    if isinstance(curve, bool) or not isinstance(curve, (int, float, complex, np.number)):
+        raise InputTypeError(f"{name} must be a number, a stiffness curve or a function of f, got {value!r}")
+    k = np.full(f.shape, complex(curve))
+    if np.any(k != 0):  # zero: no foundation in that direction
+        check_passive(name, "stiffness", f, k)
+    elif not np.isfinite(k).all():
+        raise InputError(f"{name} must be finite, got {value!r}")
+    return k

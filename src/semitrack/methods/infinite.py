@@ -26,6 +26,7 @@ from scipy.linalg import solve_banded
 
 from ..base.checks import as_frequencies, check_int_at_least, check_nonnegative, check_real
 from ..base.errors import InputError, InputTypeError
+from ..model.curves import FrequencyCurve, as_curve, stiffness_values
 from ..model.timoshenko import segment_dynamic_stiffness
 from ..model.tracks import Track, require_track
 from .transfer import end_stiffness
@@ -62,7 +63,9 @@ def support_dynamic_stiffness(track: Track, f: np.ndarray, fields: Mapping[str, 
     f : ndarray
         Frequencies (Hz).
     fields : mapping, optional
-        New values of :data:`SUPPORT_FIELDS` (SI); ``kb=0`` is a hanging sleeper.
+        New values of :data:`SUPPORT_FIELDS` (SI); ``kb=0`` is a hanging sleeper; ``kv`` and
+        ``kphi`` may be stiffness curves (their values as they are). A measured ``foundation`` of
+        the track stays under every pad.
 
     Returns
     -------
@@ -73,11 +76,13 @@ def support_dynamic_stiffness(track: Track, f: np.ndarray, fields: Mapping[str, 
     p.update(fields or {})
     omega = 2 * np.pi * f
     pad = 1 + 1j * _loss(track, "pad", p["eta_pad"], f)
-    kv, kphi = p["kv"] * pad, p["kphi"] * pad
+    kv, kphi = stiffness_values("kv", p["kv"], f, pad), stiffness_values("kphi", p["kphi"], f, pad)
     if track.is_ballasted:
         ballast = p["kb"] * (1 + 1j * _loss(track, "ballast", p["eta_ballast"], f)) - omega**2 * p["sleeper_mass"]
         with np.errstate(divide="ignore", invalid="ignore"):
             kv = np.where(kv == 0, 0.0, kv * ballast / (kv + ballast))  # 1 / (1/kv + 1/ballast)
+    elif track.foundation is not None:
+        kv = kv / (1 + kv * track.foundation_receptance(f))  # 1 / (1/kv + G)
     return np.broadcast_to(kv, f.shape).astype(complex), np.broadcast_to(kphi, f.shape).astype(complex)
 
 
@@ -114,8 +119,17 @@ def check_changes(changes, ballasted: Callable[[int], bool]) -> dict[int, dict |
             raise InputError(f"changes[{k}] names unknown support fields {unknown}; the fields are {SUPPORT_FIELDS}")
         if not ballasted(k) and {"sleeper_mass", "kb", "eta_ballast"} & set(fields):
             raise InputError(f"changes[{k}] sets sleeper or ballast fields on a support of a track without sleepers")
-        out[k] = {name: check_nonnegative(f"changes[{k}][{name!r}]", value) for name, value in fields.items()}
+        out[k] = {name: _change_value(f"changes[{k}][{name!r}]", name, value) for name, value in fields.items()}
     return out
+
+
+def _change_value(label: str, name: str, value: object) -> float | FrequencyCurve:
+    """A changed support field: a number >= 0, or for a pad stiffness also a curve of stiffness."""
+    if name in ("kv", "kphi"):
+        value = as_curve(label, value, "stiffness")
+        if isinstance(value, FrequencyCurve):
+            return value
+    return check_nonnegative(label, value)
 
 
 class InfiniteTrack:
@@ -129,7 +143,9 @@ class InfiniteTrack:
         ``{k: {field: value}}`` sets fields of :data:`SUPPORT_FIELDS` at support k (at
         ``x = (k + 1/2) d``; past a transition, the second track's support ``j = k - kt``); a
         hanging sleeper is ``{"kb": 0.0}``, a worn pad a lower ``kv``; ``{k: None}`` removes the
-        support (pad and sleeper gone).
+        support (pad and sleeper gone). ``kv`` and ``kphi`` may be curves of frequency
+        (:class:`semitrack.FrequencyTable`, a function of f), which hold their own damping; a number
+        takes the track's ``eta_pad``.
     right : Track, optional
         The track from the transition on (its rail and supports; not a flexible slab).
     transition : int, optional

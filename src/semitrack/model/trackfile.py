@@ -12,6 +12,16 @@ The format mirrors :class:`semitrack.Track` (examples ship in ``semitrack/exampl
               and optionally shear_stiffness, rotary_inertia, cut
               (type = "slab" only, and optional: a flexible slab, semitrack.Slab, that couples
               the fasteners it carries; without it the slab is rigid, as the paper's)
+    [foundation]  table, quantity, and optionally outside
+              (type = "slab" only, and optional: a measured receptance under the pads, a
+              sleeper's or a slab's, in place of the rigid ground; not with [slab])
+
+A pad stiffness (``kv``, ``kphi``) that depends on frequency is an inline table instead of a
+number: ``kv = {table = "pad_kv.csv"}`` (a measured curve, :mod:`semitrack.model.tablefile`;
+optionally ``outside = "hold"``) or ``kv = {model = "standard-linear-solid", k_static = ...,
+k_high = ..., tau = ...}``. ``[foundation]`` reads ``table`` with ``quantity = "receptance"``,
+``"mobility"`` or ``"accelerance"``. A table's path is relative to the track file's folder. Such a
+curve holds its own damping (``eta_pad`` damps the pad stiffnesses given as numbers only).
 
 Every error is a :class:`TrackFileError` (a ValueError) whose message names the file, the line
 where it can be found, the key, the value and the rule (the Track's own rules, including its
@@ -32,7 +42,9 @@ from typing import NoReturn
 from ..base.checks import check_choice
 from ..base.errors import InputError
 from ..base.files import read_text
+from .curves import OUTSIDE, FrequencyCurve, FrequencyFunction, FrequencyTable, StandardLinearSolid
 from .slab import Slab
+from .tablefile import load_frequency_table
 from .tracks import Track, check_track_field, require_track
 
 #: The tables of Track fields, with their keys (all required).
@@ -46,6 +58,13 @@ SLAB_KEYS = ("length", "fasteners", "E", "I", "mass_per_length", "support_stiffn
 #: ... and optional (written by :func:`track_to_toml` only where they differ from the Slab's defaults).
 SLAB_OPTIONAL_KEYS = ("shear_stiffness", "rotary_inertia", "cut")
 _SLAB_DEFAULTS = {f.name: f.default for f in dataclasses.fields(Slab)}
+#: Keys of a pad stiffness given as a table or a model, and of the ``[foundation]`` table.
+TABLE_KEYS = ("table", "quantity", "outside")
+SLS_KEYS = ("model", "k_static", "k_high", "tau")
+#: The models a pad stiffness may name, and what they are.
+CURVE_MODELS = {"standard-linear-solid": StandardLinearSolid}
+#: What a measured foundation table may hold (a receptance, or what a measurement gives).
+FOUNDATION_QUANTITIES = ("receptance", "mobility", "accelerance")
 TYPES = ("slab", "ballasted")
 #: The shipped example files, by name: the paper's two tracks, and the paper's rail and pads on the
 #: two flexible slabs of the book's flexible-slab chapter (a CA-mortar slab and a floating slab).
@@ -153,10 +172,11 @@ def load_track_toml(path: str | Path) -> Track:
         raise TrackFileError(f"{path}: not a valid TOML file: {err}") from None
     except RecursionError:
         raise TrackFileError(f"{path}: not a track file: its tables or arrays are nested too deeply") from None
-    return track_from_dict(data, source=str(path), text=text)
+    return track_from_dict(data, source=str(path), text=text, folder=path.parent)
 
 
-def track_from_dict(data: dict, source: str = "track description", text: str = "") -> Track:
+def track_from_dict(data: dict, source: str = "track description", text: str = "",
+                    folder: str | Path | None = None) -> Track:
     """Build a Track from the parsed contents of a track file (see :func:`load_track_toml`).
 
     Two steps: ``_parse_track_dict`` checks the structure (sections and keys) and
@@ -171,6 +191,9 @@ def track_from_dict(data: dict, source: str = "track description", text: str = "
         The file name (or another label) quoted in messages.
     text : str
         The file's text; when given, messages name the line of the offending key.
+    folder : str or Path, optional
+        The folder that relative table paths start from (the track file's); the current folder
+        by default.
 
     Returns
     -------
@@ -181,15 +204,15 @@ def track_from_dict(data: dict, source: str = "track description", text: str = "
     TrackFileError
         Naming the source, line, key, value and rule.
     """
-    where = _Locator(source, text)
+    where = _Locator(source, text, Path(folder) if folder is not None else Path())
     return _check_track_values(_parse_track_dict(data, where), where)
 
 
 class _Locator:
     """Where a key sits in the file, for the messages of :class:`TrackFileError`."""
 
-    def __init__(self, source: str, text: str):
-        self.source, self.text = source, text
+    def __init__(self, source: str, text: str, folder: Path = Path()):
+        self.source, self.text, self.folder = source, text, folder
 
     def fail(self, section: str | None, key: str, message: str) -> NoReturn:
         """Raise a TrackFileError for ``key`` in ``[section]`` (top level if None)."""
@@ -205,11 +228,11 @@ def _parse_track_dict(data: dict, where: _Locator) -> dict[str, tuple[str | None
     at the top level), values not yet checked; a ``[slab]`` table is the one entry
     ``"slab": ("slab", table)``, its keys checked, its values not yet.
     """
-    unknown_top = sorted(set(data) - {"type", "name", "damping", *SECTIONS, "slab"})
+    unknown_top = sorted(set(data) - {"type", "name", "damping", *SECTIONS, "slab", "foundation"})
     if unknown_top:
         key = unknown_top[0]
         where.fail(None, key, f"unknown key {key!r}; allowed at the top level: type, name, damping, [rail], [pad], "
-                   "[ballast], [slab]")
+                   "[ballast], [slab], [foundation]")
     kind = data.get("type")
     if kind is None:
         where.fail(None, "type", f'missing key "type"; it must be one of {TYPES}')
@@ -222,12 +245,17 @@ def _parse_track_dict(data: dict, where: _Locator) -> dict[str, tuple[str | None
     if kind == "ballasted" and "slab" in data:
         where.fail("slab", "", 'a [slab] section (a flexible slab under the pads) needs type = "slab"; a ballasted '
                    "track has sleepers on ballast instead: remove it")
+    if "foundation" in data and (kind == "ballasted" or "slab" in data):
+        where.fail("foundation", "", "a [foundation] section (a measured receptance under the pads) replaces the "
+                   'rigid ground of type = "slab"; it goes with neither [ballast] nor [slab]')
     values: dict[str, tuple[str | None, object]] = {"name": (None, data.get("name", kind)),
                                                     "damping": (None, data.get("damping", "hysteretic"))}
     for section in ("rail", "pad", "ballast") if kind == "ballasted" else ("rail", "pad"):
         values.update({key: (section, value) for key, value in _section(data, section, where).items()})
     if "slab" in data:  # the Slab's fields, under one key: E and I are the rail's names too
         values["slab"] = ("slab", _section(data, "slab", where, SLAB_KEYS, SLAB_OPTIONAL_KEYS))
+    if "foundation" in data:
+        values["foundation"] = ("foundation", _section(data, "foundation", where, ("table", "quantity"), ("outside",)))
     return values
 
 
@@ -260,8 +288,14 @@ def _check_track_values(values: dict[str, tuple[str | None, object]], where: _Lo
     """
     values = dict(values)
     _, slab_table = values.pop("slab", (None, None))
+    _, foundation = values.pop("foundation", (None, None))
     params = {}
+    if foundation is not None:
+        params["foundation"] = _curve("foundation", "", foundation, where, "receptance")
     for key, (section, value) in values.items():
+        if key in ("kv", "kphi") and isinstance(value, dict):
+            params[key] = _curve(section, key, value, where, "stiffness")
+            continue
         try:
             params[key] = check_track_field(key, value)
         except (TypeError, ValueError) as err:
@@ -277,6 +311,64 @@ def _check_track_values(values: dict[str, tuple[str | None, object]], where: _Lo
         return track.replace(slab=slab)
     except (TypeError, ValueError) as err:  # rules between the slab and the rest of the track
         where.fail("slab", "", f"[slab] {err}")
+
+
+def _curve(section: str, key: str, spec: dict, where: _Locator, kind: str) -> FrequencyCurve:
+    """A frequency-dependent field of the file: a CSV table beside it, or a named model.
+
+    ``key`` is the field (``kv``, ``kphi``) in ``[section]``, or ``""`` for the ``[foundation]``
+    table itself; ``kind`` is what the curve must relate (stiffness, receptance).
+    """
+    label = f"[{section}] {key}".rstrip() if key else f"[{section}]"
+    if kind == "stiffness" and "model" in spec and spec["model"] not in CURVE_MODELS:
+        where.fail(section, key, f"{label}: model must be one of {tuple(CURVE_MODELS)}, got {spec['model']!r}")
+    if kind == "stiffness" and "model" in spec:
+        allowed, required = SLS_KEYS, SLS_KEYS
+    else:
+        allowed, required = TABLE_KEYS, ("table", "quantity") if kind == "receptance" else ("table",)
+    unknown = sorted(set(spec) - set(allowed))
+    missing = [k for k in required if k not in spec]
+    if unknown or missing:
+        if kind == "stiffness":
+            forms = ('{table = "file.csv"} (optionally outside = "hold") or {model = "standard-linear-solid", '
+                     "k_static = ..., k_high = ..., tau = ...}")
+        else:
+            forms = 'table = "file.csv", quantity = "receptance", "mobility" or "accelerance", optionally outside'
+        what = f"unknown key {unknown[0]!r}" if unknown else f"missing key {missing[0]!r}"
+        where.fail(section, key, f"{label}: {what}; a curve is {forms}")
+    try:
+        if "model" in spec:
+            return CURVE_MODELS[spec["model"]](**{k: v for k, v in spec.items() if k != "model"})
+        quantity = spec.get("quantity", "stiffness")
+        choices = FOUNDATION_QUANTITIES if kind == "receptance" else ("stiffness",)
+        if quantity not in choices:
+            raise InputError(f"quantity must be one of {choices}, got {quantity!r}")
+        outside = spec.get("outside", "refuse")
+        if outside not in OUTSIDE:
+            raise InputError(f"outside must be one of {OUTSIDE}, got {outside!r}")
+        if not isinstance(spec["table"], str) or not spec["table"]:
+            raise InputError(f"table must name a CSV file (a string), got {spec['table']!r}")
+        return load_frequency_table(where.folder / spec["table"], quantity, outside)
+    except (TypeError, ValueError) as err:
+        where.fail(section, key, f"{label}: {err}")
+
+
+def _field_to_toml(key: str, value: object) -> str:
+    """A Track field's TOML value: a float's shortest repr, a curve's inline table."""
+    return _curve_to_toml(key, value) if isinstance(value, FrequencyCurve) else repr(value)
+
+
+def _curve_to_toml(key: str, curve: FrequencyCurve) -> str:
+    """An inline TOML table for a curve the file can hold: a model's parameters, a table's file."""
+    if isinstance(curve, StandardLinearSolid):
+        return (f'{{model = "standard-linear-solid", k_static = {curve.k_static!r}, k_high = {curve.k_high!r}, '
+                f"tau = {curve.tau!r}}}")
+    if isinstance(curve, FrequencyTable) and curve.file is not None:
+        quantity = "" if curve.quantity == "stiffness" else f", quantity = {json.dumps(curve.quantity)}"
+        return f"{{table = {json.dumps(curve.file)}{quantity}, outside = {json.dumps(curve.outside)}}}"
+    what = "Python code" if isinstance(curve, FrequencyFunction) else "built in Python, not read from a file"
+    raise InputError(f"{key} is a {type(curve).__name__} ({what}), which a track file cannot hold: write its values "
+                     "to a CSV table (f_Hz, re, im) and read it with st.load_frequency_table")
 
 
 def _check_slab_values(table: dict, where: _Locator) -> Slab:
@@ -319,7 +411,7 @@ def track_to_toml(track: Track) -> str:
     lines.append("")
     for section in ("rail", "pad") + (("ballast",) if track.is_ballasted else ()):
         lines.append(f"[{section}]")
-        lines += [f"{key} = {getattr(track, key)!r}" for key in SECTIONS[section]]
+        lines += [f"{key} = {_field_to_toml(key, getattr(track, key))}" for key in SECTIONS[section]]
         lines.append("")
     if track.has_flexible_slab:
         slab = track.slab
@@ -329,4 +421,7 @@ def track_to_toml(track: Track) -> str:
         lines += [f"{key} = {json.dumps(value) if isinstance(value := getattr(slab, key), str) else repr(value)}"
                   for key in keys]
         lines.append("")
+    if track.foundation is not None:
+        inline = _curve_to_toml("foundation", track.foundation)  # {table = ..., quantity = ..., outside = ...}
+        lines += ["[foundation]"] + [item.strip() for item in inline.strip("{}").split(", ")] + [""]
     return "\n".join(lines)

@@ -5,6 +5,14 @@ sleeper mass and the ballast stiffness. Damping is by loss factors, entered as c
 ``E(1 + i eta_rail)``, ``G(1 + i eta_rail)``, ``kv(1 + i eta_pad)``, ``kphi(1 + i eta_pad)`` and
 ``kb(1 + i eta_ballast)``; the harmonic time factor is ``exp(i omega t)``.
 
+A measured pad or foundation depends on frequency: ``kv`` and ``kphi`` may be a
+:class:`~semitrack.model.curves.FrequencyCurve` of stiffness (a table, a function, a standard
+linear solid) that holds its own damping, and ``foundation`` a curve of the receptance under the
+pad (a measured sleeper or slab) in place of the rigid ground or the sleeper on ballast. Every
+frequency-domain method reads the supports through :meth:`Track.pad_stiffness` and
+:meth:`Track.foundation_receptance`, so all of them take such a track; the time-domain models
+refuse it.
+
 That hysteretic model (the paper's, ``damping="hysteretic"``) is not causal: no stable
 time-domain system has a loss factor that is constant down to zero frequency. The causal
 alternative ``damping="viscous"`` gives each family a viscous damper that equals its loss factor
@@ -40,6 +48,7 @@ from ..base.checks import (
 )
 from ..base.errors import InputError, InputTypeError
 from ..base.paper_values import TABLE2_SLAB, TABLE5_BALLASTED
+from .curves import FrequencyCurve, as_curve, stiffness_values
 from .slab import Slab
 
 if TYPE_CHECKING:
@@ -63,10 +72,23 @@ def _check_spacing(key: str, value: object) -> float:
     return spacing
 
 
+def _or_a_curve(rule: Callable) -> Callable:
+    """A pad stiffness's rule: a number by ``rule``; the type error also names the curves it may be."""
+    def check(key: str, value: object) -> float:
+        try:
+            return rule(key, value)
+        except InputTypeError as err:
+            raise InputTypeError(f"{err}; or a stiffness curve of frequency (st.FrequencyTable, "
+                                 "st.StandardLinearSolid, a function of f)") from None
+    return check
+
+
 FIELD_RULES: dict[str, Callable] = {
-    **dict.fromkeys(("rho", "E", "G", "A", "I", "kappa", "kv", "sleeper_mass", "kb"), check_positive),
+    **dict.fromkeys(("rho", "E", "G", "A", "I", "kappa", "sleeper_mass", "kb"), check_positive),
+    "kv": _or_a_curve(check_positive),
+    "kphi": _or_a_curve(check_nonnegative),
     "spacing": _check_spacing,
-    **dict.fromkeys(("eta_rail", "kphi", "eta_pad", "eta_ballast"), check_nonnegative),
+    **dict.fromkeys(("eta_rail", "eta_pad", "eta_ballast"), check_nonnegative),
     "name": check_string,
     "damping": lambda key, value: check_choice(key, value, DAMPING_MODELS),
 }
@@ -116,12 +138,15 @@ class Track:
         Shear coefficient of the rail cross-section (-).
     eta_rail : float
         Loss factor of the rail (-), applied to E and G.
-    kv : float
-        Vertical rail pad stiffness (N/m).
-    kphi : float
-        Rotational rail pad stiffness (N m/rad); zero is allowed.
+    kv : float or FrequencyCurve or callable
+        Vertical rail pad stiffness (N/m). A curve of stiffness
+        (:class:`~semitrack.model.curves.FrequencyCurve`; a callable ``kv(f)`` of the frequencies
+        in Hz is wrapped as one) is the complex stiffness with its damping: ``eta_pad`` does not
+        apply to it.
+    kphi : float or FrequencyCurve or callable
+        Rotational rail pad stiffness (N m/rad); zero is allowed; a curve as for ``kv``.
     eta_pad : float
-        Loss factor of the rail pad (-).
+        Loss factor of the rail pad (-), for the pad stiffnesses given as numbers.
     spacing : float
         Support (fastener or sleeper) spacing d (m).
     sleeper_mass : float or None
@@ -141,6 +166,10 @@ class Track:
         A flexible slab under the pads (:class:`semitrack.Slab`), coupling the ``slab.fasteners``
         supports it carries; one slab is then one period of the track. ``None`` (default): each
         pad rests on its own rigid foundation or sleeper. Hysteretic damping only.
+    foundation : FrequencyCurve or callable or None
+        The vertical receptance under each pad (m/N), a curve of kind ``"receptance"`` (a
+        measured sleeper's or slab's; a callable ``G(f)`` is wrapped as one): the paper's G(omega)
+        of Eq. 3, in place of the rigid ground. Not with ``sleeper_mass``/``kb`` or ``slab``.
     """
 
     rho: float
@@ -160,8 +189,16 @@ class Track:
     name: str = "track"
     damping: str = "hysteretic"
     slab: Slab | None = None
+    foundation: FrequencyCurve | None = None
 
     def __post_init__(self):
+        for key in ("kv", "kphi"):
+            object.__setattr__(self, key, as_curve(key, getattr(self, key), "stiffness"))
+        if self.foundation is not None:
+            object.__setattr__(self, "foundation", as_curve("foundation", self.foundation, "receptance"))
+            if not isinstance(self.foundation, FrequencyCurve):
+                raise InputTypeError("foundation must be a receptance curve (semitrack.FrequencyTable, a function "
+                                     f"G(f)) or None, got {self.foundation!r}")
         if (self.sleeper_mass is None) != (self.kb is None):
             raise InputError(
                 "sleeper_mass and kb go together: give both for a ballasted track or neither for a "
@@ -169,10 +206,24 @@ class Track:
             )
         for key in FIELD_RULES:
             value = getattr(self, key)
-            if value is not None:  # only sleeper_mass and kb may be None, checked above
+            if value is not None and not isinstance(value, FrequencyCurve):  # None: sleeper_mass, kb (above)
                 object.__setattr__(self, key, check_track_field(key, value))
         if self.slab is not None:
             self._check_slab()
+        if self.is_frequency_dependent:
+            self._check_curves()
+
+    def _check_curves(self) -> None:
+        """The rules a track with frequency-dependent supports adds."""
+        if self.damping != "hysteretic":
+            raise InputError("damping='viscous' builds causal dampers from constant stiffnesses; a frequency-dependent "
+                             "pad or foundation holds its own damping: use damping='hysteretic'")
+        if isinstance(self.kv, FrequencyCurve) and isinstance(self.kphi, FrequencyCurve) and self.eta_pad != 0:
+            raise InputError(f"eta_pad={self.eta_pad!r} would damp nothing: kv and kphi are both curves, which hold "
+                             "their own damping; set eta_pad=0")
+        if self.foundation is not None and (self.is_ballasted or self.has_flexible_slab):
+            raise InputError("foundation (a receptance under the pads) replaces the sleeper on ballast and the "
+                             "flexible slab: give foundation, or sleeper_mass/kb, or slab, not two of them")
 
     def _check_slab(self) -> None:
         if not isinstance(self.slab, Slab):
@@ -189,6 +240,34 @@ class Track:
     def is_ballasted(self) -> bool:
         """True when the pad rests on a sleeper mass on ballast (paper Sec. 5)."""
         return self.sleeper_mass is not None
+
+    @property
+    def is_frequency_dependent(self) -> bool:
+        """True when a pad stiffness or the foundation is a curve of frequency (no constant model)."""
+        return any(isinstance(v, FrequencyCurve) for v in (self.kv, self.kphi, self.foundation))
+
+    @property
+    def frequency_band(self) -> tuple[float, float]:
+        """The frequencies (Hz) at which every support property is defined: all of them, unless a
+        measured table refuses to go beyond its band (the intersection of the tables' bands)."""
+        domains = [v.domain for v in (self.kv, self.kphi, self.foundation) if isinstance(v, FrequencyCurve)]
+        return max((d[0] for d in domains), default=0.0), min((d[1] for d in domains), default=float("inf"))
+
+    def require_constant(self, what: str, instead: str) -> None:
+        """Refuse a frequency-dependent track where a model needs constant supports.
+
+        Parameters
+        ----------
+        what : str
+            What needs them (e.g. ``"the time-domain FE model"``).
+        instead : str
+            What to do instead, appended to the message.
+        """
+        if self.is_frequency_dependent:
+            curves = [k for k in ("kv", "kphi", "foundation") if isinstance(getattr(self, k), FrequencyCurve)]
+            verb = "depends" if len(curves) == 1 else "depend"
+            raise InputError(f"{what} needs constant supports, and this track's {' and '.join(curves)} {verb} on "
+                             f"frequency: {instead}")
 
     @property
     def has_flexible_slab(self) -> bool:
@@ -225,6 +304,8 @@ class Track:
             resonance, near which each family's damping controls the response. "ballast" is NaN
             for a slab track.
         """
+        self.require_constant("the reference frequencies of viscous damping",
+                              "a curve carries its own damping (only a hysteretic track takes curves)")
         d, ra = self.spacing, self.mass_per_length
         return {
             "rail": float((np.pi / d) ** 2 * np.sqrt(self.E * self.I / ra) / (2 * np.pi)),
@@ -288,9 +369,16 @@ class Track:
     def bouncing_frequency_estimate(self) -> float:
         """The paper's estimate sqrt(kv / (rho A d)) / (2 pi) of the bouncing frequency (Hz).
 
-        Only meaningful for the slab track (rail on pads on a rigid foundation).
+        Only meaningful for the slab track (rail on pads on a rigid foundation). A frequency-dependent
+        ``kv`` is read, by a few fixed-point steps, at the frequency the estimate gives.
         """
-        return float(np.sqrt(self.kv / (self.mass_per_length * self.spacing)) / (2 * np.pi))
+        ra_d = self.mass_per_length * self.spacing
+        if not isinstance(self.kv, FrequencyCurve):
+            return float(np.sqrt(self.kv / ra_d) / (2 * np.pi))
+        f = 100.0
+        for _ in range(8):
+            f = float(np.sqrt(max(self.kv.sample(f).real, 1e-30) / ra_d) / (2 * np.pi))
+        return f
 
     def replace(self, **changes) -> Track:
         """A copy with some fields changed (validated again).
@@ -319,21 +407,24 @@ class Track:
         Returns
         -------
         kv, kphi : complex or ndarray of complex
-            The shape of ``f`` (scalars when ``f`` is omitted).
+            The shape of ``f`` (scalars when ``f`` is omitted). A curve's values as they are
+            (checked passive), a number times ``1 + i eta_pad``.
         """
         if f is None:
-            if self.damping != "hysteretic":
-                raise InputError("pad_stiffness needs the frequencies f (Hz) for damping='viscous'")
+            if self.damping != "hysteretic" or self.is_frequency_dependent:
+                raise InputError("pad_stiffness needs the frequencies f (Hz) for damping='viscous' or a "
+                                 "frequency-dependent pad")
             c = 1 + 1j * self.eta_pad
-        else:
-            c = 1 + 1j * self.loss_factor("pad", f)
-        return self.kv * c, self.kphi * c
+            return self.kv * c, self.kphi * c
+        f = np.asarray(f, dtype=float)
+        c = 1 + 1j * self.loss_factor("pad", f)
+        return stiffness_values("kv", self.kv, f, c), stiffness_values("kphi", self.kphi, f, c)
 
     def foundation_receptance(self, f: ArrayLike) -> np.ndarray:
         """Vertical receptance under the pad, G(omega) of the paper's Eq. (3) (m/N).
 
         Zero for a rigid foundation; ``1 / (kb(1 + i eta_ballast) - omega^2 m_s)`` for a sleeper
-        mass on ballast.
+        mass on ballast; the ``foundation`` curve's values (checked passive) where one is given.
 
         Parameters
         ----------
@@ -347,6 +438,8 @@ class Track:
         """
         f = as_frequencies(f)
         self._refuse_slab("foundation_receptance")
+        if self.foundation is not None:
+            return self.foundation(f, "foundation")
         if not self.is_ballasted:
             return np.zeros(f.shape, dtype=complex)
         omega = 2 * np.pi * f
@@ -414,9 +507,11 @@ def slab_track(**overrides) -> Track:
     **overrides
         Track fields to change, by name, in SI units: ``rho`` (kg/m^3), ``E``, ``G`` (N/m^2),
         ``A`` (m^2), ``I`` (m^4), ``kappa``, ``eta_rail`` (-), ``kv`` (N/m), ``kphi``
-        (N m/rad), ``eta_pad`` (-), ``spacing`` (m), ``name`` and ``slab`` (a :class:`Slab` for a
-        flexible slab that couples the fasteners; by default the paper's rigid slab). The sleeper
-        and ballast fields are refused.
+        (N m/rad), ``eta_pad`` (-), ``spacing`` (m), ``name``, ``slab`` (a :class:`Slab` for a
+        flexible slab that couples the fasteners; by default the paper's rigid slab) and
+        ``foundation`` (a measured receptance under the pads, in place of the rigid slab);
+        ``kv`` and ``kphi`` may be curves of frequency (:class:`Track`). The sleeper and ballast
+        fields are refused.
 
     Returns
     -------
