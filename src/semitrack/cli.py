@@ -40,6 +40,7 @@ from .base.errors import InputError as PackageInputError
 from .base.files import atomic_write, check_output_path
 from .base.paper_values import FIT_BANDS, PAPER_GRID_BAND, PAPER_GRID_STEP
 from .equivalent.io import export_system, load_system_json, save_system_json
+from .model.curves import FrequencyCurve
 from .model.trackfile import EXAMPLES, TrackFileError, example_path, load_track_toml
 from .model.tracks import Track, ballasted_track, slab_track
 from .progress import Progress
@@ -141,14 +142,20 @@ def track_kind(track: Track) -> str:
     Returns
     -------
     str
-        ``"rigid slab"`` (the paper's slab track), ``"sleepers on ballast"``, or for a flexible
-        slab ``"flexible slab, S fasteners per L m slab, cut at ..."``: where alpha's cut sits
-        matters on a flexible slab (a slab joint, the slab's centre or the k-th mid-span inside).
+        ``"rigid slab"`` (the paper's slab track), ``"sleepers on ballast"``, ``"measured
+        foundation"``, or for a flexible slab ``"flexible slab, S fasteners per L m slab, cut at
+        ..."``: where alpha's cut sits matters on a flexible slab (a slab joint, the slab's centre
+        or the k-th mid-span inside); ``", frequency-dependent pad"`` follows where kv or kphi is
+        a curve.
     """
+    curved = isinstance(track.kv, FrequencyCurve) or isinstance(track.kphi, FrequencyCurve)
+    pad = ", frequency-dependent pad" if curved else ""
     if track.is_ballasted:
-        return "sleepers on ballast"
+        return "sleepers on ballast" + pad
+    if track.foundation is not None:
+        return "measured foundation" + pad
     if not track.has_flexible_slab:
-        return "rigid slab"
+        return "rigid slab" + pad
     slab = track.slab
     k = slab.cut_span
     cut = "a slab joint" if k == 0 else "the slab centre" if slab.cut == "centre" else f"mid-span {k} of the slab"
@@ -348,7 +355,7 @@ def cmd_fit(args: argparse.Namespace) -> int:
     from .equivalent.fitting import fit_equivalent
 
     checked(check_int_at_least, "--bars", args.bars, 1)
-    layout = "ballasted" if track.is_ballasted else "slab"
+    layout = args.layout or ("ballasted" if track.is_ballasted or track.foundation is not None else "slab")
     progress = Progress("fit", 1, quiet=args.quiet)
     progress.update(0, f"fitting N = {args.bars} bars, {layout} layout")
     fit = fit_equivalent(track, layout=layout, n_bars=args.bars, band=(fmin, fmax), seed=args.seed,
@@ -596,6 +603,9 @@ def _fit_parser(sub) -> None:
                               .format(*FIT_BANDS["ballasted"]))
     p.add_argument("track", help="track description file (TOML)")
     p.add_argument("--bars", type=int, default=5, help="number of rigid bars N (default 5)")
+    p.add_argument("--layout", choices=("slab", "ballasted"), default=None,
+                   help="the equivalent system's layout (default: ballasted for sleepers on ballast or a measured "
+                        "foundation, whose own dynamics its second mass takes; slab otherwise)")
     p.add_argument("--band", type=number, nargs=2, metavar=("FMIN", "FMAX"), required=True, help="band to fit, Hz")
     p.add_argument("--seed", type=int, default=0, help="seed of the multi-start (default 0)")
     p.add_argument("--unconstrained", action="store_true", help="drop the paper's frequency constraints")

@@ -237,6 +237,10 @@ def fit_characteristic_frequencies(track: Track, layout: Layout, *, target: Targ
     search_band = check_band(search_band)
     if target is not None:
         target = normalise_target(target)
+    else:  # keep to where a measured table is defined
+        lo, hi = track.frequency_band
+        search_band = check_band((max(search_band[0], lo), min(search_band[1], hi)), "search_band within the "
+                                 f"track's measured band {lo:g}-{hi:g} Hz")
     table = _det_extrema(track, target, search_band, df)
     dips = np.sort(table.loc[table["kind"] == "dip", "f"].to_numpy(float))
     if layout == "ballasted":
@@ -257,9 +261,7 @@ def resolve_characteristic(track: Track, layout: Layout, band: tuple[float, floa
     """
     if characteristic is not None:
         return check_characteristic(layout, characteristic)
-    lo, hi = track.frequency_band  # a measured table's band, where it refuses to go beyond
-    search = (max(min(CHARACTERISTIC_SEARCH_BAND[0], band[0]), lo),
-              min(max(CHARACTERISTIC_SEARCH_BAND[1], band[1]), hi))
+    search = (min(CHARACTERISTIC_SEARCH_BAND[0], band[0]), max(CHARACTERISTIC_SEARCH_BAND[1], band[1]))
     if isinstance(target, tuple):
         search = (float(target[0][0]), float(target[0][-1]))
     return fit_characteristic_frequencies(track, layout, target=target, search_band=search)

@@ -37,9 +37,11 @@ FE_SUPPORT_FIELDS = ("kv", "kphi", "sleeper_mass", "kb")
 
 #: What the FE models tell a track with frequency-dependent supports to do instead.
 CONSTANT_SUPPORTS_ONLY = (
-    "a measured curve is not a causal model, so no time step can carry it. In the frequency domain use "
-    "st.InfiniteTrack (exact, local changes too) or st.semi_infinite_receptance; for an FE or time-domain model "
-    "give constant kv, kphi, eta_pad fitted where it matters (and sleeper_mass, kb for a measured sleeper)")
+    "the FE supports are constant springs and dampers; a measured curve is not a causal model, and a standard "
+    "linear solid would need an internal DOF they do not have. In the frequency domain use st.InfiniteTrack (exact, "
+    "local changes too) or st.semi_infinite_receptance; for an FE or time-domain model give constant kv, kphi, "
+    "eta_pad fitted where it matters (and sleeper_mass, kb for a measured sleeper), or end a truncated model with "
+    "st.fit_boundary of the measured track")
 
 
 def support_values(track: Track, n_supports: int, first: int, changes: Mapping | None) -> dict[str, np.ndarray]:

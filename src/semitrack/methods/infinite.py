@@ -47,8 +47,8 @@ def _loss(track: Track, family: str, eta: float, f: np.ndarray) -> np.ndarray:
     return eta * f / track.reference_frequencies()[family]
 
 
-def support_dynamic_stiffness(track: Track, f: np.ndarray, fields: Mapping[str, float] | None = None
-                              ) -> tuple[np.ndarray, np.ndarray]:
+def support_dynamic_stiffness(track: Track, f: np.ndarray, fields: Mapping[str, float] | None = None,
+                              label: str = "") -> tuple[np.ndarray, np.ndarray]:
     """The vertical and rotational dynamic stiffness of one support of ``track``, some fields changed.
 
     The pad ``kv (1 + i eta_pad)`` in series with the sleeper on ballast
@@ -66,6 +66,8 @@ def support_dynamic_stiffness(track: Track, f: np.ndarray, fields: Mapping[str, 
         New values of :data:`SUPPORT_FIELDS` (SI); ``kb=0`` is a hanging sleeper; ``kv`` and
         ``kphi`` may be stiffness curves (their values as they are). A measured ``foundation`` of
         the track stays under every pad.
+    label : str
+        Prefix of the fields' names in messages (e.g. ``"changes[3]"``).
 
     Returns
     -------
@@ -76,7 +78,9 @@ def support_dynamic_stiffness(track: Track, f: np.ndarray, fields: Mapping[str, 
     p.update(fields or {})
     omega = 2 * np.pi * f
     pad = 1 + 1j * _loss(track, "pad", p["eta_pad"], f)
-    kv, kphi = stiffness_values("kv", p["kv"], f, pad), stiffness_values("kphi", p["kphi"], f, pad)
+    named = {key: f"{label}[{key!r}]" if label and key in (fields or {}) else key for key in ("kv", "kphi")}
+    kv = stiffness_values(named["kv"], p["kv"], f, pad)
+    kphi = stiffness_values(named["kphi"], p["kphi"], f, pad, allow_zero=True)
     if track.is_ballasted:
         ballast = p["kb"] * (1 + 1j * _loss(track, "ballast", p["eta_ballast"], f)) - omega**2 * p["sleeper_mass"]
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -293,7 +297,7 @@ class InfiniteTrack:
             fields = self.changes.get(k, {})
             if fields is None:
                 continue  # the support removed
-            kv, kphi = support_dynamic_stiffness(self._track_of(k), f, fields)
+            kv, kphi = support_dynamic_stiffness(self._track_of(k), f, fields, f"changes[{k}]")
             Z.add([w[node]], kv[:, None, None])
             Z.add([psi_l[node]], kphi[:, None, None])
         for node, k_rot in joint_nodes.items():

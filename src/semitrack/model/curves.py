@@ -36,6 +36,7 @@ not a causal system (:mod:`semitrack.fe.supports`).
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -75,8 +76,8 @@ class FrequencyCurve:
 
     kind: str
 
-    def __call__(self, f: ArrayLike, name: str = "curve") -> np.ndarray:
-        """The complex values at frequencies ``f`` (Hz), checked finite, nonzero and passive.
+    def __call__(self, f: ArrayLike, name: str = "curve", allow_zero: bool = False) -> np.ndarray:
+        """The complex values at frequencies ``f`` (Hz), checked finite, passive and (by default) nonzero.
 
         Parameters
         ----------
@@ -84,6 +85,8 @@ class FrequencyCurve:
             Frequencies (Hz), >= 0, any shape.
         name : str
             What the curve is (e.g. ``"kv"``), for messages.
+        allow_zero : bool
+            Accept zero values (a rotational pad ``kphi`` may be 0; a vertical pad may not).
 
         Returns
         -------
@@ -104,7 +107,7 @@ class FrequencyCurve:
         except ValueError:
             raise InputError(f"{name}: the curve returned shape {values.shape} for frequencies of shape "
                              f"{f.shape}; it must return one value per frequency") from None
-        check_passive(name, self.kind, f, values)
+        check_passive(name, self.kind, f, values, allow_zero)
         return values
 
     def _evaluate(self, f: np.ndarray) -> np.ndarray:  # pragma: no cover - abstract
@@ -143,7 +146,7 @@ class FrequencyCurve:
         return complex(self(np.array([float(f)]), "curve")[0])
 
 
-def check_passive(name: str, kind: str, f: np.ndarray, values: np.ndarray) -> None:
+def check_passive(name: str, kind: str, f: np.ndarray, values: np.ndarray, allow_zero: bool = False) -> None:
     """Refuse values that are not finite, zero, or would make the support give out power.
 
     Parameters
@@ -156,12 +159,20 @@ def check_passive(name: str, kind: str, f: np.ndarray, values: np.ndarray) -> No
         Their frequencies (Hz).
     values : ndarray of complex
         The values, the shape of ``f``.
+    allow_zero : bool
+        Accept a zero stiffness (no support in that direction).
+
+    Notes
+    -----
+    At 0 Hz the rule is the static one: ``Re k(0) >= 0`` (``Re R(0) >= 0``); a negative static
+    stiffness is unstable, not merely lossless. At other frequencies the real part may have either
+    sign (a mass above its resonance).
     """
     bad = ~np.isfinite(values)
     if np.any(bad):
         i = np.flatnonzero(bad.ravel())[0]
         raise InputError(f"{name} is not finite at {f.ravel()[i]:g} Hz: got {values.ravel()[i]!r}")
-    if kind == "stiffness" and np.any(values == 0):
+    if kind == "stiffness" and not allow_zero and np.any(values == 0):
         i = np.flatnonzero(values.ravel() == 0)[0]
         raise InputError(f"{name} is zero at {f.ravel()[i]:g} Hz: a pad that carries nothing is no support "
                          "(remove the support instead)")
@@ -172,6 +183,10 @@ def check_passive(name: str, kind: str, f: np.ndarray, values: np.ndarray) -> No
         rule = "Im(k) >= 0" if kind == "stiffness" else "Im(R) <= 0"
         raise InputError(f"{name} is not passive at {f.ravel()[i]:g} Hz: {values.ravel()[i]:.6g} breaks {rule} "
                          f"(with exp(i omega t), a passive {kind} takes in power at every frequency)")
+    static = (f == 0) & (values.real < 0)
+    if np.any(static):
+        raise InputError(f"{name} is {values[static].ravel()[0]:.6g} at 0 Hz: a negative static {kind} is unstable; "
+                         "a passive support has Re >= 0 at rest")
 
 
 @dataclass(frozen=True, eq=False)
@@ -197,10 +212,22 @@ class FrequencyTable(FrequencyCurve):
         The CSV file it was read from (:func:`semitrack.load_frequency_table`), which a track
         file written from the track refers to; None for a table built in Python.
 
+    Attributes
+    ----------
+    points : ndarray of complex
+        The values at ``f`` as the curve gives them: ``values`` for a stiffness or a receptance,
+        the receptance a mobility or an accelerance stands for (``Y / (i omega)``, ``-A / omega^2``).
+
     Notes
     -----
     The real and imaginary parts are interpolated linearly in frequency: a passive table stays
-    passive in between, and the curve is exact at the points.
+    passive in between, and the curve is exact at the points. The values follow the package's
+    time factor ``exp(i omega t)``; a table in the ``exp(-i omega t)`` convention holds the complex
+    conjugates (a receptance or a stiffness then fails the passivity check; a mobility would
+    pass it with the sign of Re R flipped, which is why a receptance that starts negative, a mass
+    at the lowest frequency, is warned about).
+
+    Two tables are equal when their data, quantity and ``outside`` are (not their labels).
     """
 
     f: np.ndarray
@@ -210,6 +237,7 @@ class FrequencyTable(FrequencyCurve):
     source: str = "table"
     file: str | None = None
     kind: str = field(init=False)
+    points: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self):
         check_string("source", self.source)
@@ -230,14 +258,20 @@ class FrequencyTable(FrequencyCurve):
             if f[0] == 0:
                 raise InputError(f"{self.source}: a {self.quantity} table cannot start at 0 Hz (its receptance "
                                  "is infinite there); start at the first measured frequency")
-            omega = 2 * np.pi * f
-            values = values / (1j * omega) if self.quantity == "mobility" else -values / omega**2
-        f.setflags(write=False)
-        values.setflags(write=False)
+        omega = 2 * np.pi * f
+        points = {"mobility": lambda: values / (1j * omega), "accelerance": lambda: -values / omega**2}.get(
+            self.quantity, lambda: values.copy())()
+        for arr in (f, values, points):
+            arr.setflags(write=False)
         object.__setattr__(self, "f", f)
         object.__setattr__(self, "values", values)
+        object.__setattr__(self, "points", points)
         object.__setattr__(self, "kind", kind)
-        check_passive(f"{self.source} ({self.quantity})", kind, f, values)
+        check_passive(f"{self.source} ({self.quantity})", kind, f, points, allow_zero=kind == "stiffness")
+        if kind == "receptance" and points[0].real < 0:
+            warnings.warn(f"{self.source}: the receptance at the table's lowest frequency, {f[0]:g} Hz, has a negative "
+                          "real part (a mass there); if the table was measured with the time factor exp(-i omega t), "
+                          "conjugate its values", RuntimeWarning, stacklevel=3)
 
     @property
     def band(self) -> tuple[float, float]:
@@ -258,7 +292,7 @@ class FrequencyTable(FrequencyCurve):
                                  "extend the table, keep to its band, or let it hold its end values "
                                  "(outside='hold'; in a track file outside = \"hold\")")
         fc = np.clip(f, lo, hi)
-        return np.interp(fc, self.f, self.values.real) + 1j * np.interp(fc, self.f, self.values.imag)
+        return np.interp(fc, self.f, self.points.real) + 1j * np.interp(fc, self.f, self.points.imag)
 
     def sample(self, f: float) -> complex:
         """The value at ``f`` (Hz), or at the nearer end of the table's band (:meth:`FrequencyCurve.sample`).
@@ -276,7 +310,13 @@ class FrequencyTable(FrequencyCurve):
         return super().sample(min(max(float(f), lo), hi))
 
     def key(self) -> list:
-        return ["table", self.kind, self.outside, self.f.tobytes().hex(), self.values.tobytes().hex()]
+        return ["table", self.kind, self.outside, self.f.tobytes().hex(), self.points.tobytes().hex()]
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, FrequencyTable) and self.key() == other.key()
+
+    def __hash__(self) -> int:
+        return hash(tuple(self.key()))
 
     def __repr__(self) -> str:
         lo, hi = self.band
@@ -395,13 +435,15 @@ def as_curve(name: str, value: object, kind: str) -> float | FrequencyCurve:
     return value
 
 
-def stiffness_values(name: str, value: float | FrequencyCurve, f: np.ndarray, factor: ArrayLike) -> np.ndarray:
+def stiffness_values(name: str, value: float | FrequencyCurve, f: np.ndarray, factor: ArrayLike,
+                     allow_zero: bool = False) -> np.ndarray:
     """A stiffness field at frequencies ``f`` (Hz): a curve's values, or the number times ``factor``.
 
-    ``factor`` is the number's damping, ``1 + i eta`` (a curve holds its own).
+    ``factor`` is the number's damping, ``1 + i eta`` (a curve holds its own); ``allow_zero`` as
+    for :meth:`FrequencyCurve.__call__` (a rotational pad may be 0).
     """
     if isinstance(value, FrequencyCurve):
-        return value(f, name)
+        return value(f, name, allow_zero)
     return value * np.asarray(factor)
 
 

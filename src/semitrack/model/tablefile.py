@@ -8,11 +8,15 @@ The format (what a spreadsheet or a measurement system exports)::
     10, 5.3e7, 6.2e6
     ...
 
-One header row of three names (the first names the frequency, Hz), then one row per frequency:
-the frequency, the real and the imaginary part of the value, in the units of the table's quantity
-(:data:`semitrack.model.curves.TABLE_QUANTITIES`). Blank lines and lines starting with ``#`` are
-skipped. The file is read as bounded UTF-8 text (:func:`semitrack.base.files.read_text`): nothing
-in it is executed or evaluated, numbers are parsed by ``float`` and must be finite.
+One header row that names the three columns, the frequency in Hz (``f``, ``f_Hz``, ``f (Hz)``,
+``frequency``), the real part (``re``, ``real``) and the imaginary part (``im``, ``imag``); then
+one row per frequency, in the units of the table's quantity
+(:data:`semitrack.model.curves.TABLE_QUANTITIES`) and the package's time factor
+``exp(i omega t)``. Columns are separated by commas; blank lines and lines starting with ``#``
+are skipped, each line on its own; a byte-order mark is dropped. A magnitude-and-phase table or
+a frequency in kHz is refused by its header, not misread. The file is read as bounded UTF-8 text
+(:func:`semitrack.base.files.read_text`): nothing in it is executed or evaluated, numbers are
+parsed by ``float`` and must be finite.
 
 Every error is a :class:`~semitrack.base.errors.InputError` on one line that names the file,
 the line and the rule; the table's own rules (increasing frequencies, passivity) follow, from
@@ -21,9 +25,9 @@ the line and the rule; the table's own rules (increasing frequencies, passivity)
 
 from __future__ import annotations
 
-import csv
 import math
 import os
+import re
 from pathlib import Path
 
 import numpy as np
@@ -81,38 +85,59 @@ def load_frequency_table(path: str | os.PathLike, quantity: str = "stiffness", o
 
 
 def _parse(text: str, source: str) -> tuple[np.ndarray, np.ndarray]:
-    """Frequencies and complex values of the table's rows, each number checked."""
-    rows = [(number, row) for number, row in enumerate(csv.reader(text.splitlines()), start=1)
-            if row and not row[0].lstrip().startswith("#") and any(cell.strip() for cell in row)]
+    """Frequencies and complex values of the table's rows, each number checked.
+
+    Lines are taken one at a time (a comment can never swallow the rows after it), split at
+    commas; a byte-order mark (a spreadsheet's "CSV UTF-8") is dropped.
+    """
+    lines = [(number, line.strip()) for number, line in enumerate(text.removeprefix("\ufeff").splitlines(), start=1)]
+    rows = [(number, [cell.strip().strip('"') for cell in line.split(",")]) for number, line in lines
+            if line and not line.startswith("#")]
     if not rows:
         raise InputError(f"{source}: no header row (e.g. 'f_Hz, re, im') and no data")
-    number, header = rows[0]
-    names = [cell.strip() for cell in header]
-    if len(names) != 3 or not names[0].lower().startswith("f") or _is_number(names[0]):
-        raise InputError(f"{source}, line {number}: the header must name three columns, the frequency (Hz) first, "
-                         f"e.g. 'f_Hz, re, im'; got {','.join(header)[:80]!r}")
+    number, names = rows[0]
+    _check_header(source, number, names)
     data = rows[1:]
     if len(data) > MAX_TABLE_POINTS:
         raise InputError(f"{source}: {len(data)} rows, more than the limit of {MAX_TABLE_POINTS}")
     out = np.empty((len(data), 3))
     for i, (number, row) in enumerate(data):
         if len(row) != 3:
-            raise InputError(f"{source}, line {number}: {len(row)} columns, expected 3 ({', '.join(names)})")
+            raise InputError(f"{source}, line {number}: {len(row)} columns, expected 3 ({', '.join(names)})"
+                             f"{_separator_hint(row)}")
         for j, cell in enumerate(row):
             try:
                 value = float(cell)
             except ValueError:
-                shown = cell.strip()[:40]
-                raise InputError(f"{source}, line {number}: {names[j]} is not a number: {shown!r}") from None
+                raise InputError(f"{source}, line {number}: {names[j]} is not a number: {cell[:40]!r}") from None
             if not math.isfinite(value):
-                raise InputError(f"{source}, line {number}: {names[j]} must be finite, got {cell.strip()!r}")
+                raise InputError(f"{source}, line {number}: {names[j]} must be finite, got {cell!r}")
             out[i, j] = value
     return out[:, 0], out[:, 1] + 1j * out[:, 2]
 
 
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
+#: What the header's columns may be called (case aside): the frequency in Hz, the real part, the
+#: imaginary part. A magnitude and phase, or a frequency in kHz, is another table: refused by name.
+_HEADER = (("f", "f_hz", "freq", "freq_hz", "frequency", "frequency_hz"), ("re", "real"), ("im", "imag", "imaginary"))
+
+
+def _check_header(source: str, number: int, names: list[str]) -> None:
+    """The header must say the columns are f (Hz), real part, imaginary part."""
+    hint = "the header must name the frequency in Hz, the real part and the imaginary part, e.g. 'f_Hz, re, im'"
+    if len(names) != 3:
+        raise InputError(f"{source}, line {number}: {hint}; got {len(names)} column(s) "
+                         f"{', '.join(names)[:80]!r}{_separator_hint(names)}")
+    for name, allowed in zip(names, _HEADER):
+        key = re.sub(r"[\s()\[\]_]+", "_", name.lower()).strip("_")  # "f (Hz)", "f [Hz]" -> "f_hz"
+        if key not in allowed:
+            raise InputError(f"{source}, line {number}: {hint} (a magnitude and phase, or kHz, is not read); "
+                             f"got {', '.join(names)[:80]!r}")
+
+
+def _separator_hint(cells: list[str]) -> str:
+    """A hint when a row is one cell that holds semicolons or tabs."""
+    if len(cells) == 1:
+        for sep, name in ((";", "semicolons"), ("\t", "tabs")):
+            if sep in cells[0]:
+                return f"; the columns look separated by {name}: separate them by commas"
+    return ""

@@ -320,7 +320,8 @@ def _curve(section: str, key: str, spec: dict, where: _Locator, kind: str) -> Fr
     table itself; ``kind`` is what the curve must relate (stiffness, receptance).
     """
     label = f"[{section}] {key}".rstrip() if key else f"[{section}]"
-    if kind == "stiffness" and "model" in spec and spec["model"] not in CURVE_MODELS:
+    if kind == "stiffness" and "model" in spec and (not isinstance(spec["model"], str)
+                                                    or spec["model"] not in CURVE_MODELS):
         where.fail(section, key, f"{label}: model must be one of {tuple(CURVE_MODELS)}, got {spec['model']!r}")
     if kind == "stiffness" and "model" in spec:
         allowed, required = SLS_KEYS, SLS_KEYS
@@ -369,6 +370,14 @@ def _curve_to_toml(key: str, curve: FrequencyCurve) -> str:
     what = "Python code" if isinstance(curve, FrequencyFunction) else "built in Python, not read from a file"
     raise InputError(f"{key} is a {type(curve).__name__} ({what}), which a track file cannot hold: write its values "
                      "to a CSV table (f_Hz, re, im) and read it with st.load_frequency_table")
+
+
+def _foundation_to_toml(curve: FrequencyCurve) -> list[str]:
+    """The lines of a ``[foundation]`` table: the measured table's file, quantity and ``outside``."""
+    if not (isinstance(curve, FrequencyTable) and curve.file is not None):
+        _curve_to_toml("foundation", curve)  # raises: the file cannot hold it
+    return [f"table = {json.dumps(curve.file)}", f"quantity = {json.dumps(curve.quantity)}",
+            f"outside = {json.dumps(curve.outside)}"]
 
 
 def _check_slab_values(table: dict, where: _Locator) -> Slab:
@@ -422,6 +431,5 @@ def track_to_toml(track: Track) -> str:
                   for key in keys]
         lines.append("")
     if track.foundation is not None:
-        inline = _curve_to_toml("foundation", track.foundation)  # {table = ..., quantity = ..., outside = ...}
-        lines += ["[foundation]"] + [item.strip() for item in inline.strip("{}").split(", ")] + [""]
+        lines += ["[foundation]", *_foundation_to_toml(track.foundation), ""]
     return "\n".join(lines)

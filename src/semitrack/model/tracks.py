@@ -369,15 +369,18 @@ class Track:
     def bouncing_frequency_estimate(self) -> float:
         """The paper's estimate sqrt(kv / (rho A d)) / (2 pi) of the bouncing frequency (Hz).
 
-        Only meaningful for the slab track (rail on pads on a rigid foundation). A frequency-dependent
-        ``kv`` is read, by a few fixed-point steps, at the frequency the estimate gives.
+        Only meaningful for the slab track (rail on pads on a rigid foundation). Frequency-dependent
+        supports (a pad curve, a measured foundation under it) are read, by a few fixed-point
+        steps, at the frequency the estimate gives.
         """
         ra_d = self.mass_per_length * self.spacing
-        if not isinstance(self.kv, FrequencyCurve):
+        if not self.is_frequency_dependent:
             return float(np.sqrt(self.kv / ra_d) / (2 * np.pi))
-        f = 100.0
-        for _ in range(8):
-            f = float(np.sqrt(max(self.kv.sample(f).real, 1e-30) / ra_d) / (2 * np.pi))
+        lo, hi = self.frequency_band
+        f = min(max(100.0, lo), hi)
+        for _ in range(8):  # the support (pad on its measured foundation) at the frequency it gives
+            k = self.support_stiffness(np.array([min(max(f, lo, 1e-3), hi)]))[0][0]
+            f = float(np.sqrt(max(k.real, 1e-30) / ra_d) / (2 * np.pi))
         return f
 
     def replace(self, **changes) -> Track:
@@ -418,7 +421,7 @@ class Track:
             return self.kv * c, self.kphi * c
         f = np.asarray(f, dtype=float)
         c = 1 + 1j * self.loss_factor("pad", f)
-        return stiffness_values("kv", self.kv, f, c), stiffness_values("kphi", self.kphi, f, c)
+        return stiffness_values("kv", self.kv, f, c), stiffness_values("kphi", self.kphi, f, c, allow_zero=True)
 
     def foundation_receptance(self, f: ArrayLike) -> np.ndarray:
         """Vertical receptance under the pad, G(omega) of the paper's Eq. (3) (m/N).
@@ -635,6 +638,9 @@ class PeriodicCell:
 
     def __post_init__(self):
         require_track(self.track)
+        if self.foundation is not None and self.track.foundation is not None:
+            raise InputError("a PeriodicCell's foundation would replace the track's measured foundation: give one "
+                             "of them")
         check_positive("period", self.period)
         pos = tuple(float(x) for x in self.positions)
         if len(pos) == 0:
@@ -834,6 +840,8 @@ def parameter_table(track: Track) -> pd.DataFrame:
     -------
     pandas.DataFrame
         Columns ``symbol, description, value, unit`` (values in SI units), indexed 0, 1, ...
+        A curve of frequency (a pad, a measured foundation) is its description in the value
+        column, e.g. ``FrequencyTable('pad.csv', stiffness, 41 points, 0-4000 Hz)``.
     """
     import pandas as pd  # here, not at the top: the CLI's start-up need not pay for pandas
 
@@ -843,4 +851,8 @@ def parameter_table(track: Track) -> pd.DataFrame:
     if track.has_flexible_slab:
         rows += [(sym, desc, getattr(track.slab, key), unit) for key, sym, desc, unit in SLAB_PARAMETER_INFO
                  if getattr(track.slab, key) is not None]
+    if track.foundation is not None:
+        rows.append(("G", "measured receptance under each pad", track.foundation, "m/N"))
+    rows = [(sym, desc, repr(value) if isinstance(value, FrequencyCurve) else value, unit)
+            for sym, desc, value, unit in rows]
     return pd.DataFrame(rows, columns=["symbol", "description", "value", "unit"])

@@ -171,6 +171,8 @@ def parameter_comparison(track: Track) -> pd.DataFrame:
         ``paper (Tables 2, 5)`` (SI units) and ``deviation (%)``.
     """
     track = require_track(track)
+    track.require_constant("the comparison with the paper's constant parameters",
+                           "compare the curve with the paper's value at the frequencies of interest instead")
     paper, label = (TABLE5_BALLASTED, "paper (Tables 2, 5)") if track.is_ballasted else (TABLE2_SLAB, "paper (Table 2)")
     key_of = {symbol: key for key, symbol, _, _ in PARAMETER_INFO}
     table = parameter_table(track)

@@ -52,6 +52,7 @@ def linear_limits(track: Track, wheel: Wheel, f: Sequence[float]) -> pd.DataFram
         ``largest relative difference`` (-) per check.
     """
     f = np.atleast_1d(as_frequencies(f))
+    track.require_constant("linear_limits' rigid track (pads 1e6 times stiffer)", "give constant pads")
     alpha_r = point_receptance(track, f)[:, 0, 0]
     rigid = track.replace(E=track.E * 1e6, G=track.G * 1e6, kv=track.kv * 1e6, kphi=track.kphi * 1e6)
     w2k = wheel.mass * (2 * np.pi * f) ** 2
