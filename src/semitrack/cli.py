@@ -40,7 +40,6 @@ from .base.errors import InputError as PackageInputError
 from .base.files import atomic_write, check_output_path
 from .base.paper_values import FIT_BANDS, PAPER_GRID_BAND, PAPER_GRID_STEP
 from .equivalent.io import export_system, load_system_json, save_system_json
-from .model.curves import FrequencyCurve
 from .model.trackfile import EXAMPLES, TrackFileError, example_path, load_track_toml
 from .model.tracks import Track, ballasted_track, slab_track
 from .progress import Progress
@@ -148,8 +147,7 @@ def track_kind(track: Track) -> str:
         or the k-th mid-span inside); ``", frequency-dependent pad"`` follows where kv or kphi is
         a curve.
     """
-    curved = isinstance(track.kv, FrequencyCurve) or isinstance(track.kphi, FrequencyCurve)
-    pad = ", frequency-dependent pad" if curved else ""
+    pad = ", frequency-dependent pad" if {"kv", "kphi"} & set(track.curves) else ""
     if track.is_ballasted:
         return "sleepers on ballast" + pad
     if track.foundation is not None:

@@ -132,7 +132,7 @@ class FrequencyCurve:
 
     def sample(self, f: float) -> complex:
         """The value at one frequency, for the estimates that only need a scale (the bouncing
-        frequency, a fit's starting point): a table is read at the nearest frequency it covers.
+        frequency, a fit's starting point): read at the nearest frequency of :attr:`domain`.
 
         Parameters
         ----------
@@ -143,7 +143,8 @@ class FrequencyCurve:
         -------
         complex
         """
-        return complex(self(np.array([float(f)]), "curve")[0])
+        lo, hi = self.domain
+        return complex(self(np.array([min(max(float(f), lo), hi)]), "curve")[0])
 
 
 def check_passive(name: str, kind: str, f: np.ndarray, values: np.ndarray, allow_zero: bool = False) -> None:
@@ -293,21 +294,6 @@ class FrequencyTable(FrequencyCurve):
                                  "(outside='hold'; in a track file outside = \"hold\")")
         fc = np.clip(f, lo, hi)
         return np.interp(fc, self.f, self.points.real) + 1j * np.interp(fc, self.f, self.points.imag)
-
-    def sample(self, f: float) -> complex:
-        """The value at ``f`` (Hz), or at the nearer end of the table's band (:meth:`FrequencyCurve.sample`).
-
-        Parameters
-        ----------
-        f : float
-            Frequency (Hz).
-
-        Returns
-        -------
-        complex
-        """
-        lo, hi = self.band
-        return super().sample(min(max(float(f), lo), hi))
 
     def key(self) -> list:
         return ["table", self.kind, self.outside, self.f.tobytes().hex(), self.points.tobytes().hex()]

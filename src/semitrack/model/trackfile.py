@@ -365,19 +365,23 @@ def _curve_to_toml(key: str, curve: FrequencyCurve) -> str:
         return (f'{{model = "standard-linear-solid", k_static = {curve.k_static!r}, k_high = {curve.k_high!r}, '
                 f"tau = {curve.tau!r}}}")
     if isinstance(curve, FrequencyTable) and curve.file is not None:
-        quantity = "" if curve.quantity == "stiffness" else f", quantity = {json.dumps(curve.quantity)}"
-        return f"{{table = {json.dumps(curve.file)}{quantity}, outside = {json.dumps(curve.outside)}}}"
+        return "{" + ", ".join(_table_items(curve)) + "}"
     what = "Python code" if isinstance(curve, FrequencyFunction) else "built in Python, not read from a file"
     raise InputError(f"{key} is a {type(curve).__name__} ({what}), which a track file cannot hold: write its values "
                      "to a CSV table (f_Hz, re, im) and read it with st.load_frequency_table")
+
+
+def _table_items(curve: FrequencyTable) -> list[str]:
+    """``key = value`` of a table read from a file: its file, quantity (a stiffness's is implied) and ``outside``."""
+    items = [("table", curve.file), ("quantity", curve.quantity), ("outside", curve.outside)]
+    return [f"{key} = {json.dumps(value)}" for key, value in items if not (key == "quantity" and value == "stiffness")]
 
 
 def _foundation_to_toml(curve: FrequencyCurve) -> list[str]:
     """The lines of a ``[foundation]`` table: the measured table's file, quantity and ``outside``."""
     if not (isinstance(curve, FrequencyTable) and curve.file is not None):
         _curve_to_toml("foundation", curve)  # raises: the file cannot hold it
-    return [f"table = {json.dumps(curve.file)}", f"quantity = {json.dumps(curve.quantity)}",
-            f"outside = {json.dumps(curve.outside)}"]
+    return _table_items(curve)
 
 
 def _check_slab_values(table: dict, where: _Locator) -> Slab:

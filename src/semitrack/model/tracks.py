@@ -218,7 +218,7 @@ class Track:
         if self.damping != "hysteretic":
             raise InputError("damping='viscous' builds causal dampers from constant stiffnesses; a frequency-dependent "
                              "pad or foundation holds its own damping: use damping='hysteretic'")
-        if isinstance(self.kv, FrequencyCurve) and isinstance(self.kphi, FrequencyCurve) and self.eta_pad != 0:
+        if {"kv", "kphi"} <= set(self.curves) and self.eta_pad != 0:
             raise InputError(f"eta_pad={self.eta_pad!r} would damp nothing: kv and kphi are both curves, which hold "
                              "their own damping; set eta_pad=0")
         if self.foundation is not None and (self.is_ballasted or self.has_flexible_slab):
@@ -242,15 +242,20 @@ class Track:
         return self.sleeper_mass is not None
 
     @property
+    def curves(self) -> dict[str, FrequencyCurve]:
+        """The support fields given as curves of frequency, by name (``kv``, ``kphi``, ``foundation``)."""
+        return {k: v for k in ("kv", "kphi", "foundation") if isinstance(v := getattr(self, k), FrequencyCurve)}
+
+    @property
     def is_frequency_dependent(self) -> bool:
         """True when a pad stiffness or the foundation is a curve of frequency (no constant model)."""
-        return any(isinstance(v, FrequencyCurve) for v in (self.kv, self.kphi, self.foundation))
+        return bool(self.curves)
 
     @property
     def frequency_band(self) -> tuple[float, float]:
         """The frequencies (Hz) at which every support property is defined: all of them, unless a
         measured table refuses to go beyond its band (the intersection of the tables' bands)."""
-        domains = [v.domain for v in (self.kv, self.kphi, self.foundation) if isinstance(v, FrequencyCurve)]
+        domains = [curve.domain for curve in self.curves.values()]
         return max((d[0] for d in domains), default=0.0), min((d[1] for d in domains), default=float("inf"))
 
     def require_constant(self, what: str, instead: str) -> None:
@@ -264,7 +269,7 @@ class Track:
             What to do instead, appended to the message.
         """
         if self.is_frequency_dependent:
-            curves = [k for k in ("kv", "kphi", "foundation") if isinstance(getattr(self, k), FrequencyCurve)]
+            curves = list(self.curves)
             verb = "depends" if len(curves) == 1 else "depend"
             raise InputError(f"{what} needs constant supports, and this track's {' and '.join(curves)} {verb} on "
                              f"frequency: {instead}")
@@ -377,7 +382,7 @@ class Track:
         if not self.is_frequency_dependent:
             return float(np.sqrt(self.kv / ra_d) / (2 * np.pi))
         lo, hi = self.frequency_band
-        f = min(max(100.0, lo), hi)
+        f = 100.0
         for _ in range(8):  # the support (pad on its measured foundation) at the frequency it gives
             k = self.support_stiffness(np.array([min(max(f, lo, 1e-3), hi)]))[0][0]
             f = float(np.sqrt(max(k.real, 1e-30) / ra_d) / (2 * np.pi))
