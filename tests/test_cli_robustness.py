@@ -34,7 +34,9 @@ from semitrack.cli import main
 from semitrack.model.trackfile import example_path, track_to_toml
 
 GRID = ["--fmin", "100", "--fmax", "200", "--df", "50"]  # three frequencies: fast
-ENV = {**os.environ, "OPENBLAS_NUM_THREADS": "1"}
+# As a reader's shell runs the program: stdout block-buffered (no PYTHONUNBUFFERED, which some CI
+# environments set and which hid an exit-time flush failure on a full disk).
+ENV = {**{k: v for k, v in os.environ.items() if k != "PYTHONUNBUFFERED"}, "OPENBLAS_NUM_THREADS": "1"}
 OLD = "old content\n"
 
 

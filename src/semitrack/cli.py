@@ -208,6 +208,7 @@ def emit(text: str) -> None:
     except BrokenPipeError:
         raise
     except OSError as err:
+        _silence_stdout()  # what stays in the buffer would fail again at exit (exit 120, a traceback)
         raise InputError(f"cannot write to stdout ({err.strerror})") from None
 
 
