@@ -98,7 +98,8 @@ class Outputs:
             self.probes[name][k] = points.values(u, k)
 
 
-def _add_loads(rhs: np.ndarray, loads: list, k: int) -> None:
+def add_loads(rhs: np.ndarray, loads: list, k: int) -> None:
+    """Add the loads of step ``k`` (fixed or moving points, their amplitudes) into ``rhs`` in place."""
     for points, amplitude in loads:
         if isinstance(points, np.ndarray):  # fixed points as a dense (n, n_points) matrix
             rhs += points @ amplitude[k]
@@ -164,7 +165,7 @@ def run_numpy(arrays: StepArrays) -> Outputs:
     y = np.empty(2 * n)
     for k in range(1, arrays.n_steps + 1):
         rhs = arrays.MC @ s.predict(u, v, a, y)
-        _add_loads(rhs, loads, k)
+        add_loads(rhs, loads, k)
         if arrays.offset.size:
             rhs += arrays.offset
         if states is not None:

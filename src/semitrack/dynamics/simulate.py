@@ -35,7 +35,7 @@ from ..base.errors import InputError, InputTypeError
 from ..base.threads import serial_blas
 from .contact import HertzContacts
 from .factor import BandCholesky, factorise
-from .loop import Outputs, StepArrays, run_numpy
+from .loop import Outputs, StepArrays, add_loads, run_numpy
 from .newmark import Newmark
 from .points import PointSet
 from .response import TimeResponse
@@ -132,9 +132,7 @@ def _prepare(system, stepper, n_steps, loads, contacts, probes, record, u0, v0) 
     u_ref = np.zeros(n) if u0 is None else _vector("u0", u0, n)
     v = np.zeros(n) if v0 is None else _vector("v0", v0, n)
     r0 = -(system.C @ v) - system.K @ u_ref
-    for points, amplitude in loads:
-        dofs, weights = points.at(0)
-        np.add.at(r0, dofs.ravel(), (amplitude[0][:, None] * weights).ravel())
+    add_loads(r0, loads, 0)
     if contacts is not None:
         r0 += contacts.load_vectors(n, 0) @ contacts.forces(u_ref, 0)
         initial = u_ref[contacts.wheel_dofs] - _on_points(contacts.points, u_ref, n_steps + 1)
@@ -216,14 +214,14 @@ def simulate(system: SecondOrderSystem, stepper: Newmark, n_steps: int, *,
     if record.size and (record.min() < 0 or record.max() >= n):
         raise InputError(f"record must hold DOF indices in [0, {n}), got {record.tolist()[:5]}")
     probes = dict(probes or {})
+    if contacts is not None and not isinstance(contacts, HertzContacts):  # before its n_contacts is read
+        raise InputTypeError(f"contacts must be HertzContacts or None, got {type(contacts).__name__}")
     n_out = record.size + sum(p.n_points for p in probes.values()) + 3 * (contacts.n_contacts if contacts else 0)
     check_limits(n_steps, n, n_out)
     loads = _check_loads(loads, n, n_steps + 1)
     for name, points in probes.items():
         _check_points(f"probes[{name!r}]", points, n, n_steps + 1)
     if contacts is not None:
-        if not isinstance(contacts, HertzContacts):
-            raise InputTypeError(f"contacts must be HertzContacts or None, got {type(contacts).__name__}")
         _check_points("contacts.points", contacts.points, n, n_steps + 1)
         if contacts.irregularity.shape[0] != n_steps + 1 or contacts.wheel_dofs.max() >= n:
             raise InputError(f"the contacts' irregularity needs {n_steps + 1} rows and their wheels DOFs of a system "
