@@ -50,5 +50,7 @@ def test_rolling_lines_find_the_support_passing_line():
     track = st.slab_track(damping="viscous")
     model = st.TruncatedTrack(track, 6, elements_per_bay=48)
     runs = study.rolling_runs({(300.0, 48): model}, st.Wheel(), x_start=-3.0, dt=4e-5)
+    with pytest.raises(ValueError, match="names 12 elements per bay, but the model has 48"):
+        study.rolling_runs({(300.0, 12): model}, st.Wheel())
     lines = study.rolling_lines(runs, after=0.01).iloc[0]
     assert abs(lines["largest line above 100 Hz (Hz)"] - lines["v/d (Hz)"]) <= 2 * lines["bin (Hz)"]

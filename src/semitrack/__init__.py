@@ -88,7 +88,7 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "Roughness": ("fe.roughness", "Roughness"),
     "corrugation": ("fe.roughness", "corrugation"),
     "roughness_from_spectrum": ("fe.roughness", "roughness_from_spectrum"),
-    "third_octave_bands": ("fe.roughness", "third_octave_bands"),
+    "third_octave_bands": ("base.bands", "third_octave_bands"),
 }
 
 __all__ = list(_EXPORTS)

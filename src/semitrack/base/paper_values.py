@@ -27,7 +27,7 @@ from types import MappingProxyType
 import numpy as np
 
 __all__ = [
-    "TABLE2_RAIL", "TABLE2_SLAB", "TABLE5_BALLASTED", "PAD_LENGTH",
+    "TABLE2_RAIL", "TABLE2_SLAB", "TABLE5_BALLASTED", "PAD_LENGTH", "PAPER_SLAB_DECAY_RATE", "PAPER_DECAY_DISTANCE",
     "PAPER_BETA_MAX", "PAPER_DBETA", "PAPER_J_MAX", "PAPER_DX", "PAPER_GRID", "PAPER_GRID_BAND", "PAPER_GRID_STEP",
     "TABLE3_SLAB_FREQUENCIES", "TABLE6_BALLASTED_FREQUENCIES",
     "FIT_BANDS", "TABLE4_FIT_FREQUENCIES", "TABLE7_FIT_FREQUENCIES", "CONSTRAINT_FREQUENCIES",
@@ -59,6 +59,11 @@ TABLE5_BALLASTED = MappingProxyType(dict(
 
 #: Length b of the slab track's rail pad (m), from which the paper derives kphi (Sec. 4).
 PAD_LENGTH = 0.25
+
+#: The decay rate the paper's Sec. 1 cites for slab tracks above a few hundred hertz (dB/m; from its
+#: ref. [5]), and the distance it derives from it for 20 dB of decay (m): its case for long models.
+PAPER_SLAB_DECAY_RATE = 0.5
+PAPER_DECAY_DISTANCE = 40.0
 
 # ------------------------------------------------------------------------------------------
 # The wavenumber method's settings and the frequency grid (Sec. 4.1).

@@ -28,6 +28,8 @@ from types import MappingProxyType
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..base.bands import HALF_BAND as _HALF_BAND
+from ..base.bands import third_octave_bands
 from ..base.checks import check_int_at_least, check_nonnegative, check_positive, check_real, check_work
 from ..base.errors import InputError
 
@@ -47,45 +49,11 @@ ISO3095_ROUGHNESS_LIMIT = MappingProxyType({
 REFERENCE_ROUGHNESS = 1e-6
 #: Most lines of a multisine (each costs one cosine per time step).
 MAX_LINES = 100_000
-#: Half the width of a one-third-octave band on a log10 scale (base-10 bands, IEC 61260).
-_HALF_BAND = 0.05
 #: Most samples x lines summed as cosines by :meth:`Roughness.sampled` when its period is no whole
 #: number of steps (~10 ns each: 2e9 ~ 20 s); the inverse FFT of the other case costs milliseconds.
 MAX_COSINE_WORK = 2_000_000_000
 #: Times x lines evaluated at once by :meth:`Roughness.__call__` (memory of one chunk, 8 bytes each).
 _CHUNK = 2_000_000
-
-
-def third_octave_bands(lo: float, hi: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The base-10 one-third-octave bands whose centres lie in ``[lo, hi]`` (within half a band).
-
-    Centres are ``10^(n/10)`` for integers n (50 Hz is 10^1.7 = 50.12 Hz), edges a factor
-    ``10^(+-1/20)`` away; the same series serves frequencies (Hz) and wavelengths (m).
-
-    Parameters
-    ----------
-    lo, hi : float
-        The lowest and highest band centre wanted (Hz or m), ``0 < lo <= hi``; nominal values
-        such as 50 or 2500 select the band they name.
-
-    Returns
-    -------
-    centres, lower, upper : ndarray
-        Exact band centres and their lower and upper edges, ascending (units of ``lo``).
-
-    Examples
-    --------
-    >>> c, lower, upper = third_octave_bands(50.0, 100.0)
-    >>> c.round(1).tolist(), round(float(upper[0] / lower[0]), 4)
-    ([50.1, 63.1, 79.4, 100.0], 1.2589)
-    """
-    lo, hi = check_positive("lo", lo), check_positive("hi", hi)
-    if not lo <= hi:
-        raise InputError(f"hi must be >= lo={lo!r}, got {hi!r}")
-    n = np.arange(round(10 * np.log10(lo)), round(10 * np.log10(hi)) + 1)
-    check_work(n.size, MAX_LINES, f"lo={lo!r} to hi={hi!r} give {n.size} bands", "ask for a narrower range")
-    centres = 10.0 ** (n / 10)
-    return centres, centres * 10**-_HALF_BAND, centres * 10**_HALF_BAND
 
 
 @dataclass(frozen=True, eq=False)

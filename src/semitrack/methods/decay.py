@@ -35,11 +35,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..base.bands import third_octave_bands
 from ..base.checks import check_choice, check_positive, check_real
 from ..base.errors import InputError, InputTypeError
 from ..model.tracks import Track
 from .infinite import InfiniteTrack
-from .transfer import VANISHING_DAMPING, cyclic_reduction, period_dynamic_stiffness
+from .transfer import cyclic_reduction, period_dynamic_stiffness, vanishing_damping
 
 __all__ = ["EN15461_BAYS", "ISO3095_TDR_LIMIT", "FRF_KINDS", "TrackDecayRate", "track_decay_rate",
            "bloch_attenuation", "formula_1", "decay_intervals"]
@@ -172,9 +173,7 @@ def _band_edges(bands) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         raise InputTypeError(f"bands must be a pair (lowest, highest) of band centres in Hz, got {bands!r}") from None
     if not lo <= hi:
         raise InputError(f"bands must be (lowest, highest) band centres, lowest first, got {bands!r}")
-    n = np.arange(round(10 * np.log10(lo)), round(10 * np.log10(hi)) + 1)
-    centres = 10.0 ** (n / 10)
-    return centres, centres * 10**-0.05, centres * 10**0.05
+    return third_octave_bands(lo, hi)
 
 
 def bloch_attenuation(track: Track, f: ArrayLike) -> np.ndarray:
@@ -198,7 +197,7 @@ def bloch_attenuation(track: Track, f: ArrayLike) -> np.ndarray:
     """
     f = np.atleast_1d(np.asarray(f, dtype=float))
     cell = track.cell()
-    extra = VANISHING_DAMPING if track.eta_rail < VANISHING_DAMPING else 0.0
+    extra = vanishing_damping(track)
     with np.errstate(all="ignore"):
         d = period_dynamic_stiffness(cell, 2 * np.pi * f, cell.joint, extra)
         g_right, _, converged = cyclic_reduction(d)

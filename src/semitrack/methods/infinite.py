@@ -39,14 +39,6 @@ SUPPORT_FIELDS = ("kv", "kphi", "eta_pad", "sleeper_mass", "kb", "eta_ballast")
 _SAME = 1e-9
 
 
-def _loss(track: Track, family: str, eta: float, f: np.ndarray) -> np.ndarray:
-    """The loss factor law of ``track`` for a family, with the loss factor ``eta``: constant
-    (hysteretic) or ``eta f / f_ref`` with the track's own reference frequency (viscous)."""
-    if track.damping == "hysteretic" or eta == 0:
-        return np.full(f.shape, float(eta))
-    return eta * f / track.reference_frequencies()[family]
-
-
 def support_dynamic_stiffness(track: Track, f: np.ndarray, fields: Mapping[str, float] | None = None,
                               label: str = "") -> tuple[np.ndarray, np.ndarray]:
     """The vertical and rotational dynamic stiffness of one support of ``track``, some fields changed.
@@ -77,12 +69,12 @@ def support_dynamic_stiffness(track: Track, f: np.ndarray, fields: Mapping[str, 
     p = {name: getattr(track, name) for name in SUPPORT_FIELDS}
     p.update(fields or {})
     omega = 2 * np.pi * f
-    pad = 1 + 1j * _loss(track, "pad", p["eta_pad"], f)
+    pad = 1 + 1j * track.loss_factor("pad", f, p["eta_pad"])
     named = {key: f"{label}[{key!r}]" if label and key in (fields or {}) else key for key in ("kv", "kphi")}
     kv = stiffness_values(named["kv"], p["kv"], f, pad)
     kphi = stiffness_values(named["kphi"], p["kphi"], f, pad, allow_zero=True)
     if track.is_ballasted:
-        ballast = p["kb"] * (1 + 1j * _loss(track, "ballast", p["eta_ballast"], f)) - omega**2 * p["sleeper_mass"]
+        ballast = p["kb"] * (1 + 1j * track.loss_factor("ballast", f, p["eta_ballast"])) - omega**2 * p["sleeper_mass"]
         with np.errstate(divide="ignore", invalid="ignore"):
             kv = np.where(kv == 0, 0.0, kv * ballast / (kv + ballast))  # 1 / (1/kv + 1/ballast)
     elif track.foundation is not None:

@@ -39,7 +39,7 @@ import numpy as np
 from ..base.checks import check_real
 from ..base.errors import InputError
 from ..model.timoshenko import segment_dynamic_stiffness
-from ..model.tracks import PeriodicCell
+from ..model.tracks import PeriodicCell, Track
 
 # Cyclic reduction: doubling steps allowed (a wave with |lambda| = 1 - 1e-12 needs ~46), and the
 # relative size of the last correction at which it has converged.
@@ -47,6 +47,14 @@ _MAX_DOUBLINGS = 64
 _CONVERGED = 1e-15
 # Rail loss factor standing in for "vanishing damping" where the track has none.
 VANISHING_DAMPING = 1e-9
+
+
+def vanishing_damping(track: Track) -> float:
+    """The rail loss factor added for the limit of vanishing damping: :data:`VANISHING_DAMPING` for a
+    rail with less than that, else 0 (a damped rail is taken as it is)."""
+    return VANISHING_DAMPING if track.eta_rail < VANISHING_DAMPING else 0.0
+
+
 # An end stiffness is refused when K12 and K21 differ by more than this (relative), or when it
 # generates power beyond this (relative) rounding level.
 _RECIPROCITY_TOL = 1e-6
@@ -211,7 +219,7 @@ def end_stiffness(cell: PeriodicCell, omega: np.ndarray, x_cut: float) -> tuple[
     omega = np.atleast_1d(omega)
     # Without rail damping a wave may keep |lambda| = 1 (above the shear cut-on, two may) and the
     # doubling would stall or settle on a wrong solvent: take the limit of vanishing damping.
-    extra_loss = VANISHING_DAMPING if cell.track.eta_rail < VANISHING_DAMPING else 0.0
+    extra_loss = vanishing_damping(cell.track)
     # Overflow warnings would only precede the clearer error below: every result is checked.
     with np.errstate(all="ignore"):
         try:
@@ -286,7 +294,7 @@ def slab_cut_end_stiffness(cell: PeriodicCell, omega: np.ndarray) -> np.ndarray:
     k_next, _ = end_stiffness(cell, omega, cell.joint)  # the track beyond the cut slab's far joint
     rest = PeriodicCell(track, n_right * d, tuple(d * (np.arange(n_right) + 0.5)),
                         foundation=functools.partial(slab.receptance, spacing=d, from_span=k))
-    extra_loss = VANISHING_DAMPING if track.eta_rail < VANISHING_DAMPING else 0.0
+    extra_loss = vanishing_damping(track)
     with np.errstate(all="ignore"):
         try:
             stiff, _, _ = _period_model(rest, omega, 0.0, extra_loss)  # from the cut to the joint
@@ -337,7 +345,7 @@ def infinite_response(cell: PeriodicCell, omega: np.ndarray, x: float) -> tuple[
         h = np.linalg.inv(k_right + k_left)
         return h, k_right @ h
     k_right, k_left = end_stiffness(cell, omega, joint)
-    extra_loss = VANISHING_DAMPING if cell.track.eta_rail < VANISHING_DAMPING else 0.0
+    extra_loss = vanishing_damping(cell.track)
     with np.errstate(all="ignore"):
         k, edges, segments = _period_model(cell, omega, joint, extra_loss, point=x)
         k[:, :2, :2] += k_left  # the track before the slab's first joint

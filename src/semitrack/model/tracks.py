@@ -319,7 +319,7 @@ class Track:
                         if self.is_ballasted else float("nan")),
         }
 
-    def loss_factor(self, family: str, f: ArrayLike) -> np.ndarray:
+    def loss_factor(self, family: str, f: ArrayLike, eta: float | None = None) -> np.ndarray:
         """Loss factor of a family ("rail", "pad" or "ballast") at frequencies ``f`` (Hz).
 
         Parameters
@@ -328,13 +328,17 @@ class Track:
             The damped element family.
         f : array_like
             Frequencies (Hz), any shape (zero allowed: a viscous damper has no loss there).
+        eta : float, optional
+            A loss factor in place of the family's own (a changed support's), under the same law
+            and the track's own reference frequency.
 
         Returns
         -------
         ndarray
             ``eta`` (hysteretic) or ``eta f / f_ref`` (viscous), the shape of ``f``.
         """
-        eta = {"rail": self.eta_rail, "pad": self.eta_pad, "ballast": self.eta_ballast}[family]
+        if eta is None:
+            eta = {"rail": self.eta_rail, "pad": self.eta_pad, "ballast": self.eta_ballast}[family]
         f = np.asarray(f, dtype=float)
         if family == "ballast" and not self.is_ballasted:
             return np.zeros(f.shape)  # no ballast: its loss factor damps nothing

@@ -18,6 +18,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike
 
+from ..base.bands import HALF_BAND
 from ..base.checks import as_frequencies
 from ..methods.decay import ISO3095_TDR_LIMIT, TrackDecayRate
 from ..methods.infinite import InfiniteTrack
@@ -82,7 +83,7 @@ def pinned_length_table(rates: Mapping[str, TrackDecayRate], spacings: Mapping[s
     """
     rows = []
     for name, tdr in rates.items():
-        keep = tdr.centres >= above * 10**-0.05
+        keep = tdr.centres >= above * 10**-HALF_BAND  # the band that ``above`` names, and up
         i = int(np.argmin(np.where(keep, tdr.decay_rate, np.inf)))
         length = drop_db / tdr.decay_rate[i]
         rows.append({"track": name, "lowest decay rate (dB/m)": tdr.decay_rate[i], "its band (Hz)": tdr.centres[i],

@@ -294,7 +294,7 @@ def rolling_runs(models: Mapping[tuple[float, int], TruncatedTrack], wheel: Whee
     Parameters
     ----------
     models : mapping of (km/h, elements per bay) to TruncatedTrack
-        The models, by the speed to roll at and their mesh.
+        The models, by the speed to roll at and their mesh (checked against the model's own).
     wheel : Wheel
         The wheel.
     x_start : float
@@ -307,6 +307,10 @@ def rolling_runs(models: Mapping[tuple[float, int], TruncatedTrack], wheel: Whee
     dict
         ``{(km/h, elements per bay): ContactResponse}``.
     """
+    for (kmh, n_el), model in models.items():
+        if n_el != model.elements_per_bay:  # rolling_lines reads the mesh's line v/h from the key
+            raise InputError(f"models key ({kmh!r}, {n_el!r}) names {n_el} elements per bay, but the model has "
+                             f"{model.elements_per_bay}")
     return {(kmh, n_el): wheel_rail_response(model, wheel, speed=kmh / 3.6, x_contact=x_start, dt=dt,
                                              duration=-2 * x_start / (kmh / 3.6))
             for (kmh, n_el), model in models.items()}

@@ -7,7 +7,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .style import house_figure, legend_below, new_figure
+from .style import house_figure, legend_below, new_figure, panels
 
 #: Line styles of the decay rates of several tracks, in turn.
 _STYLES = (dict(color="k", marker="o"), dict(color="tab:blue", marker="s"), dict(color="tab:red", marker="^"),
@@ -38,8 +38,8 @@ def decay_rate_figure(rates: Mapping[str, object], limit: Mapping[float, float] 
     fig, ax
     """
     fig, ax = new_figure(figsize=(8.0, 4.2))
-    for (label, tdr), style in zip(rates.items(), _STYLES * 4):
-        ax.plot(tdr.centres, tdr.decay_rate, ls="-", lw=1.2, ms=4, label=f"{label}: EN 15461", color=style["color"])
+    for (label, tdr), style in zip(rates.items(), itertools.cycle(_STYLES)):  # no track left out
+        ax.plot(tdr.centres, tdr.decay_rate, ls="-", lw=1.2, label=f"{label}: EN 15461", color=style["color"])
         ok = tdr.valid
         ax.plot(tdr.centres[ok], tdr.decay_rate[ok], ls="", ms=5, **style)
         ax.plot(tdr.centres[~ok], tdr.decay_rate[~ok], ls="", ms=5, mfc="white", **style)
@@ -81,17 +81,17 @@ def local_change_figure(f, curves: Mapping[str, np.ndarray], positions: tuple[st
     -------
     fig, axes
     """
-    fig, axes = new_figure(1, len(positions), figsize=(5.2 * len(positions), 3.8), sharey=True, squeeze=False)
+    fig, axes = panels(len(positions), figsize=(5.2 * len(positions), 3.8), sharey=True)
     colours = itertools.cycle(("tab:red", "tab:blue", "tab:green", "tab:purple", "tab:orange"))
     styles = {case: (dict(color="k", lw=1.4) if case == reference else dict(color=next(colours), lw=1.0, ls="--"))
               for case in curves}
-    for j, (ax, label) in enumerate(zip(axes[0], positions)):
+    for j, (ax, label) in enumerate(zip(axes, positions)):
         for case, h in curves.items():
             ax.loglog(f, np.abs(h[:, j]), label=case, **styles[case])
         ax.set_title(label)
         ax.set_xlabel("Frequency (Hz)")
-    axes[0, 0].set_ylabel("|w / F| (m/N)")
-    legend_below(fig, axes[0, 0], fontsize=8)
+    axes[0].set_ylabel("|w / F| (m/N)")
+    legend_below(fig, axes[0], fontsize=8)
     if title:
         fig.suptitle(title)
-    return fig, axes[0]
+    return fig, axes
