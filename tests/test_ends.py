@@ -62,7 +62,7 @@ def test_the_factory_and_its_rules():
         make_end("equivalent")
     with pytest.raises(ValueError, match="system is only used with an 'equivalent' or 'boundary' end"):
         make_end("exact", st.paper_table4())
-    with pytest.raises(ValueError, match="one model takes one system"):
+    with pytest.raises(ValueError, match="one system cannot close both"):
         model_ends("equivalent", "boundary", st.paper_table4())
     with pytest.raises(ValueError, match="a model with zero bays needs 'equivalent', 'boundary', 'exact' ends"):
         model_ends("pinned", "exact", n_bays=0)

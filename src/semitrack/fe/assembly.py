@@ -12,7 +12,12 @@ The model's matrices are kept apart by *family*, because each family carries its
 ``M``
     the rail's consistent mass, the foundation's masses and the ends' mass;
 ``K_end``, ``C_end``
-    the springs and (viscous) dampers of the ends' own systems.
+    the springs and (viscous) dampers of the ends' own systems;
+``K_joint``
+    the rotational springs of rail joints (undamped).
+
+Past a transition the rail, pads and ballast are the second track's, with its loss factors:
+:attr:`TrackMatrices.by_track` keeps the three damped families of each track apart.
 
 An end (:mod:`semitrack.fe.ends`) that is a system enters with its ``M, C, K``, mirrored at the
 left end; its first two DOFs are the rail's ``(w, psi)`` at the end node, the others are DOFs of
@@ -32,7 +37,7 @@ ordering is recomputed at every frequency: measured 2-3 times faster per frequen
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -46,10 +51,12 @@ from .ends import End
 from .mesh import SIDES, DofMap, Mesh, Side, rail_dof
 from .supports import Foundation
 
-__all__ = ["FAMILIES", "Pattern", "TrackMatrices", "assemble"]
+__all__ = ["FAMILIES", "DAMPED", "Pattern", "TrackMatrices", "assemble"]
 
 #: The matrix families of a track model, see the module docstring.
-FAMILIES = ("K_rail", "K_pad", "K_ballast", "K_end", "C_end", "M")
+FAMILIES = ("K_rail", "K_pad", "K_ballast", "K_end", "C_end", "K_joint", "M")
+#: The families that carry their track's loss factor, kept per track.
+DAMPED = ("K_rail", "K_pad", "K_ballast")
 
 
 class _Triplets:
@@ -175,7 +182,10 @@ class TrackMatrices:
     pattern : Pattern
         The common CSC pattern (model DOFs).
     data : dict
-        ``{family: data vector on the pattern}`` for each of :data:`FAMILIES` (SI units).
+        ``{family: data vector on the pattern}`` for each of :data:`FAMILIES` (SI units), summed
+        over the tracks.
+    by_track : tuple of dict
+        Per track (one, or two with a transition): ``{family: data vector}`` of :data:`DAMPED`.
     exact : dict
         ``{side: positions}`` of the row-major 2x2 block of the rail's ``(w, psi)`` at each
         frequency-dependent end, where its end stiffness is added.
@@ -183,14 +193,26 @@ class TrackMatrices:
 
     pattern: Pattern
     data: Mapping[str, np.ndarray]
+    by_track: tuple[Mapping[str, np.ndarray], ...]
     exact: Mapping[Side, np.ndarray]
 
 
-def _add_rail(parts: dict, mesh: Mesh, track: Track) -> None:
-    k_el, m_el = rail_element(track, mesh.element_length)
-    el_dofs = mesh.element_dofs()
-    parts["K_rail"].add_many(el_dofs, k_el)
-    parts["M"].add_many(el_dofs, m_el)
+def _add_rail(parts: dict, mesh: Mesh, track: Track, which: np.ndarray) -> None:
+    """The rail elements ``which`` of ``track``: one element matrix per distinct length."""
+    el_dofs = mesh.element_dofs()[which]
+    lengths = mesh.lengths[which]
+    for h in np.unique(lengths):
+        same = lengths == h
+        k_el, m_el = rail_element(track, float(h))
+        parts["K_rail"].add_many(el_dofs[same], k_el)
+        parts["M"].add_many(el_dofs[same], m_el)
+
+
+def _add_joints(parts: dict, mesh: Mesh, joints: Sequence[float]) -> None:
+    """A rotational spring between the two rotations at each joint node (left, then the joint's own)."""
+    for i, (node, k_rot) in enumerate(zip(mesh.joint_nodes, joints)):
+        parts["K_joint"].add([rail_dof(int(node), "psi"), 2 * mesh.n_nodes + i],
+                             k_rot * np.array([[1.0, -1.0], [-1.0, 1.0]]))
 
 
 def _add_ends(parts: dict, mesh: Mesh, dofs: DofMap, ends: Mapping[Side, End]) -> None:
@@ -217,40 +239,57 @@ def _end_blocks(mesh: Mesh, dofs: DofMap, ends: Mapping[Side, End]) -> dict:
     return out
 
 
-def assemble(track: Track, mesh: Mesh, dofs: DofMap, foundation: Foundation,
-             ends: Mapping[Side, End], supports: Mapping[str, np.ndarray]) -> TrackMatrices:
+def assemble(tracks: Sequence[Track], mesh: Mesh, dofs: DofMap, foundations: Sequence[Foundation],
+             ends: Mapping[Side, End], supports: Mapping[str, np.ndarray], joints: Sequence[float] = ()
+             ) -> TrackMatrices:
     """Assemble every family of a track model on one pattern (see the module docstring).
 
     Parameters
     ----------
-    track : Track
-        Rail, pad and (ballasted) sleeper and ballast parameters.
+    tracks : sequence of Track
+        Rail, pad and (ballasted) sleeper and ballast parameters: one track, or the two of a
+        transition (``mesh.part`` and ``mesh.support_part`` say which is where).
     mesh : Mesh
         The rail's mesh.
     dofs : DofMap
-        The DOF numbering; pinned DOFs (index -1) are dropped.
-    foundation : Foundation
-        What carries the pads (:mod:`semitrack.fe.supports`).
+        The DOF numbering; pinned DOFs (index -1) are dropped. The foundation DOFs are numbered
+        track by track, in the order of the supports.
+    foundations : sequence of Foundation
+        What carries the pads of each track (:mod:`semitrack.fe.supports`).
     ends : mapping of side to End
         The model's ends (:mod:`semitrack.fe.ends`): their own matrices are assembled, and the
         2x2 blocks of the frequency-dependent ones are put in the pattern.
     supports : mapping
         Each support's values (:func:`semitrack.fe.supports.support_values`).
+    joints : sequence of float
+        The rotational stiffness (N m/rad) of each joint of ``mesh.joint_nodes``.
 
     Returns
     -------
     TrackMatrices
     """
-    parts = {key: _Triplets() for key in FAMILIES}
-    _add_rail(parts, mesh, track)
-    foundation.assemble(parts, mesh.support_nodes, dofs.foundation, supports)
-    _add_ends(parts, mesh, dofs, ends)
-    coo = {key: t.coo() for key, t in parts.items()}
-    reduced = {key: (dofs.index[r], dofs.index[c], v) for key, (r, c, v) in coo.items()}
+    shared = {key: _Triplets() for key in FAMILIES if key not in DAMPED}
+    damped = [{key: _Triplets() for key in DAMPED} for _ in tracks]
+    start = 0
+    for p, (track, foundation) in enumerate(zip(tracks, foundations)):
+        parts = {**damped[p], "M": shared["M"]}
+        _add_rail(parts, mesh, track, mesh.part == p)
+        on = mesh.support_part == p
+        n_own = foundation.n_dofs(int(on.sum()))
+        foundation.assemble(parts, mesh.support_nodes[on], dofs.foundation[start:start + n_own],
+                            {key: v[on] for key, v in supports.items()})
+        start += n_own
+    _add_joints(shared, mesh, joints)
+    _add_ends(shared, mesh, dofs, ends)
+    groups = [shared, *damped]
+    reduced = [{key: (dofs.index[r], dofs.index[c], v) for key, (r, c, v) in ((k, t.coo()) for k, t in g.items())}
+               for g in groups]
     blocks = _end_blocks(mesh, dofs, ends)
-    pattern = Pattern.union(dofs.n_dof, [r for r, _, _ in reduced.values()] + [r for r, _ in blocks.values()],
-                            [c for _, c, _ in reduced.values()] + [c for _, c in blocks.values()],
-                            dofs.along_track(mesh))
-    data = {key: pattern.sum(*entries) for key, entries in reduced.items()}
+    entries = [e for g in reduced for e in g.values()]
+    pattern = Pattern.union(dofs.n_dof, [r for r, _, _ in entries] + [r for r, _ in blocks.values()],
+                            [c for _, c, _ in entries] + [c for _, c in blocks.values()], dofs.along_track(mesh))
+    by_track = tuple({key: pattern.sum(*e) for key, e in g.items()} for g in reduced[1:])
+    data = {key: pattern.sum(*e) for key, e in reduced[0].items()}
+    data.update({key: sum(t[key] for t in by_track) for key in DAMPED})
     exact = {side: pattern.positions(r, c) for side, (r, c) in blocks.items()}
-    return TrackMatrices(pattern=pattern, data=data, exact=exact)
+    return TrackMatrices(pattern=pattern, data=data, by_track=by_track, exact=exact)

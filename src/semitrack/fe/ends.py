@@ -293,8 +293,9 @@ def model_ends(left: str | End, right: str | End, system=None, n_bays: int = 1) 
     ----------
     left, right : str or End
         The ends (names of :data:`END_NAMES`, or End objects).
-    system : EquivalentSystem or BroadbandBoundary, optional
-        The system of the named end kinds that need one (one system per model).
+    system : EquivalentSystem, BroadbandBoundary or a pair, optional
+        The system of the named end kinds that need one: one for both ends, or
+        ``(left_system, right_system)`` (a transition: each side's track has its own).
     n_bays : int
         Bays of the model in all: with none, both ends must close the model alone (systems or
         end stiffnesses).
@@ -307,14 +308,24 @@ def model_ends(left: str | End, right: str | End, system=None, n_bays: int = 1) 
     names = [end if isinstance(end, End) else check_choice(side, end, END_NAMES) for side, end in
              (("left", left), ("right", right))]
     kinds = [type(end) if isinstance(end, End) else _KINDS[end] for end in names]
-    needing = {cls for cls, end in zip(kinds, names) if cls.system_type is not None and not isinstance(end, End)}
-    if len(needing) > 1:
-        raise InputError("one model takes one system: 'equivalent' and 'boundary' ends cannot be mixed")
-    if system is not None and not needing:
-        raise InputError(f"system is only used with an 'equivalent' or 'boundary' end, got ends "
-                         f"({_name(left)!r}, {_name(right)!r})")
-    ends = {side: make_end(end, system if cls in needing else None)
-            for side, end, cls in zip(("left", "right"), names, kinds)}
+    needs = [cls.system_type is not None and not isinstance(end, End) for cls, end in zip(kinds, names)]
+    if isinstance(system, (tuple, list)):
+        if len(system) != 2:
+            raise InputError(f"system as a sequence must be the pair (left_system, right_system), got {len(system)} "
+                             "items")
+        systems = list(system)
+        for side, end, need, given in zip(("left", "right"), (left, right), needs, systems):
+            if given is not None and not need:
+                raise InputError(f"system for the {side} end is given, but its end {_name(end)!r} takes none")
+    else:
+        if len({cls for cls, need in zip(kinds, needs) if need}) > 1:
+            raise InputError("one system cannot close both an 'equivalent' and a 'boundary' end: give "
+                             "(left_system, right_system)")
+        if system is not None and not any(needs):
+            raise InputError(f"system is only used with an 'equivalent' or 'boundary' end, got ends "
+                             f"({_name(left)!r}, {_name(right)!r})")
+        systems = [system if need else None for need in needs]
+    ends = {side: make_end(end, given) for side, end, given in zip(("left", "right"), names, systems)}
     if n_bays == 0 and not all(end.closes_alone for end in ends.values()):
         alone = ", ".join(repr(cls.name) for cls in _KINDS.values() if cls.closes_alone)
         raise InputError(f"a model with zero bays needs {alone} ends, got ends ({_name(left)!r}, {_name(right)!r})")

@@ -24,7 +24,7 @@ their viscous equivalents (``damping="viscous"``), which are exactly the dampers
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 import scipy.sparse as sp
@@ -38,9 +38,9 @@ from ..dynamics.points import PointSet
 from ..dynamics.states import StateBlock
 from ..dynamics.system import SecondOrderSystem
 from ..equivalent.systems import EquivalentSystem
-from ..methods.infinite import check_changes
+from ..methods.infinite import InfiniteTrack
 from ..model.tracks import Track, require_track
-from .assembly import TrackMatrices, assemble
+from .assembly import DAMPED, TrackMatrices, assemble
 from .damping import reference_frequencies
 from .element import shear_parameter, timoshenko_shape_functions
 from .ends import FREE, PINNED, End, EndName, FarEndName, end_kinds, make_far_end, model_ends
@@ -74,9 +74,10 @@ class FETrack:
         are "equivalent" or "exact").
     left, right : {"pinned", "free", "equivalent", "boundary", "exact"}
         End conditions, see the module docstring.
-    system : EquivalentSystem or BroadbandBoundary, optional
+    system : EquivalentSystem, BroadbandBoundary or a pair of them, optional
         The equivalent system attached at an ``"equivalent"`` end, or the broadband boundary
-        at a ``"boundary"`` end (required then).
+        at a ``"boundary"`` end (required then); ``(left_system, right_system)`` gives each end
+        its own (a transition's two tracks), ``None`` in the place of an end that takes none.
     elements_per_bay : int
         Number of elements per support spacing; even (>= 2), so that mid-spans are nodes. The
         FE error is second order in the element length; with 12 (the default) the discretisation
@@ -87,6 +88,18 @@ class FETrack:
         (at ``x = (k + 1/2) d``, as :class:`semitrack.InfiniteTrack` numbers them; ``kb=0`` a
         hanging sleeper); ``{k: None}`` removes its pad (its sleeper, if any, stays on the
         ballast, off the rail). Supports outside the model are ignored.
+    right_track : Track, optional
+        A second track from the mid-span ``x_t = transition d`` on (its rail, spacing, supports
+        and loss factors; the same kind of damping): bays ``kt, kt + 1, ...`` are its bays, their
+        supports numbered on as :class:`semitrack.InfiniteTrack` numbers them, and the right end
+        closes its semi-infinite track. A slab-to-ballast transition is ``right_track=
+        st.ballasted_track()``.
+    transition : int, optional
+        ``kt``, with ``right_track``: ``-n_left <= kt <= n_right``.
+    joints : mapping of float to float, optional
+        ``{x: k_rot}``: the rail is cut at x (m, inside the model, not at a support) and joined by
+        a rotational spring of ``k_rot`` N m/rad (0: a hinge); the node at x gets a second
+        rotation, the rail's just right of the cut (:meth:`dof` gives the left one).
 
     Attributes
     ----------
@@ -110,30 +123,93 @@ class FETrack:
     """
 
     def __init__(self, track: Track, n_left: int, n_right: int, left: EndName | End = PINNED,
-                 right: EndName | End = PINNED, system: EquivalentSystem | BroadbandBoundary | None = None,
-                 elements_per_bay: int = 12, changes: Mapping[int, Mapping[str, float] | None] | None = None):
-        self.track = require_track(track)
-        self.track.require_constant("the finite-element track", CONSTANT_SUPPORTS_ONLY)
-        self.foundation: Foundation = foundation_of(self.track)
+                 right: EndName | End = PINNED, system: EquivalentSystem | BroadbandBoundary | Sequence | None = None,
+                 elements_per_bay: int = 12, changes: Mapping[int, Mapping[str, float] | None] | None = None, *,
+                 right_track: Track | None = None, transition: int | None = None,
+                 joints: Mapping[float, float] | None = None):
         self.n_left = check_int_at_least("n_left", n_left, 0)
         self.n_right = check_int_at_least("n_right", n_right, 0)
+        given = [(name, require_track(t, name)) for name, t in (("track", track), ("right", right_track))
+                 if t is not None or name == "track"]
+        for name, t in given:
+            t.require_constant(f"the finite-element track ({name})", CONSTANT_SUPPORTS_ONLY)
+        self.foundations: tuple[Foundation, ...] = tuple(foundation_of(t) for _, t in given)
+        self.foundation: Foundation = self.foundations[0]
+        # The exact infinite track with the same changes holds their rules (one place for both)
+        self._infinite = InfiniteTrack(track, changes, right=right_track, transition=transition, joints=joints)
+        self.tracks: tuple[Track, ...] = tuple(t for _, t in given)
+        self.track, self.right_track, self.transition = self.tracks[0], self._infinite.right, self._infinite.transition
+        self._check_layout()
         self.end_models: dict[str, End] = model_ends(left, right, system, self.n_left + self.n_right)
         self.left, self.right = self.end_models["left"].name, self.end_models["right"].name
+        self.elements_per_bay = self._check_elements(elements_per_bay)
+        self.system = system
+        self.changes, self.joints = self._infinite.changes, self._infinite.joints
+        self.mesh: Mesh = bay_mesh(self.track.spacing, self.n_left, self.n_right, self.elements_per_bay,
+                                   right_spacing=self.tracks[-1].spacing, transition=self.transition,
+                                   joints=list(self.joints))
+        self.dofs: DofMap = dof_map(self.mesh, self._foundation_nodes(),
+                                    {side: end.internal_dofs for side, end in self.end_models.items()},
+                                    [side for side, end in self.end_models.items() if end.removes_w])
+        supports = support_values(self.tracks, self.mesh.support_part, self.mesh.support_index, self.changes)
+        self._parts: TrackMatrices = assemble(self.tracks, self.mesh, self.dofs, self.foundations, self.end_models,
+                                              supports, list(self.joints.values()))
+
+    def _check_layout(self) -> None:
+        """A transition inside the model, one kind of damping on both sides, joints on the rail inside."""
+        if self.transition is not None:
+            if not -self.n_left <= self.transition <= self.n_right:
+                raise InputError(f"transition must be a mid-span of the model, {-self.n_left} <= kt <= "
+                                 f"{self.n_right}, got {self.transition}")
+            if self.right_track.damping != self.track.damping:
+                raise InputError(f"the two tracks of a transition must have one kind of damping, got "
+                                 f"{self.track.damping!r} and {self.right_track.damping!r}")
+        d = self.track.spacing
+        x_right = (self.n_right * d if self.transition is None else
+                   self.transition * d + (self.n_right - self.transition) * self.right_track.spacing)
+        for x in self._infinite.joints:
+            if not -self.n_left * d < x < x_right:
+                raise InputError(f"joints must lie inside the model, {-self.n_left * d:.6g} < x < {x_right:.6g} m, "
+                                 f"got {x!r}")
+
+    def _check_elements(self, elements_per_bay: int) -> int:
         ne = check_int_at_least("elements_per_bay", elements_per_bay, 2)
         if ne % 2:
             raise InputError(f"elements_per_bay must be even (mid-spans are nodes), got {ne}")
-        self.elements_per_bay = ne
         n_elements = ne * (self.n_left + self.n_right)
         check_work(n_elements, MAX_ELEMENTS, f"{self.n_left + self.n_right} bays (n_bays, or n_left + n_right) x "
                    f"elements_per_bay = {ne} give {n_elements} elements", "use fewer bays or elements per bay")
-        self.system = system
-        self.mesh: Mesh = bay_mesh(track.spacing, self.n_left, self.n_right, ne)
-        self.dofs: DofMap = dof_map(self.mesh, self.foundation.n_dofs(self.mesh.support_nodes.size),
-                                    {side: end.internal_dofs for side, end in self.end_models.items()},
-                                    [side for side, end in self.end_models.items() if end.removes_w])
-        self.changes = check_changes(changes, lambda k: self.track.is_ballasted)
-        supports = support_values(self.track, self.mesh.support_nodes.size, -self.n_left, self.changes)
-        self._parts: TrackMatrices = assemble(track, self.mesh, self.dofs, self.foundation, self.end_models, supports)
+        return ne
+
+    def _foundation_nodes(self) -> np.ndarray:
+        """The rail node of each foundation DOF, track by track (see :func:`~.assembly.assemble`)."""
+        nodes = [self.mesh.support_nodes[self.mesh.support_part == p] for p in range(len(self.tracks))]
+        return np.concatenate([n[:f.n_dofs(n.size)] for n, f in zip(nodes, self.foundations)]).astype(np.int64)
+
+    def infinite_track(self) -> InfiniteTrack:
+        """The exact infinite track with this model's changes, transition and joints: its reference.
+
+        Returns
+        -------
+        InfiniteTrack
+            Nothing truncated, no mesh (:class:`semitrack.InfiniteTrack`); the same positions and
+            support numbering as the model.
+        """
+        return self._infinite
+
+    def end_track(self, side: str) -> Track:
+        """The track whose semi-infinite part an end replaces: the second track at the right of a transition.
+
+        Parameters
+        ----------
+        side : {"left", "right"}
+            The end.
+
+        Returns
+        -------
+        Track
+        """
+        return self.tracks[-1] if check_choice("side", side, ("left", "right")) == "right" else self.track
 
     def _end_dofs(self, side: str) -> np.ndarray:
         """The model DOFs ``(w, psi)`` of the rail at an end (-1 where removed)."""
@@ -148,8 +224,9 @@ class FETrack:
 
     @property
     def element_length(self) -> float:
-        """Length of the rail elements (m)."""
-        return self.mesh.element_length
+        """Length of the longest rail element (m): every element of a bay is as long, but past a
+        transition or beside a joint."""
+        return float(self.mesh.lengths.max(initial=0.0))
 
     @property
     def support_nodes(self) -> np.ndarray:
@@ -207,7 +284,7 @@ class FETrack:
         j = int(np.argmin(np.abs(self.x - x)))
         if abs(self.x[j] - x) > 1e-9 * self.track.spacing:
             raise InputError(
-                f"x must be a node position of the mesh (spacing {self.element_length:.6g} m from "
+                f"x must be a node position of the mesh (elements up to {self.element_length:.6g} m long, from "
                 f"{self.x[0]:.6g} to {self.x[-1]:.6g} m), got {x!r}"
             )
         i = int(self.dofs.index[rail_dof(j, kind)])
@@ -224,9 +301,12 @@ class FETrack:
         if np.any(bad):
             raise InputError(f"{name} must lie on the rail, {lo:.6g} <= x <= {hi:.6g} m, got {xs[bad][0]!r}")
         e, xi = self.mesh.locate(xs)
-        h, tr = self.element_length, self.track
-        n_w, n_psi = timoshenko_shape_functions(xi, h, shear_parameter(tr.E * tr.I, tr.kappa * tr.A * tr.G, h))
-        return self.dofs.index[2 * e[:, None] + np.arange(4)], (n_w if kind == "w" else n_psi)
+        h = self.mesh.lengths[e]
+        rail = [self.tracks[p] for p in self.mesh.part[e]]
+        phi = shear_parameter(np.array([t.E * t.I for t in rail]), np.array([t.kappa * t.A * t.G for t in rail]), h)
+        n_w, n_psi = timoshenko_shape_functions(xi[:, None], h[:, None], phi[:, None])
+        n_w, n_psi = n_w[:, 0], n_psi[:, 0]
+        return self.dofs.index[self.mesh.element_dofs()[e]], (n_w if kind == "w" else n_psi)
 
     def shape_weights(self, x: float, kind: Kind = "w", *, name: str = "x") -> tuple[np.ndarray, np.ndarray]:
         """The DOFs and shape-function weights that give ``w`` (or ``psi``) at a point of the rail.
@@ -326,13 +406,14 @@ class FETrack:
 
     def _complex_k_data(self, f: float | None = None) -> np.ndarray:
         """Data of ``K*`` at frequency ``f`` (Hz); ``f`` may be omitted for hysteretic damping."""
-        tr, d = self.track, self._parts.data
-        if tr.damping != "hysteretic" and f is None:
+        if self.track.damping != "hysteretic" and f is None:
             raise InputError("a viscously damped track has a frequency-dependent K*: give f (Hz)")
-        eta = {family: float(tr.loss_factor(family, f if f is not None else 1.0))
-               for family in ("rail", "pad", "ballast")}
-        return ((1 + 1j * eta["rail"]) * d["K_rail"] + (1 + 1j * eta["pad"]) * d["K_pad"]
-                + (1 + 1j * eta["ballast"]) * d["K_ballast"] + d["K_end"])
+        out = self._parts.data["K_end"] + self._parts.data["K_joint"] + 0j
+        for tr, parts in zip(self.tracks, self._parts.by_track):
+            for family in DAMPED:
+                eta = float(tr.loss_factor(family[2:], f if f is not None else 1.0))
+                out = out + (1 + 1j * eta) * parts[family]
+        return out
 
     def mass(self) -> sp.csc_matrix:
         """Mass matrix (kg, kg m, kg m^2): rail (consistent), sleepers, attached systems."""
@@ -340,7 +421,7 @@ class FETrack:
 
     def _exact_blocks(self, omega: np.ndarray) -> dict:
         """``{side: (n_f, 2, 2)}`` end stiffness of each frequency-dependent end (exact, boundary)."""
-        return {side: end.stiffness(self.track, omega, side) for side, end in self.end_models.items()
+        return {side: end.stiffness(self.end_track(side), omega, side) for side, end in self.end_models.items()
                 if end.frequency_dependent}
 
     def _z_data(self, k0: np.ndarray, omega: float, exact: dict, i: int) -> np.ndarray:
@@ -462,11 +543,14 @@ class FETrack:
             its states come from :meth:`boundary_states`.
         """
         time = {side: end.time_matrices(side) for side, end in self.end_models.items()}
-        fr = reference_frequencies(self.track, f_ref)
-        tr, d = self.track, self._parts.data
-        K = d["K_rail"] + d["K_pad"] + d["K_ballast"] + d["K_end"]
-        C = (tr.eta_rail * d["K_rail"] / (2 * np.pi * fr["rail"]) + tr.eta_pad * d["K_pad"] / (2 * np.pi * fr["pad"])
-             + tr.eta_ballast * d["K_ballast"] / (2 * np.pi * fr["ballast"]) + d["C_end"])
+        d = self._parts.data
+        K = d["K_rail"] + d["K_pad"] + d["K_ballast"] + d["K_end"] + d["K_joint"]
+        C = d["C_end"].copy()
+        for tr, parts in zip(self.tracks, self._parts.by_track):
+            fr = reference_frequencies(tr, f_ref)
+            for family in DAMPED:
+                name = family[2:]
+                C = C + getattr(tr, f"eta_{name}") * parts[family] / (2 * np.pi * fr[name])
         for side, parts in time.items():
             if parts is not None:
                 np.add.at(K, self._parts.exact[side], parts[0].ravel())
@@ -504,7 +588,8 @@ class FETrack:
                                  self.dofs.along_track(self.mesh))
 
     def __repr__(self):
-        return (f"{type(self).__name__}({self.track.name!r}, bays {self.n_left}+{self.n_right}, ends "
+        names = " | ".join(repr(t.name) for t in self.tracks)
+        return (f"{type(self).__name__}({names}, bays {self.n_left}+{self.n_right}, ends "
                 f"({self.left!r}, {self.right!r}), elements_per_bay={self.elements_per_bay}, n_dof={self.n_dof})")
 
 
@@ -530,14 +615,18 @@ class TruncatedTrack(FETrack):
     ends : {"pinned", "free", "equivalent", "boundary", "exact"} or End
         End condition at both ends (see :mod:`semitrack.fe.models`), by name or as an end object
         of :mod:`semitrack.fe.ends`.
-    system : EquivalentSystem or BroadbandBoundary, optional
+    system : EquivalentSystem, BroadbandBoundary or a pair of them, optional
         Required with ``ends="equivalent"`` (e.g. ``paper_table4()`` for the slab track,
         ``paper_table7()`` for the ballasted one, or a fitted system) and with
-        ``ends="boundary"`` (from :func:`semitrack.fit_boundary`).
+        ``ends="boundary"`` (from :func:`semitrack.fit_boundary`); with a transition
+        ``(left_system, right_system)``, each fitted to its side's track.
     elements_per_bay : int
         Elements per support spacing, even.
     changes : mapping of int to mapping or None, optional
         Changed or removed supports, as :class:`FETrack` takes them.
+    right, transition, joints : optional
+        A second track from the mid-span ``x_t = transition d`` on, and rail joints, as
+        :class:`semitrack.InfiniteTrack` takes them (see :class:`FETrack`).
 
     Examples
     --------
@@ -554,14 +643,16 @@ class TruncatedTrack(FETrack):
     """
 
     def __init__(self, track: Track, n_bays: int, ends: EndName | End = PINNED,
-                 system: EquivalentSystem | BroadbandBoundary | None = None, elements_per_bay: int = 12,
-                 changes: Mapping[int, Mapping[str, float] | None] | None = None):
+                 system: EquivalentSystem | BroadbandBoundary | Sequence | None = None, elements_per_bay: int = 12,
+                 changes: Mapping[int, Mapping[str, float] | None] | None = None, *, right: Track | None = None,
+                 transition: int | None = None, joints: Mapping[float, float] | None = None):
         n = check_int_at_least("n_bays", n_bays, 0)
         kind = type(ends) if isinstance(ends, End) else end_kinds(ends)[0]
         if n == 0 and not kind.closes_alone:
             raise InputError(f"n_bays must be >= 1 with ends={kind.name!r}, got 0")
         self.n_bays = n
-        super().__init__(track, n, n, ends, ends, system, elements_per_bay, changes)
+        super().__init__(track, n, n, ends, ends, system, elements_per_bay, changes, right_track=right,
+                         transition=transition, joints=joints)
         self.ends = kind.name  # the end condition's name; the end objects are end_models
 
 

@@ -18,7 +18,7 @@ have yet: :func:`foundation_of` says so.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -44,17 +44,18 @@ CONSTANT_SUPPORTS_ONLY = (
     "st.fit_boundary of the measured track")
 
 
-def support_values(track: Track, n_supports: int, first: int, changes: Mapping | None) -> dict[str, np.ndarray]:
+def support_values(tracks: Sequence[Track], parts: np.ndarray, indices: np.ndarray, changes: Mapping | None
+                   ) -> dict[str, np.ndarray]:
     """Each support's ``kv``, ``kphi``, ``sleeper_mass`` and ``kb``, and whether it is there.
 
     Parameters
     ----------
-    track : Track
-        The track.
-    n_supports : int
-        Supports of the model, in order along x.
-    first : int
-        The index k of the first (support k sits at ``x = (k + 1/2) d``).
+    tracks : sequence of Track
+        The model's tracks: one, or the two of a transition.
+    parts : ndarray of int
+        The track of each support of the model (an index into ``tracks``), in order along x.
+    indices : ndarray of int
+        The index k of each support (support k of the first track sits at ``x = (k + 1/2) d``).
     changes : mapping, optional
         ``{k: {field: value}}`` (fields of :data:`FE_SUPPORT_FIELDS`) or ``{k: None}`` (no support).
 
@@ -62,16 +63,17 @@ def support_values(track: Track, n_supports: int, first: int, changes: Mapping |
     -------
     dict
         ``{"kv", "kphi", "sleeper_mass", "kb": ndarray, "present": ndarray of bool}``, one entry
-        per support (sleeper and ballast values 0 on a slab track), and the track's own
+        per support (sleeper and ballast values 0 on a slab track), and each support's track's own
         ``"kb_track"`` and ``"sleeper_mass_track"`` (for a removed support's sleeper).
     """
-    values = {name: np.full(n_supports, float(getattr(track, name) or 0.0)) for name in FE_SUPPORT_FIELDS}
-    values["present"] = np.ones(n_supports, dtype=bool)
+    values = {name: np.array([float(getattr(tracks[p], name) or 0.0) for p in parts]) for name in FE_SUPPORT_FIELDS}
+    values["present"] = np.ones(len(parts), dtype=bool)
     values["kb_track"], values["sleeper_mass_track"] = values["kb"].copy(), values["sleeper_mass"].copy()
+    where = {int(k): i for i, k in enumerate(indices)}
     for k, fields in (changes or {}).items():
-        i = k - first
-        if not 0 <= i < n_supports:
+        if k not in where:
             continue
+        i = where[k]
         if fields is None:
             values["present"][i] = False
             continue
