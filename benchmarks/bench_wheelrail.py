@@ -43,6 +43,8 @@ from semitrack.fe.timedomain import SPEED_300_KMH
 ROOT = Path(__file__).resolve().parents[1]
 SPEED = 100.0
 BANDS = (50.0, 2500.0)
+#: Elements per bay of every model here: the mesh the earlier measurements used (the default follows f_max).
+ELEMENTS = 12
 #: Time step and simulated time per track: the slab track's wheel bounce (64 Hz, 1.1 % damping)
 #: needs 0.7 s after the fade-in to leave under 0.3 dB; the ballasted one is better damped, and its
 #: sharp pinned-pinned peak wants the finer step (0.3 dB at 1 kHz with 40 us).
@@ -86,7 +88,7 @@ def part_steps(repeat: int) -> None:
     print(f"{'model':>22} {'DOFs+states':>12} {'loop':>8} {'end to end':>11} {'per step, loop':>15} "
           f"{'end to end':>11} {'ns/DOF/step':>12}")
     for bays in (10, 40, 120):
-        model = st.TruncatedTrack(track, bays, "boundary", system=bnd)
+        model = st.TruncatedTrack(track, bays, "boundary", system=bnd, elements_per_bay=ELEMENTS)
         size = model_size(model, 1)
         for compiled in (True, False):
             if not compiled and bays > 10:
@@ -135,12 +137,13 @@ def part_accuracy(names, repeat: int, max_bays: int) -> None:
         print(f"\n== {name} track (viscous), dt {dt * 1e6:g} us, {duration:g} s; boundary fit {bnd.n_poles} poles "
               f"in {fit_time:.1f} s (once per track)")
         print(f"{'model':>20} {'DOFs+states':>12} {'time (s)':>9} {'max err (dB)':>12} {'band (Hz)':>10}")
-        wall_b, size_b, transfer = run_stationary(st.TruncatedTrack(track, 10, "boundary", system=bnd), rough, dt,
-                                                  duration, repeat)
+        boundary_model = st.TruncatedTrack(track, 10, "boundary", system=bnd, elements_per_bay=ELEMENTS)
+        wall_b, size_b, transfer = run_stationary(boundary_model, rough, dt, duration, repeat)
         row("boundary, 10 bays", wall_b, size_b, transfer)
         targets, found = (1.0, 0.3), {}
         for n in (n for n in PINNED_BAYS if n <= max_bays):
-            wall, size, transfer = run_stationary(st.TruncatedTrack(track, n, "pinned"), rough, dt, duration, repeat)
+            pinned = st.TruncatedTrack(track, n, "pinned", elements_per_bay=ELEMENTS)
+            wall, size, transfer = run_stationary(pinned, rough, dt, duration, repeat)
             err = row(f"pinned, {n} bays", wall, size, transfer)
             found.update({limit: (n, size, wall) for limit in targets if err <= limit and limit not in found})
             if len(found) == len(targets):
@@ -188,7 +191,8 @@ def part_scenario(names, repeat: int) -> None:
         bnd, fit_time = boundary_of(name)
         pinned_bays = int(round(133.0 / d))
         start = time.perf_counter()
-        pinned = st.TruncatedTrack(track, pinned_bays, "pinned")  # the same for every set of wheels
+        # the same for every set of wheels
+        pinned = st.TruncatedTrack(track, pinned_bays, "pinned", elements_per_bay=ELEMENTS)
         t_pinned = time.perf_counter() - start
         for offsets in ((0.0,), WHEELSETS):
             rear, front = -max(offsets), 0.0
@@ -197,7 +201,8 @@ def part_scenario(names, repeat: int) -> None:
             reach = max(abs(x_start + rear), abs(x_start + front + path)) + 5 * d
             bays = int(np.ceil(reach / d))
             start = time.perf_counter()
-            models[f"boundary, {2 * bays * d:.0f} m"] = st.TruncatedTrack(track, bays, "boundary", system=bnd)
+            models[f"boundary, {2 * bays * d:.0f} m"] = st.TruncatedTrack(track, bays, "boundary", system=bnd,
+                                                                          elements_per_bay=ELEMENTS)
             t_boundary = time.perf_counter() - start
             walls = {}
             for (label, model), t_model in zip(models.items(), (t_pinned, t_boundary + fit_time)):

@@ -150,7 +150,10 @@ def bay_mesh(spacing: float, n_left: int, n_right: int, elements_per_bay: int, *
     x = np.unique(np.concatenate([x, cuts]))
     x = x[np.concatenate([[True], np.diff(x) > 1e-9 * min(spacing, d2)])]
     x[np.abs(x) < 1e-12 * spacing] = 0.0
-    node = lambda xs: np.abs(x[None, :] - np.asarray(xs)[:, None]).argmin(axis=1)  # noqa: E731
+    def node(xs):  # the nearest node of each position (the nodes are sorted)
+        j = np.clip(np.searchsorted(x, xs), 1, max(x.size - 1, 1))
+        return np.where(np.abs(x[j - 1] - xs) <= np.abs(x[np.minimum(j, x.size - 1)] - xs), j - 1, j)
+
     mids = 0.5 * (x[:-1] + x[1:])
     element_bay = np.clip(np.searchsorted(starts, mids, side="right") - 1, 0, max(bays.size - 1, 0))
     return Mesh(x=x, lengths=np.diff(x), part=part[element_bay] if bays.size else np.zeros(0, np.int64),

@@ -24,13 +24,15 @@ their viscous equivalents (``damping="viscous"``), which are exactly the dampers
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping, Sequence
+from functools import lru_cache
 
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike
 
-from ..base.checks import as_frequencies, check_choice, check_int_at_least, check_real, check_work
+from ..base.checks import as_frequencies, check_choice, check_int_at_least, check_positive, check_real, check_work
 from ..base.errors import InputError, InputTypeError
 from ..base.threads import serial_blas
 from ..boundary.fitting import BroadbandBoundary
@@ -43,17 +45,22 @@ from ..model.tracks import Track, require_track
 from .assembly import DAMPED, TrackMatrices, assemble
 from .damping import reference_frequencies
 from .element import shear_parameter, timoshenko_shape_functions
-from .ends import FREE, PINNED, End, EndName, FarEndName, end_kinds, make_far_end, model_ends
+from .ends import EXACT, FREE, PINNED, End, EndName, FarEndName, end_kinds, make_far_end, model_ends
 from .mesh import KINDS, DofMap, Kind, Mesh, bay_mesh, dof_map, rail_dof
+from .meshsize import MESH_TOLERANCE, PROBE_ELEMENTS, MeshProbe, elements_for, probe_grid, valid_frequency
 from .supports import CONSTANT_SUPPORTS_ONLY, Foundation, foundation_of, support_values
 
 __all__ = [
     "FETrack",
     "TruncatedTrack",
+    "mesh_probe",
     "require_model",
     "fe_semi_infinite_receptance",
     "fe_central_receptance",
 ]
+
+#: The highest frequency of interest of a model that states none (Hz): the compendium's band.
+DEFAULT_F_MAX = 3000.0
 
 #: Most rail elements of one model: ~400 k DOFs, whose sparse factorisation takes ~0.5 s per
 #: frequency (the book's longest reference track has 19 200).
@@ -78,10 +85,14 @@ class FETrack:
         The equivalent system attached at an ``"equivalent"`` end, or the broadband boundary
         at a ``"boundary"`` end (required then); ``(left_system, right_system)`` gives each end
         its own (a transition's two tracks), ``None`` in the place of an end that takes none.
-    elements_per_bay : int
-        Number of elements per support spacing; even (>= 2), so that mid-spans are nodes. The
-        FE error is second order in the element length; with 12 (the default) the discretisation
-        error of w1 and alpha over 3-3000 Hz has a median of 0.25-0.4 % (8: 0.6-0.9 %).
+    elements_per_bay : int, optional
+        Number of elements per support spacing; even (>= 2), so that mid-spans are nodes.
+        Default: the fewest for which the mesh's own error (the largest relative error of w/F,
+        measured on the periodic track against the exact infinite track, :mod:`semitrack.fe.meshsize`)
+        stays under 1 % up to ``f_max``: on the paper's tracks 8 up to 500 Hz, 32-40 (slab) and
+        54-72 (ballasted) up to 3 kHz. The error is largest at the sharp pinned-pinned peaks and
+        falls as 1/n^2: 12 elements are 6-29 % off there below 3 kHz. A model whose frequencies
+        asked exceed what its mesh resolves warns (:meth:`solve`), naming the elements needed.
         ``elements_per_bay * (n_left + n_right)`` may not exceed :data:`MAX_ELEMENTS` (200 000).
     changes : mapping of int to mapping or None, optional
         ``{k: {field: value}}`` sets ``kv``, ``kphi``, ``sleeper_mass`` or ``kb`` of support k
@@ -100,6 +111,10 @@ class FETrack:
         ``{x: k_rot}``: the rail is cut at x (m, inside the model, not at a support) and joined by
         a rotational spring of ``k_rot`` N m/rad (0: a hinge); the node at x gets a second
         rotation, the rail's just right of the cut (:meth:`dof` gives the left one).
+    f_max : float, optional
+        The highest frequency of interest (Hz; default :data:`DEFAULT_F_MAX`, 3 kHz), which the
+        default mesh resolves. In the time domain state it: the highest frequency of the loads
+        (a roughness: the speed over its shortest wavelength).
 
     Attributes
     ----------
@@ -124,9 +139,9 @@ class FETrack:
 
     def __init__(self, track: Track, n_left: int, n_right: int, left: EndName | End = PINNED,
                  right: EndName | End = PINNED, system: EquivalentSystem | BroadbandBoundary | Sequence | None = None,
-                 elements_per_bay: int = 12, changes: Mapping[int, Mapping[str, float] | None] | None = None, *,
-                 right_track: Track | None = None, transition: int | None = None,
-                 joints: Mapping[float, float] | None = None):
+                 elements_per_bay: int | None = None, changes: Mapping[int, Mapping[str, float] | None] | None = None,
+                 *, right_track: Track | None = None, transition: int | None = None,
+                 joints: Mapping[float, float] | None = None, f_max: float | None = None):
         self.n_left = check_int_at_least("n_left", n_left, 0)
         self.n_right = check_int_at_least("n_right", n_right, 0)
         given = [(name, require_track(t, name)) for name, t in (("track", track), ("right", right_track))
@@ -142,7 +157,10 @@ class FETrack:
         self._check_layout()
         self.end_models: dict[str, End] = model_ends(left, right, system, self.n_left + self.n_right)
         self.left, self.right = self.end_models["left"].name, self.end_models["right"].name
+        self.f_max = DEFAULT_F_MAX if f_max is None else check_positive("f_max", f_max)
         self.elements_per_bay = self._check_elements(elements_per_bay)
+        # Up to where the mesh's own error is known to be within MESH_TOLERANCE (Hz; grown as asked)
+        self._mesh_checked = self.f_max if elements_per_bay is None else 0.0
         self.system = system
         self.changes, self.joints = self._infinite.changes, self._infinite.joints
         self.mesh: Mesh = bay_mesh(self.track.spacing, self.n_left, self.n_right, self.elements_per_bay,
@@ -172,8 +190,11 @@ class FETrack:
                 raise InputError(f"joints must lie inside the model, {-self.n_left * d:.6g} < x < {x_right:.6g} m, "
                                  f"got {x!r}")
 
-    def _check_elements(self, elements_per_bay: int) -> int:
-        ne = check_int_at_least("elements_per_bay", elements_per_bay, 2)
+    def _check_elements(self, elements_per_bay: int | None) -> int:
+        if elements_per_bay is None:
+            ne = elements_for([mesh_probe(t, self.f_max) for t in self.tracks], self.f_max)
+        else:
+            ne = check_int_at_least("elements_per_bay", elements_per_bay, 2)
         if ne % 2:
             raise InputError(f"elements_per_bay must be even (mid-spans are nodes), got {ne}")
         n_elements = ne * (self.n_left + self.n_right)
@@ -449,7 +470,7 @@ class FETrack:
         omega = 2 * np.pi * f
         return self._csc(self._z_data(self._complex_k_data(f), omega, self._exact_blocks(np.array([omega])), 0))
 
-    def solve(self, f: ArrayLike, rhs: ArrayLike) -> np.ndarray:
+    def solve(self, f: ArrayLike, rhs: ArrayLike, *, check_mesh: bool = True) -> np.ndarray:
         """Solve ``Z(f) u = rhs`` frequency by frequency (a band LU, :meth:`~.assembly.Pattern.solve`).
 
         Parameters
@@ -458,6 +479,10 @@ class FETrack:
             Frequencies (Hz), scalar or 1-D.
         rhs : array_like, shape (n_dof, n_rhs)
             Load vectors (N, N m), the same at every frequency.
+        check_mesh : bool
+            Warn (a RuntimeWarning, once per model and range) when the frequencies exceed what
+            the mesh resolves within 1 % (:mod:`semitrack.fe.meshsize`); False skips the check
+            (the mesh probe itself).
 
         Returns
         -------
@@ -470,6 +495,8 @@ class FETrack:
         rhs = np.asarray(rhs)
         if rhs.ndim != 2 or rhs.shape[0] != self.n_dof:
             raise InputError(f"rhs must have shape ({self.n_dof}, n_rhs), got {rhs.shape}")
+        if check_mesh:
+            self._check_mesh(float(f.max(initial=0.0)))
         omega = 2 * np.pi * f
         hysteretic = self.track.damping == "hysteretic"
         k0 = self._complex_k_data() if hysteretic else None
@@ -481,6 +508,20 @@ class FETrack:
                 k = k0 if hysteretic else self._complex_k_data(f[i])
                 out[i] = self._parts.pattern.solve(self._z_data(k, w, exact, i), rhs_c)
         return out
+
+    def _check_mesh(self, f_top: float) -> None:
+        """Warn when frequencies above what the mesh resolves within MESH_TOLERANCE are asked (once per model)."""
+        if f_top <= self._mesh_checked:
+            return
+        probes = [mesh_probe(t, f_top) for t in self.tracks]
+        valid = min(valid_frequency(probes, self.elements_per_bay), f_top)
+        self._mesh_checked = f_top
+        if valid < f_top:
+            need = elements_for(probes, f_top)
+            warnings.warn(f"{self.elements_per_bay} elements per bay keep the mesh's own error under "
+                          f"{MESH_TOLERANCE:.0%} up to {valid:.0f} Hz only, and frequencies up to {f_top:.0f} Hz "
+                          f"are asked: give elements_per_bay >= {need} (or leave it out and give f_max)",
+                          RuntimeWarning, stacklevel=3)
 
     def receptance(self, f: ArrayLike, x: float = 0.0) -> np.ndarray:
         """2x2 point receptance at the rail node at ``x``: (w, psi) per (F, M) there.
@@ -593,6 +634,52 @@ class FETrack:
                 f"({self.left!r}, {self.right!r}), elements_per_bay={self.elements_per_bay}, n_dof={self.n_dof})")
 
 
+@lru_cache(maxsize=32)
+def _probe(track: Track, top: float) -> MeshProbe:
+    f = probe_grid(top)
+    points = (0.0, 0.5 * track.spacing)  # a mid-span and a support
+    exact = InfiniteTrack(track)
+    model = FETrack(track, 3, 3, EXACT, EXACT, elements_per_bay=PROBE_ELEMENTS)
+    rhs = np.zeros((model.n_dof, 2))
+    for j, x in enumerate(points):
+        rhs[model.dof(x), j] = 1.0
+    u = model.solve(f, rhs, check_mesh=False)
+    err = np.zeros(f.size)
+    for j, x in enumerate(points):
+        ref = exact.receptance(f, x, [x])[:, 0, 0, 0]
+        err = np.maximum(err, np.abs(u[:, model.dof(x), j] - ref) / np.abs(ref))
+    return MeshProbe(f, np.maximum.accumulate(err))
+
+
+def mesh_probe(track: Track, f_max: float) -> MeshProbe:
+    """The error of the periodic track's mesh measured up to ``f_max`` (:mod:`semitrack.fe.meshsize`).
+
+    Three bays each side of a mid-span at :data:`~semitrack.fe.meshsize.PROBE_ELEMENTS` elements
+    per bay, closed by the exact ends (the mesh the only approximation), against
+    :class:`semitrack.InfiniteTrack`: w/F at a mid-span and at a support. Cached per track and
+    range for the process (about a second each).
+
+    Parameters
+    ----------
+    track : Track
+        The periodic track.
+    f_max : float
+        Highest frequency (Hz); the probe runs to the next whole 500 Hz.
+
+    Returns
+    -------
+    MeshProbe
+
+    Examples
+    --------
+    >>> import semitrack as st
+    >>> p = mesh_probe(st.slab_track(), 1000.0)
+    >>> p.error_at(48, 1000.0) < p.error_at(12, 1000.0)
+    True
+    """
+    return _probe(require_track(track), float(probe_grid(f_max)[-1]))
+
+
 def require_model(model: object) -> FETrack:
     """``model`` if it is an :class:`FETrack`, else a TypeError that names it."""
     if not isinstance(model, FETrack):
@@ -620,13 +707,16 @@ class TruncatedTrack(FETrack):
         ``paper_table7()`` for the ballasted one, or a fitted system) and with
         ``ends="boundary"`` (from :func:`semitrack.fit_boundary`); with a transition
         ``(left_system, right_system)``, each fitted to its side's track.
-    elements_per_bay : int
-        Elements per support spacing, even.
+    elements_per_bay : int, optional
+        Elements per support spacing, even; default: the fewest that resolve ``f_max`` within
+        1 % (see :class:`FETrack`).
     changes : mapping of int to mapping or None, optional
         Changed or removed supports, as :class:`FETrack` takes them.
     right, transition, joints : optional
         A second track from the mid-span ``x_t = transition d`` on, and rail joints, as
         :class:`semitrack.InfiniteTrack` takes them (see :class:`FETrack`).
+    f_max : float, optional
+        The highest frequency of interest (Hz), as :class:`FETrack` takes it.
 
     Examples
     --------
@@ -643,34 +733,36 @@ class TruncatedTrack(FETrack):
     """
 
     def __init__(self, track: Track, n_bays: int, ends: EndName | End = PINNED,
-                 system: EquivalentSystem | BroadbandBoundary | Sequence | None = None, elements_per_bay: int = 12,
-                 changes: Mapping[int, Mapping[str, float] | None] | None = None, *, right: Track | None = None,
-                 transition: int | None = None, joints: Mapping[float, float] | None = None):
+                 system: EquivalentSystem | BroadbandBoundary | Sequence | None = None,
+                 elements_per_bay: int | None = None, changes: Mapping[int, Mapping[str, float] | None] | None = None,
+                 *, right: Track | None = None, transition: int | None = None,
+                 joints: Mapping[float, float] | None = None, f_max: float | None = None):
         n = check_int_at_least("n_bays", n_bays, 0)
         kind = type(ends) if isinstance(ends, End) else end_kinds(ends)[0]
         if n == 0 and not kind.closes_alone:
             raise InputError(f"n_bays must be >= 1 with ends={kind.name!r}, got 0")
         self.n_bays = n
         super().__init__(track, n, n, ends, ends, system, elements_per_bay, changes, right_track=right,
-                         transition=transition, joints=joints)
+                         transition=transition, joints=joints, f_max=f_max)
         self.ends = kind.name  # the end condition's name; the end objects are end_models
 
 
 # ------------------------------------------------------------------------------------------------
 # Long tracks: the third route to alpha and w1
 # ------------------------------------------------------------------------------------------------
-def fe_semi_infinite_receptance(track: Track, f: ArrayLike, n_bays: int = 200, elements_per_bay: int = 12,
+def fe_semi_infinite_receptance(track: Track, f: ArrayLike, n_bays: int = 200, elements_per_bay: int | None = None,
                                 far_end: FarEndName | End = PINNED) -> np.ndarray:
     """End receptance alpha of a long semi-infinite FE track cut at a mid-span.
 
     The rail starts at the cut (node 0, loaded by F and M), the first support at d/2; the
     model holds ``n_bays`` bays and ends at a mid-span with ``far_end``. Damping removes the far
-    end's reflection when the track is long enough. With the defaults (12 elements per bay, 200
-    bays: 130 m slab, 120 m ballasted) the median error against the exact transfer method over
+    end's reflection when the track is long enough. With 12 elements per bay and 200 bays
+    (130 m slab, 120 m ballasted) the median error against the exact transfer method over
     3-2997 Hz is 0.5 % (slab) and 0.3 % (ballasted); 100 bays leave 3.8 % on the slab track
     (weakly damped propagating waves above the 183 Hz cut-on), 8 elements per bay 0.8 %. The
     largest errors (tens of %) sit at the sharp second pinned-pinned peak (2.6 / 2.9 kHz),
-    whose frequency the mesh shifts (24 elements per bay: 14 % / 28 %).
+    whose frequency the mesh shifts (24 elements per bay: 14 % / 28 %): the default mesh
+    follows the highest frequency asked (:class:`FETrack`), which removes that part.
 
     Parameters
     ----------
@@ -680,8 +772,9 @@ def fe_semi_infinite_receptance(track: Track, f: ArrayLike, n_bays: int = 200, e
         Frequencies (Hz); scalar or 1-D.
     n_bays : int
         Number of bays (>= 1).
-    elements_per_bay : int
-        Even number of elements per support spacing.
+    elements_per_bay : int, optional
+        Even number of elements per support spacing; default: from the highest frequency of
+        ``f`` (see :class:`FETrack`).
     far_end : {"pinned", "free", "exact"}
         The far end; ``"exact"`` terminates it with the exact semi-infinite end stiffness
         (removes the reflection, so a few bays suffice).
@@ -700,10 +793,15 @@ def fe_semi_infinite_receptance(track: Track, f: ArrayLike, n_bays: int = 200, e
     """
     end = make_far_end(far_end)
     n = check_int_at_least("n_bays", n_bays, 1)
-    return FETrack(track, 0, n, FREE, end, elements_per_bay=elements_per_bay).receptance(f, 0.0)
+    return FETrack(track, 0, n, FREE, end, elements_per_bay=elements_per_bay, f_max=_highest(f)).receptance(f, 0.0)
 
 
-def fe_central_receptance(track: Track, f: ArrayLike, n_bays: int = 200, elements_per_bay: int = 12,
+def _highest(f: ArrayLike) -> float:
+    """The highest of the frequencies asked (Hz), for the default mesh."""
+    return float(np.max(as_frequencies(f)))
+
+
+def fe_central_receptance(track: Track, f: ArrayLike, n_bays: int = 200, elements_per_bay: int | None = None,
                           far_end: FarEndName | End = PINNED) -> np.ndarray:
     """2x2 receptance at the central cross-section (a mid-span) of a long complete FE track.
 
@@ -718,8 +816,9 @@ def fe_central_receptance(track: Track, f: ArrayLike, n_bays: int = 200, element
         Frequencies (Hz); scalar or 1-D.
     n_bays : int
         Number of bays on each side of the centre (>= 1).
-    elements_per_bay : int
-        Even number of elements per support spacing.
+    elements_per_bay : int, optional
+        Even number of elements per support spacing; default: from the highest frequency of
+        ``f`` (see :class:`FETrack`).
     far_end : {"pinned", "free", "exact"}
         Both far ends; ``"exact"`` removes their reflections.
 
@@ -737,4 +836,4 @@ def fe_central_receptance(track: Track, f: ArrayLike, n_bays: int = 200, element
     """
     end = make_far_end(far_end)
     n = check_int_at_least("n_bays", n_bays, 1)
-    return TruncatedTrack(track, n, end, elements_per_bay=elements_per_bay).central_receptance(f)
+    return TruncatedTrack(track, n, end, elements_per_bay=elements_per_bay, f_max=_highest(f)).central_receptance(f)
