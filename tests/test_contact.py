@@ -326,7 +326,7 @@ def test_several_wheels_start_quietly_and_one_in_a_list_is_one():
     late = two.t > 2e-3
     ahead = 1e-6 * np.cos(2 * np.pi * SPEED / 0.2 * (two.t[late] + 0.05 / SPEED))
     np.testing.assert_allclose(two.roughness[late, 1], ahead, atol=1e-15)
-    with pytest.raises(ValueError, match="contact_transfer takes one wheel's run, got 2 wheels"):
+    with pytest.raises(ValueError, match="contact_transfer of a run with 2 wheels needs wheel=i"):
         st.contact_transfer(two)
     f, amplitude = two.force_spectrum(after=0.01)
     assert amplitude.shape == (f.size, 2)  # a spectrum per wheel, each as one wheel's record gives it

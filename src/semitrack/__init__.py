@@ -46,6 +46,8 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "TruncatedTrack": ("fe.models", "TruncatedTrack"),
     "WavenumberSettings": ("methods.wavenumber", "WavenumberSettings"),
     "Wheel": ("model.wheel", "Wheel"),
+    "Bogie": ("model.vehicle", "Bogie"),
+    "WheelGroup": ("model.vehicle", "WheelGroup"),
     "default_fit_frequencies": ("equivalent.fitting", "default_fit_frequencies"),
     "fe_central_receptance": ("fe.models", "fe_central_receptance"),
     "fe_semi_infinite_receptance": ("fe.models", "fe_semi_infinite_receptance"),

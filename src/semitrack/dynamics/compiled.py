@@ -185,8 +185,8 @@ def _contact_vectors(unit, dinv, wheels, dofs, weights, P, support, count, G, p,
 
 
 @_jit
-def _step_contacts(k, y, c_wheels, c_dofs, c_w, c_h, c_r, unit, dinv, P, support, count, G, a_c, force, hertz_work,
-                   p, dense):
+def _step_contacts(k, y, c_wheels, c_dofs, c_w, c_h, c_r, c_g, unit, dinv, P, support, count, G, a_c, force,
+                   hertz_work, p, dense):
     """The contact forces of step ``k`` from the forward-swept load ``y = L^-1 rhs``, added to it.
 
     The approaches need the free step's motion at the contacts, ``b_i^T u_free = p_i^T D^-1 y``:
@@ -196,6 +196,8 @@ def _step_contacts(k, y, c_wheels, c_dofs, c_w, c_h, c_r, unit, dinv, P, support
     row = k if c_dofs.shape[0] > 1 else 0
     if k == 1 or c_dofs.shape[0] > 1:
         _contact_vectors(unit, dinv, c_wheels, c_dofs[row], c_w[row], P, support, count, G, p, dense)
+        for i in range(c_wheels.size):
+            G[i, i] += c_g[row, i]  # the local compliance in series with each contact
     for i in range(c_wheels.size):
         s = 0.0
         for m in range(count[i]):
@@ -232,7 +234,7 @@ def _run(n_steps, coef, dt, gamma, mc, ldl, offset, u, v, a, lf, lm, st, ct, pr,
     a0, a1, a2, a3, a4, a5 = coef
     n = u.size
     s_dofs, e_p, e_i, e_d, f_p, f_i, f_d, h_p, h_i, h_d, block = st
-    c_wheels, c_dofs, c_w, c_h, c_r = ct
+    c_wheels, c_dofs, c_w, c_h, c_r, c_g = ct
     pf_dofs, pf_w, pm_dofs, pm_w = pr
     out_rec, out_pf, out_pm, out_f, out_ww, out_wr = out
     nb, k_c = s_dofs.size, c_wheels.size
@@ -268,8 +270,8 @@ def _run(n_steps, coef, dt, gamma, mc, ldl, offset, u, v, a, lf, lm, st, ct, pr,
                 rhs[s_dofs[i]] -= s
         _forward(ldl[0], rhs, 0)
         if k_c:
-            _step_contacts(k, rhs, c_wheels, c_dofs, c_w, c_h, c_r, ldl[0], ldl[1], P, support, count, G, a_c,
-                           force, hertz_work, p_work, dense)
+            _step_contacts(k, rhs, c_wheels, c_dofs, c_w, c_h, c_r, c_g, ldl[0], ldl[1], P, support, count, G,
+                           a_c, force, hertz_work, p_work, dense)
         _backward(ldl[0], ldl[1], rhs)
         for i in range(n):
             u_new[i] = rhs[i]
@@ -278,6 +280,8 @@ def _run(n_steps, coef, dt, gamma, mc, ldl, offset, u, v, a, lf, lm, st, ct, pr,
             for i in range(k_c):
                 out_f[k, i], out_ww[k, i] = force[i], u_new[c_wheels[i]]
             _interpolate(c_dofs[row], c_w[row], u_new, out_wr[k])
+            for i in range(k_c):
+                out_wr[k, i] += c_g[row, i] * force[i]
         if nb:
             for i in range(nb):
                 du[i] = u_new[s_dofs[i]] - ub[i]

@@ -177,6 +177,12 @@ class HertzContacts:
         roughness, a dip or a joint; the approach is ``w_wheel - w_rail - irregularity``.
     labels : tuple of str
         A label per wheel.
+    compliance : ndarray, optional
+        A local compliance in series with each contact (m/N), ``(1, k)`` for fixed points or
+        ``(n_steps + 1, k)`` per step for moving ones: what the structure's interpolation misses
+        under a point force (a beam element's own deflection under a load between its nodes,
+        :func:`semitrack.fe.element.point_flexibility`). The rail's surface under the wheel is
+        ``points.values(u) + compliance F``; default none.
     """
 
     wheel_dofs: np.ndarray
@@ -184,6 +190,7 @@ class HertzContacts:
     hertz_constants: np.ndarray
     irregularity: np.ndarray
     labels: tuple = ()
+    compliance: np.ndarray | None = None
 
     def __post_init__(self):
         wheels = np.asarray(self.wheel_dofs, dtype=np.int64).ravel()
@@ -195,24 +202,38 @@ class HertzContacts:
                              f"(n_steps + 1, {k}); got {self.points.n_points}, {c_h.shape} and {r.shape}")
         if not np.all(np.isfinite(c_h) & (c_h > 0)):
             raise InputError(f"hertz_constants must be positive and finite (N/m^1.5), got {c_h.tolist()}")
+        rows = self.points.dofs.shape[0]
+        g = np.zeros((rows, k)) if self.compliance is None else np.asarray(self.compliance, dtype=float)
+        if g.shape != (rows, k) or not np.all(np.isfinite(g) & (g >= 0)):
+            raise InputError(f"compliance must be ({rows}, {k}) values >= 0 (m/N), one row per row of the points")
         object.__setattr__(self, "wheel_dofs", wheels)
         object.__setattr__(self, "hertz_constants", c_h)
         object.__setattr__(self, "irregularity", np.ascontiguousarray(r))
         object.__setattr__(self, "labels", tuple(self.labels) or tuple(f"wheel {i}" for i in range(k)))
+        object.__setattr__(self, "compliance", np.ascontiguousarray(g))
 
     @property
     def n_contacts(self) -> int:
         """Number of wheels."""
         return self.wheel_dofs.size
 
+    def local_compliance(self, k: int) -> np.ndarray:
+        """The contacts' local compliance at step ``k`` (m/N), shape (k,)."""
+        return self.compliance[k if self.compliance.shape[0] > 1 else 0]
+
     def approach(self, u: np.ndarray, k: int) -> np.ndarray:
-        """The approaches ``w_wheel - w_rail - irregularity`` (m) in state ``u`` at step ``k``."""
+        """The approaches ``w_wheel - points.values(u) - irregularity`` (m) in state ``u`` at step ``k``,
+        before the local compliance's share ``compliance F``."""
         return u[self.wheel_dofs] - self.points.values(u, k) - self.irregularity[k]
 
     def forces(self, u: np.ndarray, k: int) -> np.ndarray:
-        """The contact forces (N) of the state ``u`` at step ``k`` (no step compliance: ``G = 0``)."""
-        delta = np.maximum(self.approach(u, k), 0.0)
-        return self.hertz_constants * delta * np.sqrt(delta)
+        """The contact forces (N) of the state ``u`` at step ``k``: ``F = C_H max(a - g F, 0)^(3/2)`` with the
+        local compliance g alone (no step compliance)."""
+        force = np.zeros(self.n_contacts)
+        if solve_hertz(self.hertz_constants, self.approach(u, k), np.diag(self.local_compliance(k)), force,
+                       np.zeros((self.n_contacts, self.n_contacts + 5))) > MAX_NEWTON:
+            raise RuntimeError(f"the contact forces did not converge in {MAX_NEWTON} Newton steps")
+        return force
 
     def load_vectors(self, n: int, k: int):
         """The sparse ``(n, k)`` matrix of the contacts' load vectors ``b_i`` at step ``k``."""
@@ -223,4 +244,4 @@ class HertzContacts:
     def renumbered(self, where: np.ndarray) -> HertzContacts:
         """The same contacts on DOFs renamed ``where[i]``."""
         return HertzContacts(where[self.wheel_dofs], self.points.renumbered(where), self.hertz_constants,
-                             self.irregularity, self.labels)
+                             self.irregularity, self.labels, self.compliance)

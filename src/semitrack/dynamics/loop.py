@@ -122,7 +122,7 @@ class _ContactStep:
         if self.g is None or c.points.moving:
             B = c.load_vectors(self.n, k)
             self.g = self.factor.solve(B.toarray())
-            self.G = np.asarray(B.T @ self.g)
+            self.G = np.asarray(B.T @ self.g) + np.diag(c.local_compliance(k))
             if not np.all(np.diagonal(self.G) > 0):
                 raise RuntimeError(f"the contacts' step compliance must be positive, got {np.diagonal(self.G)} m/N")
         a = c.approach(u_free, k)
@@ -134,7 +134,7 @@ class _ContactStep:
 def _write_contacts(out: Outputs, contacts: HertzContacts, k: int, u: np.ndarray, force: np.ndarray) -> None:
     out.force[k] = force
     out.wheel[k] = u[contacts.wheel_dofs]
-    out.rail[k] = contacts.points.values(u, k)
+    out.rail[k] = contacts.points.values(u, k) + contacts.local_compliance(k) * force
 
 
 def run_numpy(arrays: StepArrays) -> Outputs:

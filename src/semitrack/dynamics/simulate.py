@@ -369,7 +369,7 @@ def _first_row(arrays, out, o_pf, o_pm, pf, pm, u, rec, k_c) -> None:
         c = arrays.contacts
         out.force[0] = c.forces(arrays.u, 0)
         out.wheel[0] = arrays.u[c.wheel_dofs]
-        out.rail[0] = c.points.values(arrays.u, 0)
+        out.rail[0] = c.points.values(arrays.u, 0) + c.local_compliance(0) * out.force[0]
 
 
 def _split_probes(probes, out: Outputs, o_pf, o_pm) -> None:
@@ -394,7 +394,7 @@ def _state_arrays(states: TrapezoidalStates | None, where):
 def _contact_arrays(contacts: HertzContacts | None, where):
     if contacts is None:
         return (np.zeros(0, np.uint64), np.zeros((1, 0, 1), np.uint64), np.zeros((1, 0, 1)), np.zeros(0),
-                np.zeros((1, 0)))
+                np.zeros((1, 0)), np.zeros((1, 0)))
     c = contacts.renumbered(where)
     return (c.wheel_dofs.astype(np.uint64), c.points.dofs.astype(np.uint64), c.points.weights, c.hertz_constants,
-            c.irregularity)
+            c.irregularity, c.compliance)

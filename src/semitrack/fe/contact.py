@@ -46,16 +46,18 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ..base.checks import check_int_at_least, check_nonnegative, check_positive, check_real
+from ..base.checks import check_int_at_least, check_nonnegative, check_positive
 from ..base.errors import InputError, InputTypeError
 from ..dynamics.contact import MAX_NEWTON, HertzContacts, solve_hertz
 from ..dynamics.factor import factorise
 from ..dynamics.newmark import Newmark
 from ..dynamics.points import PointSet
 from ..dynamics.simulate import simulate
-from ..dynamics.system import SecondOrderSystem, union
+from ..dynamics.system import union
+from ..methods.infinite import InfiniteTrack
 from ..methods.wheelrail import wheel_rail_force
 from ..model.tracks import Track
+from ..model.vehicle import Vehicle, as_vehicle
 from ..model.wheel import Wheel
 from .models import FETrack, require_model
 from .roughness import Roughness, third_octave_bands
@@ -130,6 +132,11 @@ class ContactResponse:
         Wall time of the time integration (s).
     wheels : tuple of Wheel
         Every wheel (``wheel`` is the first); with several, the histories have a column each.
+    vehicle : Vehicle
+        The vehicle the wheels belong to (a :class:`semitrack.Bogie`, or the wheels on their own
+        suspensions).
+    infinite : InfiniteTrack
+        The exact infinite track with the model's changes (the linear theory's rail).
     """
 
     t: np.ndarray
@@ -146,6 +153,8 @@ class ContactResponse:
     n_dof: int
     elapsed: float
     wheels: tuple = ()
+    vehicle: Vehicle | None = None
+    infinite: InfiniteTrack | None = None
 
     @property
     def dt(self) -> float:
@@ -206,22 +215,13 @@ class ContactResponse:
         return np.mod(self.x + 0.5 * d, d)
 
 
-def _as_wheels(wheel) -> tuple[Wheel, ...]:
-    wheels = (wheel,) if isinstance(wheel, Wheel) else tuple(wheel) if isinstance(wheel, (list, tuple)) else None
-    if not wheels or not all(isinstance(w, Wheel) for w in wheels):
-        raise InputTypeError(f"wheel must be a semitrack Wheel (e.g. st.Wheel()) or a list of them, got {wheel!r}")
-    return wheels
-
-
-def _check_inputs(model, wheels, roughness, x_contact, speed, dt, duration, ramp):
+def _check_inputs(model, vehicle, roughness, x_contact, speed, dt, duration, ramp):
     """The checked scalars of :func:`wheel_rail_response`, and the contacts' paths along the rail."""
     require_model(model)
     if roughness is not None and not isinstance(roughness, Roughness):
         raise InputTypeError(f"roughness must be None (a smooth rail) or a Roughness (roughness_from_spectrum, "
                              f"corrugation), got {type(roughness).__name__}")
-    x0 = np.array([check_real("x_contact", x) for x in np.atleast_1d(np.asarray(x_contact, dtype=object))])
-    if x0.size != len(wheels):
-        raise InputError(f"x_contact must give one position per wheel ({len(wheels)}), got {x_contact!r}")
+    x0 = vehicle.positions(x_contact, "x_contact")
     speed = check_nonnegative("speed", speed)
     dt, duration, ramp = check_positive("dt", dt), check_positive("duration", duration), check_positive("ramp", ramp)
     if not duration > ramp:
@@ -239,24 +239,21 @@ def _check_inputs(model, wheels, roughness, x_contact, speed, dt, duration, ramp
     return dt, ramp, n_steps, x
 
 
-def _wheel_system(wheel: Wheel) -> SecondOrderSystem:
-    """The wheel as one DOF (m, downward) on its primary suspension to a bogie held still."""
-    return SecondOrderSystem([[wheel.mass]], [[wheel.primary_damping]], [[wheel.primary_stiffness]])
-
-
-def _static_start(model: FETrack, wheels: tuple[Wheel, ...], K: sp.csc_matrix,
-                  contacts: PointSet) -> tuple[np.ndarray, np.ndarray]:
+def _static_start(model: FETrack, vehicle: Vehicle, K: sp.csc_matrix, contacts: PointSet,
+                  flexibility: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The static equilibrium under the preloads with the contacts at their first positions.
 
-    Returns the state ``u0`` (model DOFs, then the wheels') and the constant loads on the wheels,
-    ``P0 + k1 w0`` (w0 a wheel's static deflection: its suspension carries none of the preload).
+    ``flexibility`` is the rail elements' own deflection under each contact at the start (m/N).
+    Returns the state ``u0`` (model DOFs, then the vehicle's) and the constant loads on the
+    vehicle's DOFs (:meth:`semitrack.model.vehicle.Vehicle.static_loads`: each contact at its
+    wheel's preload, a suspension to a still bogie carrying none of it).
     """
-    n = model.n_dof
+    n, wheels = model.n_dof, vehicle.wheels
     preload = np.array([w.preload for w in wheels])
-    u0 = np.zeros(n + len(wheels))
-    u0[:n] = factorise(K).solve(contacts.matrix(n, 0).T @ preload)
-    u0[n:] = contacts.values(u0[:n], 0) + np.array([w.static_approach for w in wheels])
-    return u0, preload + np.array([w.primary_stiffness for w in wheels]) * u0[n:]
+    u_track = factorise(K).solve(contacts.matrix(n, 0).T @ preload)
+    w0 = contacts.values(u_track, 0) + flexibility * preload + np.array([w.static_approach for w in wheels])
+    u_vehicle = vehicle.static_state(w0)
+    return np.concatenate([u_track, u_vehicle]), vehicle.static_loads(u_vehicle)
 
 
 def _contact_points(model: FETrack, x: np.ndarray, moving: bool) -> PointSet:
@@ -269,7 +266,7 @@ def _contact_points(model: FETrack, x: np.ndarray, moving: bool) -> PointSet:
 def wheel_rail_response(model: FETrack, wheel: Wheel | Sequence[Wheel], roughness: Roughness | None = None, *,
                         x_contact: float | Sequence[float] = 0.0, speed: float = 0.0, dt: float = 1e-5,
                         duration: float = 0.1, ramp: float = 0.02, f_ref: float | dict | None = None,
-                        compiled: bool | None = None) -> ContactResponse:
+                        compiled: bool | None = None, element_flexibility: bool = True) -> ContactResponse:
     """Wheels on an FE track in time: nonlinear Hertzian contacts driven by roughness or by rolling.
 
     Parameters
@@ -304,6 +301,13 @@ def wheel_rail_response(model: FETrack, wheel: Wheel | Sequence[Wheel], roughnes
     compiled : bool, optional
         The step loop: compiled (True), NumPy (False) or compiled where it can run (None);
         see :func:`semitrack.dynamics.simulate.simulate`.
+    element_flexibility : bool
+        Add each rail element's own deflection under its contact force in series with the
+        contact (:meth:`FETrack.local_flexibility`; default). False reads the rail under a wheel
+        from the mesh's interpolation alone, as the engine did before: a contact between nodes is
+        then too stiff by up to 2 % of the Hertzian compliance, the two-wheel bands 0.3 dB off at
+        1.6 kHz on the slab track (0.1 dB with it), and a rolling wheel sees a mesh line at
+        ``speed / element length``.
 
     Returns
     -------
@@ -320,26 +324,30 @@ def wheel_rail_response(model: FETrack, wheel: Wheel | Sequence[Wheel], roughnes
     >>> bool(abs(res.force[-1] / 1e5 - 1) < 0.01), res.lost_contact
     (True, False)
     """
-    wheels = _as_wheels(wheel)
-    dt, ramp, n_steps, x = _check_inputs(model, wheels, roughness, x_contact, speed, dt, duration, ramp)
+    vehicle = as_vehicle(wheel)
+    wheels = vehicle.wheels
+    dt, ramp, n_steps, x = _check_inputs(model, vehicle, roughness, x_contact, speed, dt, duration, ramp)
     k = len(wheels)
     track = model.time_domain_system(f_ref)
-    system = union({"track": track, **{f"wheel {i}": _wheel_system(w) for i, w in enumerate(wheels)}})
+    system = union({"track": track, "vehicle": vehicle.system()})
     t = dt * np.arange(n_steps + 1)
     points = _contact_points(model, x, speed > 0)
-    u0, wheel_loads = _static_start(model, wheels, track.K, points)
+    flexibility = model.local_flexibility(x if speed > 0 else x[:1], name="x_contact") * bool(element_flexibility)
+    u0, vehicle_loads = _static_start(model, vehicle, track.K, points, flexibility[0])
     fade = sin2_ramp(t, ramp)
     r = np.zeros((t.size, k)) if roughness is None else np.column_stack(
         [roughness.shifted(x[0, i] - x[0, 0]).sampled(dt, t.size) * fade for i in range(k)])
-    wheel_dofs = np.concatenate([system.dofs(f"wheel {i}") for i in range(k)])
-    contacts = HertzContacts(wheel_dofs, points, [w.hertz_constant for w in wheels], r)
-    loads = [(PointSet.on_dofs(wheel_dofs), np.tile(wheel_loads, (t.size, 1)))]
+    vehicle_dofs = model.n_dof + np.arange(vehicle_loads.size)
+    contacts = HertzContacts(vehicle_dofs[:k], points, [w.hertz_constant for w in wheels], r,
+                             compliance=flexibility)
+    loads = [(PointSet.on_dofs(vehicle_dofs), np.tile(vehicle_loads, (t.size, 1)))]
     res = simulate(system, Newmark(dt), n_steps, loads=loads, contacts=contacts, u0=u0, compiled=compiled)
     one = (lambda a: a[:, 0]) if k == 1 else (lambda a: a)
     return ContactResponse(t=t, force=one(res["contact force"]), w_wheel=one(res["wheel"]), w_rail=one(res["rail"]),
                            roughness=one(r), x=one(x), track=model.track, wheel=wheels[0], speed=float(speed),
-                           ramp=ramp, period=None if roughness is None else roughness.period, n_dof=model.n_dof + k,
-                           elapsed=res.elapsed, wheels=wheels)
+                           ramp=ramp, period=None if roughness is None else roughness.period,
+                           n_dof=model.n_dof + vehicle_loads.size, elapsed=res.elapsed, wheels=wheels,
+                           vehicle=vehicle, infinite=model.infinite_track())
 
 
 @dataclass(frozen=True, eq=False)
@@ -384,7 +392,7 @@ def _band_levels(H: np.ndarray, r: np.ndarray, band_of_line: np.ndarray, n_bands
 
 
 def contact_transfer(response: ContactResponse, band: tuple[float, float] = (50.0, 2500.0),
-                     periods: int = 1) -> ContactTransfer:
+                     periods: int = 1, wheel: int | None = None) -> ContactTransfer:
     """Force per unit roughness from the last whole roughness periods of a stationary wheel's run.
 
     A periodic roughness (:class:`semitrack.Roughness`) has all its power on lines ``j / period``;
@@ -407,6 +415,11 @@ def contact_transfer(response: ContactResponse, band: tuple[float, float] = (50.
         name their band).
     periods : int
         Number of whole roughness periods at the end of the record to analyse (>= 1).
+    wheel : int, optional
+        With several wheels, whose force: the transfer is then the force at that wheel per unit
+        roughness under the first wheel, ``sum_j H_ij R_j / R_1`` in the linear theory (the
+        roughness reaching wheel j earlier or later, :func:`semitrack.wheel_rail_force`'s matrix
+        ``H`` on the model's exact infinite track). Required with several wheels.
 
     Returns
     -------
@@ -414,9 +427,13 @@ def contact_transfer(response: ContactResponse, band: tuple[float, float] = (50.
     """
     if not isinstance(response, ContactResponse):
         raise InputTypeError(f"response must be a ContactResponse (wheel_rail_response), got {type(response).__name__}")
-    if response.force.ndim != 1:
-        raise InputError(f"contact_transfer takes one wheel's run, got {response.force.shape[1]} wheels; the "
-                         "force per roughness of several coupled wheels is a matrix (one column each)")
+    n_wheels = 1 if response.force.ndim == 1 else response.force.shape[1]
+    if wheel is None and n_wheels > 1:
+        raise InputError(f"contact_transfer of a run with {n_wheels} wheels needs wheel=i (0 <= i < {n_wheels}): "
+                         "the force at wheel i per unit roughness under the first wheel")
+    wheel = check_int_at_least("wheel", 0 if wheel is None else wheel, 0)
+    if wheel >= n_wheels:
+        raise InputError(f"wheel must be below the number of wheels, {n_wheels}, got {wheel}")
     if response.period is None or response.speed != 0:
         raise InputError("contact_transfer needs a stationary wheel (speed=0) driven by a roughness, got "
                          f"speed={response.speed!r} m/s and period={response.period!r}")
@@ -434,8 +451,10 @@ def contact_transfer(response: ContactResponse, band: tuple[float, float] = (50.
     if start < 0 or response.t[start] < response.t_full - 1e-12:
         raise InputError(f"periods={periods} roughness periods of {response.period:.6g} s must fit after the fade-in "
                          f"(t >= {response.t_full:.6g} s) in a record of {response.t[-1]:.6g} s; simulate longer")
-    spectra = [np.fft.rfft(s[start:].reshape(periods, n_per), axis=1) for s in (response.roughness, response.force)]
-    R, F = spectra
+    column = (lambda a: a) if n_wheels == 1 else (lambda a: a[:, wheel])  # noqa: E731
+    rough = response.roughness.reshape(response.t.size, -1)
+    R_all = np.fft.rfft(rough[start:].T.reshape(n_wheels, periods, n_per), axis=2)  # every wheel's roughness
+    R, F = R_all[0], np.fft.rfft(column(response.force)[start:].reshape(periods, n_per), axis=1)
     try:
         centres, lower, upper = third_octave_bands(lo, hi)
     except (TypeError, ValueError) as err:
@@ -452,7 +471,21 @@ def contact_transfer(response: ContactResponse, band: tuple[float, float] = (50.
     band_of_line = np.searchsorted(upper, f, side="right")
     used = np.unique(band_of_line)
     band_of_line = np.searchsorted(used, band_of_line)
-    linear = wheel_rail_force(response.track, f, response.wheel, float(response.x_from_support[0]))
+    linear = _linear_transfer(response, f, R_all[:, :, keep], wheel)
     return ContactTransfer(f=f, H=H, linear=linear, r_amplitude=r_amp, centres=centres[used],
                            level=_band_levels(H, r_amp, band_of_line, used.size),
                            linear_level=_band_levels(linear, r_amp, band_of_line, used.size))
+
+
+def _linear_transfer(response: ContactResponse, f: np.ndarray, R: np.ndarray, wheel: int) -> np.ndarray:
+    """The linear theory's force at ``wheel`` per unit roughness under the first, on the lines ``f``.
+
+    ``R`` holds every wheel's roughness spectrum on those lines, (wheels, periods, lines): the
+    roughness reaches each wheel with its own phase, ``R_j / R_1`` read from the run itself.
+    """
+    x0 = response.x if response.x.ndim == 1 else response.x[0]
+    if response.infinite is None:  # a response made by hand: the periodic track, one wheel
+        return wheel_rail_force(response.track, f, response.wheel, float(response.x_from_support[0]))
+    H = wheel_rail_force(response.infinite, f, response.vehicle, x=np.atleast_1d(x0)[: len(response.wheels)])
+    ratio = R[:, 0, :] / R[0, 0, :]  # (wheels, lines)
+    return np.einsum("fj,jf->f", H[:, wheel, :], ratio)

@@ -44,7 +44,7 @@ from ..methods.infinite import InfiniteTrack
 from ..model.tracks import Track, require_track
 from .assembly import DAMPED, TrackMatrices, assemble
 from .damping import reference_frequencies
-from .element import shear_parameter, timoshenko_shape_functions
+from .element import point_flexibility, shear_parameter, timoshenko_shape_functions
 from .ends import EXACT, FREE, PINNED, End, EndName, FarEndName, end_kinds, make_far_end, model_ends
 from .mesh import KINDS, DofMap, Kind, Mesh, bay_mesh, dof_map, rail_dof
 from .meshsize import MESH_TOLERANCE, PROBE_ELEMENTS, MeshProbe, elements_for, probe_grid, valid_frequency
@@ -382,6 +382,33 @@ class FETrack:
         if moving:
             return PointSet(dofs[:, None, :], weights[:, None, :], (f"{kind} on the moving point",))
         return PointSet(dofs[None], weights[None], tuple(f"{kind}(x={x:g} m)" for x in xs))
+
+    def local_flexibility(self, positions: ArrayLike, *, name: str = "x") -> np.ndarray:
+        """The rail element's own deflection under a unit vertical force at each position (m/N).
+
+        What the mesh's interpolation misses under a point force between nodes
+        (:func:`semitrack.fe.element.point_flexibility`): in series with a wheel's contact there,
+        ``w(x) = weights @ u + flexibility F``; 0 at a node.
+
+        Parameters
+        ----------
+        positions : array_like
+            Positions on the rail (m), any shape.
+        name : str
+            The parameter name quoted in errors.
+
+        Returns
+        -------
+        ndarray
+            The shape of ``positions``.
+        """
+        xs = np.asarray(positions, dtype=float)
+        self._weights(xs.ravel(), "w", name)  # checks they lie on the rail
+        e, xi = self.mesh.locate(xs.ravel())
+        rail = [self.tracks[p] for p in range(len(self.tracks))]
+        EI = np.array([t.E * t.I for t in rail])[self.mesh.part[e]]
+        kAG = np.array([t.kappa * t.A * t.G for t in rail])[self.mesh.part[e]]
+        return point_flexibility(EI, kAG, self.mesh.lengths[e], xi).reshape(xs.shape)
 
     def output_matrix(self, positions: ArrayLike, kind: Kind = "w") -> sp.csr_matrix:
         """Sparse matrix mapping the DOF vector to ``w`` (or ``psi``) at arbitrary positions.

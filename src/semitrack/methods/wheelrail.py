@@ -12,39 +12,59 @@ Sign convention: r is the rail surface's displacement, downward like w, so r > 0
 relieves the contact; F is the compression, positive when wheel and rail press together. The
 rail's receptance is that of a stationary load at x (the moving-irregularity model): the
 wheel's speed is small beside the track's wave speeds.
+
+Several wheels (a list, or a vehicle such as :class:`semitrack.Bogie`) at positions x_i couple
+through the rail and through the vehicle: with the rail's transfer receptances
+``A_R[i, j] = w(x_i) / F(x_j)`` (:class:`semitrack.InfiniteTrack`, exact, local changes too), the
+vehicle's receptance matrix at its wheels ``A_W`` and the contacts' ``A_C = diag(1 / k_H)``,
+
+    F = H r,   H = -(A_W + A_C + A_R)^-1,
+
+``H[i, j]`` the force at wheel i per unit roughness under wheel j; one wheel gives the line above.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import as_frequencies
-from ..base.errors import InputTypeError
-from ..model.tracks import PeriodicCell, Track
+from ..base.checks import as_frequencies, check_real
+from ..model.tracks import PeriodicCell, Track, require_track
+from ..model.vehicle import Vehicle, as_vehicle
 from ..model.wheel import Wheel
+from .infinite import InfiniteTrack
 from .receptance import point_receptance
 
 
-def wheel_rail_force(track: Track | PeriodicCell, f: ArrayLike, wheel: Wheel, x: float = 0.0) -> np.ndarray:
+def wheel_rail_force(track: Track | PeriodicCell | InfiniteTrack, f: ArrayLike,
+                     wheel: Wheel | Vehicle | Sequence[Wheel], x: float | ArrayLike = 0.0) -> np.ndarray:
     """Dynamic wheel-rail contact force per unit roughness, linear (N/m).
 
     Parameters
     ----------
-    track : Track or PeriodicCell
-        The infinite periodic track.
+    track : Track, PeriodicCell or InfiniteTrack
+        The infinite periodic track, or an :class:`semitrack.InfiniteTrack` with local changes
+        (several wheels always take that route).
     f : array_like
         Frequencies (Hz), positive and finite.
-    wheel : Wheel
-        Unsprung mass, primary suspension, preload and Hertz constant.
-    x : float
-        Contact position measured from a support (m); ``spacing / 2`` is mid-span.
+    wheel : Wheel, sequence of Wheel, or Vehicle
+        One wheel (unsprung mass, primary suspension to a bogie held still, preload and Hertz
+        constant); several such wheels; or a vehicle (:class:`semitrack.Bogie`), whose own
+        receptance matrix couples its wheels.
+    x : float or array_like
+        The contact positions (m): on a Track, measured from a support (``spacing / 2`` is
+        mid-span); on an InfiniteTrack, in its coordinates (from the central mid-span). One per
+        wheel; for a vehicle also a single position, that of its first wheel, the others at the
+        vehicle's offsets.
 
     Returns
     -------
-    ndarray of complex, the shape of ``f``
-        F / r = -1 / (alpha_W + alpha_C + alpha_R(x)) in N/m: compression per unit roughness,
-        r positive downward (a dip).
+    ndarray of complex
+        One wheel at one position on a Track: the shape of ``f``, F / r = -1 / (alpha_W +
+        alpha_C + alpha_R(x)). Otherwise ``f.shape + (k, k)``: ``[..., i, j]`` the compression
+        at wheel i per unit roughness under wheel j (r positive downward, a dip).
 
     Examples
     --------
@@ -52,9 +72,29 @@ def wheel_rail_force(track: Track | PeriodicCell, f: ArrayLike, wheel: Wheel, x:
     >>> force = st.wheel_rail_force(st.slab_track(), [100.0, 1000.0], st.Wheel())
     >>> force.shape
     (2,)
+    >>> st.wheel_rail_force(st.slab_track(), [100.0, 1000.0], st.Bogie(), x=0.0).shape
+    (2, 2, 2)
     """
-    if not isinstance(wheel, Wheel):
-        raise InputTypeError(f"wheel must be a semitrack Wheel (e.g. st.Wheel()), got {type(wheel).__name__}")
     f = as_frequencies(f)
-    alpha_r = point_receptance(track, f, x)[..., 0, 0]
-    return -1.0 / (wheel.receptance(f) + 1.0 / wheel.contact_stiffness + alpha_r)
+    if isinstance(wheel, Wheel) and np.ndim(x) == 0 and not isinstance(track, InfiniteTrack):
+        alpha_r = point_receptance(track, f, check_real("x", x))[..., 0, 0]
+        return -1.0 / (wheel.receptance(f) + 1.0 / wheel.contact_stiffness + alpha_r)
+    vehicle = as_vehicle(wheel)
+    infinite, xs = _rail_and_positions(track, vehicle, x)
+    k = xs.size
+    ff = np.atleast_1d(f)
+    A = vehicle.receptance(ff) + np.diag([1.0 / w.contact_stiffness for w in vehicle.wheels])[None]
+    for j in range(k):
+        A[:, :, j] += infinite.receptance(ff, xs[j], xs)[:, :, 0, 0]
+    return (-np.linalg.inv(A)).reshape(f.shape + (k, k))
+
+
+def _rail_and_positions(track, vehicle: Vehicle, x) -> tuple[InfiniteTrack, np.ndarray]:
+    """The exact infinite track and the contacts in its coordinates (m from the central mid-span)."""
+    if isinstance(track, InfiniteTrack):
+        infinite, shift = track, 0.0
+    else:
+        plain = track.track if isinstance(track, PeriodicCell) else require_track(track)
+        infinite, shift = InfiniteTrack(plain), 0.5 * plain.spacing  # a support sits at d/2
+    xs = vehicle.positions(x)
+    return infinite, xs + shift
