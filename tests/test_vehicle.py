@@ -147,8 +147,8 @@ def test_the_element_flexibility_removes_most_of_the_mesh_line_of_a_rolling_whee
         res = st.wheel_rail_response(model, st.Wheel(), x_contact=-5.0, speed=v, dt=2e-5, duration=0.12,
                                      element_flexibility=flexible)
         f, amplitude = res.force_spectrum(after=0.03)
-        near = lambda line: amplitude[np.abs(f - line) < 3 * (f[1] - f[0])].max()  # noqa: E731
-        lines[flexible] = near(v / track.spacing), near(v / model.element_length)
+        lines[flexible] = [amplitude[np.abs(f - line) < 3 * (f[1] - f[0])].max()
+                           for line in (v / track.spacing, v / model.element_length)]
     assert lines[True][0] == pytest.approx(lines[False][0], rel=0.01)
     assert lines[True][1] < lines[False][1] / 8
     runs = [st.wheel_rail_response(model, st.Bogie(), x_contact=-5.0, speed=v, dt=2e-5, duration=0.03,

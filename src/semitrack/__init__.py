@@ -47,6 +47,8 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "WavenumberSettings": ("methods.wavenumber", "WavenumberSettings"),
     "Wheel": ("model.wheel", "Wheel"),
     "Bogie": ("model.vehicle", "Bogie"),
+    "DippedWeld": ("model.irregularity", "DippedWeld"),
+    "RailProfile": ("model.irregularity", "RailProfile"),
     "WheelGroup": ("model.vehicle", "WheelGroup"),
     "default_fit_frequencies": ("equivalent.fitting", "default_fit_frequencies"),
     "fe_central_receptance": ("fe.models", "fe_central_receptance"),

@@ -56,12 +56,14 @@ from ..dynamics.simulate import simulate
 from ..dynamics.system import union
 from ..methods.infinite import InfiniteTrack
 from ..methods.wheelrail import wheel_rail_force
+from ..model.irregularity import Irregularity
 from ..model.tracks import Track
 from ..model.vehicle import Vehicle, as_vehicle
 from ..model.wheel import Wheel
 from .models import FETrack, require_model
 from .roughness import Roughness, third_octave_bands
 from .timedomain import sin2_ramp
+from .trackforces import TrackForces, track_forces, watched_dofs
 
 __all__ = ["ContactResponse", "ContactTransfer", "wheel_rail_response", "contact_transfer", "hertz_contact_force"]
 
@@ -137,6 +139,9 @@ class ContactResponse:
         suspensions).
     infinite : InfiniteTrack
         The exact infinite track with the model's changes (the linear theory's rail).
+    track_forces : TrackForces or None
+        Rail-seat and ballast forces at the watched supports and the rail's bending moment
+        (``watch_supports``, ``bending_at``); None when none were asked for.
     """
 
     t: np.ndarray
@@ -155,6 +160,7 @@ class ContactResponse:
     wheels: tuple = ()
     vehicle: Vehicle | None = None
     infinite: InfiniteTrack | None = None
+    track_forces: TrackForces | None = None
 
     @property
     def dt(self) -> float:
@@ -256,6 +262,18 @@ def _static_start(model: FETrack, vehicle: Vehicle, K: sp.csc_matrix, contacts: 
     return np.concatenate([u_track, u_vehicle]), vehicle.static_loads(u_vehicle)
 
 
+def _profile_along(profile: Irregularity, x: np.ndarray) -> np.ndarray:
+    """Each wheel's drop of the rail ``r(x_i(t))`` (m), checked zero where the wheels start."""
+    if not isinstance(profile, Irregularity):
+        raise InputTypeError(f"profile must be an Irregularity (st.DippedWeld, st.RailProfile), got "
+                             f"{type(profile).__name__}")
+    r = profile(x)
+    if np.any(r[0] != 0):
+        raise InputError(f"the wheels must start off the profile (it spans {profile.extent} m): it is "
+                         f"{r[0].tolist()} m under them at the start")
+    return r
+
+
 def _contact_points(model: FETrack, x: np.ndarray, moving: bool) -> PointSet:
     """The wheels' contact points: fixed at ``x[0]``, or along their paths ``x`` (steps, wheels)."""
     if not moving:
@@ -266,7 +284,9 @@ def _contact_points(model: FETrack, x: np.ndarray, moving: bool) -> PointSet:
 def wheel_rail_response(model: FETrack, wheel: Wheel | Sequence[Wheel], roughness: Roughness | None = None, *,
                         x_contact: float | Sequence[float] = 0.0, speed: float = 0.0, dt: float = 1e-5,
                         duration: float = 0.1, ramp: float = 0.02, f_ref: float | dict | None = None,
-                        compiled: bool | None = None, element_flexibility: bool = True) -> ContactResponse:
+                        compiled: bool | None = None, element_flexibility: bool = True,
+                        profile: Irregularity | None = None, watch_supports: Sequence[int] = (),
+                        bending_at: Sequence[float] = ()) -> ContactResponse:
     """Wheels on an FE track in time: nonlinear Hertzian contacts driven by roughness or by rolling.
 
     Parameters
@@ -301,6 +321,15 @@ def wheel_rail_response(model: FETrack, wheel: Wheel | Sequence[Wheel], roughnes
     compiled : bool, optional
         The step loop: compiled (True), NumPy (False) or compiled where it can run (None);
         see :func:`semitrack.dynamics.simulate.simulate`.
+    profile : Irregularity, optional
+        A geometric irregularity fixed on the rail (:class:`semitrack.DippedWeld`,
+        :class:`semitrack.RailProfile`), met by each wheel where it is, ``r(x_i(t))``, on top of
+        the roughness (not faded in: the wheels must start off it).
+    watch_supports : sequence of int
+        Supports (indices k) whose rail-seat and ballast forces are recorded
+        (:attr:`ContactResponse.track_forces`, :mod:`semitrack.fe.trackforces`).
+    bending_at : sequence of float
+        Positions (m) where the rail's bending moment is recorded.
     element_flexibility : bool
         Add each rail element's own deflection under its contact force in series with the
         contact (:meth:`FETrack.local_flexibility`; default). False reads the rail under a wheel
@@ -337,17 +366,22 @@ def wheel_rail_response(model: FETrack, wheel: Wheel | Sequence[Wheel], roughnes
     fade = sin2_ramp(t, ramp)
     r = np.zeros((t.size, k)) if roughness is None else np.column_stack(
         [roughness.shifted(x[0, i] - x[0, 0]).sampled(dt, t.size) * fade for i in range(k)])
+    if profile is not None:
+        r = r + _profile_along(profile, x)
+    watch = watched_dofs(model, watch_supports, bending_at)
     vehicle_dofs = model.n_dof + np.arange(vehicle_loads.size)
     contacts = HertzContacts(vehicle_dofs[:k], points, [w.hertz_constant for w in wheels], r,
                              compliance=flexibility)
     loads = [(PointSet.on_dofs(vehicle_dofs), np.tile(vehicle_loads, (t.size, 1)))]
-    res = simulate(system, Newmark(dt), n_steps, loads=loads, contacts=contacts, u0=u0, compiled=compiled)
+    res = simulate(system, Newmark(dt), n_steps, loads=loads, contacts=contacts, u0=u0, compiled=compiled,
+                   record=watch.dofs)
+    forces = track_forces(model, watch, res["dofs"], dt, f_ref) if watch.dofs.size else None
     one = (lambda a: a[:, 0]) if k == 1 else (lambda a: a)
     return ContactResponse(t=t, force=one(res["contact force"]), w_wheel=one(res["wheel"]), w_rail=one(res["rail"]),
                            roughness=one(r), x=one(x), track=model.track, wheel=wheels[0], speed=float(speed),
                            ramp=ramp, period=None if roughness is None else roughness.period,
                            n_dof=model.n_dof + vehicle_loads.size, elapsed=res.elapsed, wheels=wheels,
-                           vehicle=vehicle, infinite=model.infinite_track())
+                           vehicle=vehicle, infinite=model.infinite_track(), track_forces=forces)
 
 
 @dataclass(frozen=True, eq=False)

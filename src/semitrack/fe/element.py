@@ -28,7 +28,8 @@ from numpy.typing import ArrayLike
 from ..base.checks import check_positive
 from ..model.tracks import Track, require_track
 
-__all__ = ["shear_parameter", "timoshenko_shape_functions", "timoshenko_element", "point_flexibility", "rail_element"]
+__all__ = ["shear_parameter", "timoshenko_shape_functions", "timoshenko_curvature_weights", "timoshenko_element",
+           "point_flexibility", "rail_element"]
 
 # 5-point Gauss-Legendre rule on [0, 1]: exact for polynomials up to degree 9 (mass needs 6).
 _GAUSS_X, _GAUSS_W = np.polynomial.legendre.leggauss(5)
@@ -149,6 +150,40 @@ def timoshenko_element(EI: complex, kAG: complex, rho_A: float, rho_I: float,
     wq = _GAUSS_W * l
     M = rho_A * np.einsum("q,qi,qj->ij", wq, n_w, n_w) + rho_I * np.einsum("q,qi,qj->ij", wq, n_psi, n_psi)
     return K, M
+
+
+def timoshenko_curvature_weights(xi: ArrayLike, length: ArrayLike, phi: ArrayLike) -> np.ndarray:
+    """The weights that give ``dpsi/dx`` (1/m) from an element's ``(w_a, psi_a, w_b, psi_b)``: the bending curvature.
+
+    The derivative of :func:`timoshenko_shape_functions`' ``n_psi``; the bending moment is
+    ``EI dpsi/dx`` (linear along an element, as the IIE element's static solution).
+
+    Parameters
+    ----------
+    xi : array_like
+        Local coordinate x / length in [0, 1] (-).
+    length : array_like
+        Element length l (m).
+    phi : array_like
+        Shear parameter (-), :func:`shear_parameter`.
+
+    Returns
+    -------
+    ndarray, shape ``broadcast + (4,)``
+        1/m^2 for the w columns, 1/m for the psi columns.
+
+    Examples
+    --------
+    A rigid rotation bends nothing:
+
+    >>> weights = timoshenko_curvature_weights(0.3, 0.1, 0.5)
+    >>> abs(float(weights @ np.array([0.0, 1.0, 0.1, 1.0]))) < 1e-12
+    True
+    """
+    xi, l, phi = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (xi, length, phi)))
+    mu = 1.0 / (1.0 + phi)
+    return np.stack([6 * mu / l**2 * (2 * xi - 1), mu / l * (6 * xi - 4 - phi),
+                     -6 * mu / l**2 * (2 * xi - 1), mu / l * (6 * xi - 2 + phi)], axis=-1)
 
 
 def point_flexibility(EI: ArrayLike, kAG: ArrayLike, length: ArrayLike, xi: ArrayLike) -> np.ndarray:

@@ -126,6 +126,9 @@ class FETrack:
     end_models : dict
         ``{"left": End, "right": End}``: the ends as objects of :mod:`semitrack.fe.ends`
         (:attr:`left` and :attr:`right` are their names).
+    support_values : dict
+        Each support's ``kv``, ``kphi``, ``sleeper_mass``, ``kb`` and ``present``, in the order
+        of ``mesh.support_index`` (:func:`semitrack.fe.supports.support_values`).
 
     Examples
     --------
@@ -169,9 +172,10 @@ class FETrack:
         self.dofs: DofMap = dof_map(self.mesh, self._foundation_nodes(),
                                     {side: end.internal_dofs for side, end in self.end_models.items()},
                                     [side for side, end in self.end_models.items() if end.removes_w])
-        supports = support_values(self.tracks, self.mesh.support_part, self.mesh.support_index, self.changes)
+        self.support_values = support_values(self.tracks, self.mesh.support_part, self.mesh.support_index,
+                                             self.changes)
         self._parts: TrackMatrices = assemble(self.tracks, self.mesh, self.dofs, self.foundations, self.end_models,
-                                              supports, list(self.joints.values()))
+                                              self.support_values, list(self.joints.values()))
 
     def _check_layout(self) -> None:
         """A transition inside the model, one kind of damping on both sides, joints on the rail inside."""

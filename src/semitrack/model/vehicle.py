@@ -95,7 +95,17 @@ class Vehicle:
         return out.reshape(f.shape + (k, k))
 
     def static_state(self, w_wheels: ArrayLike) -> np.ndarray:
-        """The vehicle's DOFs at the start, given its wheels' static displacements (m)."""
+        """The vehicle's DOFs at the start, given its wheels' static displacements.
+
+        Parameters
+        ----------
+        w_wheels : array_like
+            The wheels' static displacements (m).
+
+        Returns
+        -------
+        ndarray
+        """
         raise NotImplementedError
 
     def positions(self, x: float | ArrayLike, name: str = "x") -> np.ndarray:
@@ -205,6 +215,17 @@ class WheelGroup(Vehicle):
         return out
 
     def static_state(self, w_wheels: ArrayLike) -> np.ndarray:
+        """The wheels alone: their own static displacements.
+
+        Parameters
+        ----------
+        w_wheels : array_like
+            The wheels' static displacements (m).
+
+        Returns
+        -------
+        ndarray
+        """
         return np.asarray(w_wheels, dtype=float).copy()
 
 

@@ -1,0 +1,345 @@
+"""What truncated models are for: an imperfect track under several wheels, in the frequency and time domains.
+
+The computations of the book's chapter "Beyond the paper: an imperfect track under a bogie";
+each returns a table (:class:`pandas.DataFrame`) or runs that the chapter shows or draws with
+:mod:`semitrack.plotting.imperfect`, so the notebook only calls them.
+
+* Frequency domain (:func:`imperfect_receptance_table`): a 10-bay truncated track with broadband
+  ends and a failed fastener, hanging sleepers, a slab-to-ballast transition or a rail joint,
+  against the exact :class:`semitrack.InfiniteTrack` with the same changes; beside it the same
+  model with pinned ends, and with exact ends (the mesh alone).
+* Several wheels (:func:`several_wheel_table`): two wheels 2.5 m apart and a bogie standing on a
+  small roughness, the time domain against the several-wheel linear theory, band by band.
+* A dipped weld rolled over (:func:`weld_runs`, :func:`weld_table`, :func:`weld_convergence`):
+  the 10-bay broadband-ended model against a pinned model long enough that no reflection returns
+  (:func:`reflection_free_bays`, from the track decay rate), the P1 and P2 forces beside
+  Jenkins' closed-form P2 (:func:`semitrack.methods.impact.jenkins_p2`), rail-seat and ballast
+  forces around the weld and the rail's bending at it.
+
+Errors are relative (``|approx - reference| / |reference|``); tables give them in per cent.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+from numpy.typing import ArrayLike
+from scipy.signal import butter, sosfiltfilt
+
+from ..boundary.fitting import BroadbandBoundary
+from ..fe.contact import ContactResponse, contact_transfer, wheel_rail_response
+from ..fe.ends import EXACT, PINNED, BoundaryEnd
+from ..fe.models import TruncatedTrack
+from ..fe.roughness import Roughness
+from ..methods.decay import track_decay_rate
+from ..methods.impact import jenkins_p2, lumped_track
+from ..model.irregularity import DippedWeld
+from ..model.tracks import Track
+from ..model.vehicle import Vehicle
+from ..model.wheel import Wheel
+
+__all__ = ["CASE_BAYS", "imperfect_cases", "imperfect_receptance_table", "several_wheel_table",
+           "reflection_free_bays", "WeldRun", "weld_runs", "p1_p2", "weld_table", "weld_convergence"]
+
+#: Bays each side of the centre of the short models.
+CASE_BAYS = 10
+
+
+def imperfect_cases(slab: Track, ballasted: Track) -> dict[str, tuple[Track, dict, tuple[str, ...], float]]:
+    """The local changes of the chapter: ``{name: (track, TruncatedTrack keywords, boundaries, load point)}``.
+
+    Parameters
+    ----------
+    slab, ballasted : Track
+        The two tracks (viscous damping for a causal comparison).
+
+    Returns
+    -------
+    dict
+        ``boundaries`` names the track of each end's boundary (left, right); the load point (m)
+        is at the change, its receptance read there and a bay further on.
+    """
+    d1, d2 = slab.spacing, ballasted.spacing
+    return {
+        "failed fastener (slab)": (slab, {"changes": {0: None}}, ("slab", "slab"), 0.5 * d1),
+        "three hanging sleepers": (ballasted, {"changes": {k: {"kb": 0.0} for k in (-1, 0, 1)}},
+                                   ("ballasted", "ballasted"), 0.5 * d2),
+        "slab-to-ballast transition": (slab, {"right": ballasted, "transition": 0}, ("slab", "ballasted"), 0.5 * d2),
+        "rail joint (hinge, ballasted)": (ballasted, {"joints": {0.0: 0.0}}, ("ballasted", "ballasted"), 0.5 * d2),
+    }
+
+
+def _point_errors(model: TruncatedTrack, f: np.ndarray, x_load: float, x_away: float) -> np.ndarray:
+    """Relative error of w/F at the load and a bay away against the model's infinite track, (n_f, 2)."""
+    points = [x_load, x_away]
+    ref = model.infinite_track().receptance(f, x_load, points)[:, :, 0, 0]
+    rhs = np.zeros((model.n_dof, 1))
+    rhs[model.dof(x_load)] = 1.0
+    u = model.solve(f, rhs)[:, [model.dof(x) for x in points], 0]
+    return np.abs(u - ref) / np.abs(ref)
+
+
+def imperfect_receptance_table(cases: Mapping[str, tuple], boundaries: Mapping[str, BroadbandBoundary],
+                               f: ArrayLike, elements_per_bay: int = 48) -> pd.DataFrame:
+    """10-bay models of each case against InfiniteTrack: median and max error at the change and a bay away.
+
+    Parameters
+    ----------
+    cases : mapping
+        :func:`imperfect_cases`.
+    boundaries : mapping of str to BroadbandBoundary
+        ``{"slab": ..., "ballasted": ...}``, fitted to the cases' tracks.
+    f : array_like
+        Frequencies (Hz).
+    elements_per_bay : int
+        The mesh of every model.
+
+    Returns
+    -------
+    DataFrame
+        Rows (case, ends) for ends broadband, pinned and exact (the mesh alone); columns the
+        median and max error (%) at the change and a bay away.
+    """
+    f = np.asarray(f, dtype=float)
+    rows = {}
+    for name, (track, keywords, which, x) in cases.items():
+        d = keywords["right"].spacing if "right" in keywords else track.spacing  # the cases load right of 0
+        for ends in (BoundaryEnd.name, PINNED.name, EXACT.name):
+            system = tuple(boundaries[w] for w in which) if ends == BoundaryEnd.name else None
+            model = TruncatedTrack(track, CASE_BAYS, ends, system=system, elements_per_bay=elements_per_bay,
+                                   **keywords)
+            e = 100 * _point_errors(model, f, x, x + d)
+            rows[name, ends] = {"median at (%)": np.median(e[:, 0]), "max at (%)": e[:, 0].max(),
+                                "median a bay away (%)": np.median(e[:, 1]), "max a bay away (%)": e[:, 1].max()}
+    return pd.DataFrame.from_dict(rows, orient="index").rename_axis(["case", "ends"])
+
+
+def several_wheel_table(model: TruncatedTrack, vehicles: Mapping[str, tuple[Vehicle | Sequence[Wheel], ArrayLike]],
+                        roughness: Roughness, dt: float, duration: float,
+                        band: tuple[float, float] = (50.0, 2500.0)) -> pd.DataFrame:
+    """Stationary vehicles on a small roughness: each wheel's band levels against the several-wheel theory.
+
+    Parameters
+    ----------
+    model : TruncatedTrack
+        The track model (broadband ends).
+    vehicles : mapping
+        ``{label: (vehicle or wheels, x_contact)}``.
+    roughness : Roughness
+        A small roughness (the contacts must stay linear).
+    dt, duration : float
+        Time step and duration (s).
+    band : tuple of float
+        The one-third-octave bands (Hz).
+
+    Returns
+    -------
+    DataFrame
+        Rows (vehicle, wheel); the largest band error (dB) and the band where it is.
+    """
+    rows = {}
+    for label, (vehicle, x) in vehicles.items():
+        res = wheel_rail_response(model, vehicle, roughness, x_contact=x, dt=dt, duration=duration)
+        for i in range(len(res.wheels)):
+            transfer = contact_transfer(res, band=band, wheel=i)
+            j = int(np.argmax(np.abs(transfer.error_db)))
+            rows[label, i] = {"largest band error (dB)": float(np.abs(transfer.error_db).max()),
+                              "in the band of (Hz)": float(transfer.centres[j]), "bands": transfer.centres.size,
+                              "lost contact": res.lost_contact}
+    return pd.DataFrame.from_dict(rows, orient="index").rename_axis(["vehicle", "wheel"])
+
+
+def reflection_free_bays(track: Track, reach: float, attenuation: float = 40.0,
+                         band: tuple[float, float] = (50.0, 2500.0)) -> tuple[int, float]:
+    """Bays each side of a pinned model so that a wave's round trip to its ends loses ``attenuation`` dB.
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+    reach : float
+        How far from the centre the wheels go (m).
+    attenuation : float
+        Round-trip attenuation (dB) of the least attenuated band.
+    band : tuple of float
+        The bands of the decay rate (Hz).
+
+    Returns
+    -------
+    bays : int
+        ``ceil((reach + attenuation / (2 A_min)) / d)``.
+    a_min : float
+        The least attenuation of the track's free wave over the bands (dB/m,
+        :attr:`semitrack.TrackDecayRate.wave_attenuation`).
+    """
+    rate = track_decay_rate(track, bands=band)
+    a_min = float(np.min(rate.wave_attenuation))
+    return int(np.ceil((reach + attenuation / (2 * a_min)) / track.spacing)), a_min
+
+
+@dataclass(frozen=True, eq=False)
+class WeldRun:
+    """A wheel rolled over a dipped weld on one model: the run and how long it took (s)."""
+
+    response: ContactResponse
+    wall: float
+    n_dof: int
+
+
+def weld_runs(track: Track, boundary: BroadbandBoundary, speeds: Sequence[float], weld: DippedWeld, wheel: Wheel,
+              *, start: float = -3.0, stop: float = 2.0, dt: float = 1e-5, pinned_bays: int | None = None,
+              watch: Sequence[int] = (-2, -1, 0, 1)) -> dict[tuple[float, str], WeldRun]:
+    """The wheel rolled from ``start`` to ``stop`` (m) over the weld at each speed (km/h), on both models.
+
+    Parameters
+    ----------
+    track : Track
+        The track (viscous damping).
+    boundary : BroadbandBoundary
+        Its broadband end, for the 10-bay model.
+    speeds : sequence of float
+        Speeds (km/h).
+    weld : DippedWeld
+        The weld, between ``start`` and ``stop``.
+    wheel : Wheel
+        The wheel.
+    start, stop : float
+        Where the wheel starts and stops (m).
+    dt : float
+        Time step (s).
+    pinned_bays : int, optional
+        Bays each side of the pinned reference; default :func:`reflection_free_bays`.
+    watch : sequence of int
+        Supports whose rail-seat and ballast forces are recorded.
+
+    Returns
+    -------
+    dict
+        ``{(speed, "broadband ends" | "pinned, long"): WeldRun}``.
+    """
+    bays = pinned_bays or reflection_free_bays(track, max(abs(start), abs(stop)))[0]
+    models = {"broadband ends": TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name, system=boundary),
+              "pinned, long": TruncatedTrack(track, bays, PINNED.name)}
+    out = {}
+    for kmh in speeds:
+        v = kmh / 3.6
+        for name, model in models.items():
+            t0 = time.perf_counter()
+            res = wheel_rail_response(model, wheel, profile=weld, x_contact=start, speed=v, dt=dt,
+                                      duration=(stop - start) / v, watch_supports=watch, bending_at=[weld.x])
+            out[kmh, name] = WeldRun(res, time.perf_counter() - t0, model.n_dof)
+    return out
+
+
+def p1_p2(response: ContactResponse, weld: DippedWeld, f_low: float = 200.0) -> tuple[float, float]:
+    """The P1 and P2 forces (N) of a wheel's passage over the weld.
+
+    P1: the largest force within 2 ms after the wheel reaches the dip's bottom (the contact and the
+    rail's local mass, ~1 kHz). P2: the largest force in the 25 ms after it, the force low-passed
+    at ``f_low`` Hz (zero-phase, 4th order): the unsprung mass on the track, ~50-100 Hz.
+
+    Parameters
+    ----------
+    response : ContactResponse
+        A rolling run over the weld.
+    weld : DippedWeld
+        The weld.
+    f_low : float
+        The low-pass frequency (Hz) that separates P2 from P1.
+
+    Returns
+    -------
+    P1, P2 : float
+    """
+    t_bottom = float(np.interp(weld.x, response.x, response.t))
+    after = (response.t >= t_bottom) & (response.t <= t_bottom + 2e-3)
+    sos = butter(4, f_low, fs=1.0 / response.dt, output="sos")
+    low = sosfiltfilt(sos, response.force)
+    later = (response.t >= t_bottom) & (response.t <= t_bottom + 25e-3)
+    return float(response.force[after].max()), float(low[later].max())
+
+
+def weld_table(runs: Mapping[tuple[float, str], WeldRun], weld: DippedWeld, track: Track, wheel: Wheel
+               ) -> pd.DataFrame:
+    """Per speed: P1, P2 and Jenkins' P2; the broadband model against the long pinned one; sizes and times.
+
+    Parameters
+    ----------
+    runs : mapping
+        :func:`weld_runs`.
+    weld : DippedWeld
+        The weld.
+    track : Track
+        The track (for Jenkins' lumped track at the weld).
+    wheel : Wheel
+        The wheel.
+
+    Returns
+    -------
+    DataFrame
+        One row per speed.
+    """
+    lumped = lumped_track(track, weld.x)
+    rows = {}
+    for kmh in sorted({k for k, _ in runs}):
+        b, p = runs[kmh, "broadband ends"], runs[kmh, "pinned, long"]
+        fb, fp = b.response.force, p.response.force
+        p1, p2 = p1_p2(p.response, weld)
+        forces = p.response.track_forces
+        rows[kmh] = {"P1 (kN)": p1 / 1e3, "P2 (kN)": p2 / 1e3,
+                     "Jenkins P2 (kN)": jenkins_p2(wheel, weld.angle, kmh / 3.6, lumped) / 1e3,
+                     "peak, broadband vs pinned (%)": 100 * abs(fb.max() - fp.max()) / fp.max(),
+                     "history, largest difference (% of range)": 100 * np.abs(fb - fp).max() / (fp.max() - fp.min()),
+                     "largest rail-seat force (kN)": forces.rail_seat.max() / 1e3,
+                     "largest ballast force (kN)": (forces.ballast.max() / 1e3 if forces.ballast is not None
+                                                    else np.nan),
+                     "largest bending at the weld (kN m)": forces.bending.max() / 1e3,
+                     "lost contact": p.response.lost_contact,
+                     "DOFs broadband / pinned": f"{b.n_dof} / {p.n_dof}",
+                     "time broadband / pinned (s)": f"{b.wall:.1f} / {p.wall:.1f}"}
+    return pd.DataFrame.from_dict(rows, orient="index").rename_axis("speed (km/h)")
+
+
+def weld_convergence(track: Track, boundary: BroadbandBoundary, speed: float, weld: DippedWeld, wheel: Wheel,
+                     dts: Sequence[float] = (2e-5, 1e-5, 5e-6), meshes: Sequence[int | None] = (None,),
+                     start: float = -3.0, stop: float = 2.0) -> pd.DataFrame:
+    """P1 and P2 on the 10-bay broadband-ended model as the time step halves and the mesh refines.
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+    boundary : BroadbandBoundary
+        Its broadband end.
+    speed : float
+        km/h.
+    weld : DippedWeld
+        The weld.
+    wheel : Wheel
+        The wheel.
+    dts : sequence of float
+        Time steps (s).
+    meshes : sequence of int or None
+        Elements per bay (None: the default for 3 kHz).
+    start, stop : float
+        The wheel's path (m).
+
+    Returns
+    -------
+    DataFrame
+        Rows (elements per bay, dt in us): P1 and P2 (kN).
+    """
+    rows = {}
+    v = speed / 3.6
+    for ne in meshes:
+        model = TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name, system=boundary, elements_per_bay=ne)
+        for dt in dts:
+            res = wheel_rail_response(model, wheel, profile=weld, x_contact=start, speed=v, dt=dt,
+                                      duration=(stop - start) / v)
+            p1, p2 = p1_p2(res, weld)
+            rows[model.elements_per_bay, dt * 1e6] = {"P1 (kN)": p1 / 1e3, "P2 (kN)": p2 / 1e3}
+    return pd.DataFrame.from_dict(rows, orient="index").rename_axis(["elements per bay", "dt (us)"])

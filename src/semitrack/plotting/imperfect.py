@@ -1,0 +1,85 @@
+"""An imperfect track under wheels: force histories over a dipped weld, forces in the track around it."""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Mapping
+
+from .style import house_figure, legend_below, panels
+
+
+@house_figure
+def weld_force_figure(runs: Mapping[tuple[float, str], object], reference: str = "pinned, long", title: str = ""):
+    """The contact force over the weld at each speed (a panel each), the short model over the long one.
+
+    Parameters
+    ----------
+    runs : mapping
+        :func:`semitrack.paper.imperfect_study.weld_runs`: ``{(speed, model): WeldRun}``.
+    reference : str
+        The model drawn in black (the long pinned one).
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    fig, axes
+    """
+    speeds = sorted({k for k, _ in runs})
+    fig, axes = panels(len(speeds), figsize=(4.6 * len(speeds), 3.6), sharey=True)
+    colours = itertools.cycle(("tab:red", "tab:blue", "tab:green"))
+    styles = {name: (dict(color="k", lw=1.6) if name == reference else dict(color=next(colours), lw=1.0, ls="--"))
+              for _, name in runs}
+    for ax, kmh in zip(axes, speeds):
+        for (speed, name), run in runs.items():
+            if speed == kmh:
+                res = run.response
+                ax.plot(res.x, res.force / 1e3, label=name, **styles[name])
+        ax.set_title(f"{kmh:g} km/h")
+        ax.set_xlabel("Wheel position (m; the weld's bottom at 0)")
+        ax.set_xlim(-0.5, 1.5)
+    axes[0].set_ylabel("Contact force (kN)")
+    legend_below(fig, axes[0], fontsize=8)
+    if title:
+        fig.suptitle(title)
+    return fig, axes
+
+
+@house_figure
+def track_force_figure(response, title: str = ""):
+    """Rail-seat and ballast forces at the watched supports and the bending at the weld, against wheel position.
+
+    Parameters
+    ----------
+    response : ContactResponse
+        A rolling run with ``watch_supports`` and ``bending_at`` (its ``track_forces``).
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    fig, axes
+    """
+    forces = response.track_forces
+    n = 3 if forces.ballast is not None else 2
+    fig, axes = panels(n, figsize=(4.6 * n, 3.6))
+    colours = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown")
+    for j, (k, xs) in enumerate(zip(forces.supports, forces.x_supports)):
+        style = dict(color=colours[j % len(colours)], lw=1.0)
+        axes[0].plot(response.x, forces.rail_seat[:, j] / 1e3, label=f"support {k} (x = {xs:.2f} m)", **style)
+        if forces.ballast is not None:
+            axes[1].plot(response.x, forces.ballast[:, j] / 1e3, **style)
+    axes[0].set_title("Rail seat (pad)")
+    axes[0].set_ylabel("Force (kN, compression)")
+    if forces.ballast is not None:
+        axes[1].set_title("Sleeper on ballast")
+    for i in range(forces.x_bending.size):
+        axes[-1].plot(response.x, forces.bending[:, i] / 1e3, color="k", lw=1.0)
+    axes[-1].set_title(f"Rail bending at x = {forces.x_bending[0]:.2f} m" if forces.x_bending.size else "Rail bending")
+    axes[-1].set_ylabel("Moment (kN m, sagging)")
+    for ax in axes:
+        ax.set_xlabel("Wheel position (m)")
+    legend_below(fig, axes[0], fontsize=8)
+    if title:
+        fig.suptitle(title)
+    return fig, axes

@@ -1,0 +1,111 @@
+"""Rolling over a dipped weld on a short model with broadband ends, and the forces in the track.
+
+Independent checks: a pinned model long enough that no reflection returns (the track decay rate
+sets its length) for the whole force history; convergence as the time step halves; static
+equilibrium of the rail-seat and ballast forces; Jenkins' closed form beside the P2 force (its
+limits stated); the dip's geometry.
+"""
+
+import numpy as np
+import pytest
+
+import semitrack as st
+from semitrack.methods.impact import jenkins_p2, lumped_track
+from semitrack.paper.imperfect_study import p1_p2, reflection_free_bays
+
+WELD = st.DippedWeld(angle=0.01, length=0.4, x=0.0)
+WHEEL = st.Wheel(primary_stiffness=1.2e6, primary_damping=1.5e4)
+
+
+def test_the_dip_is_a_v_of_its_angle():
+    x = np.linspace(-0.3, 0.3, 601)
+    r = WELD(x)
+    assert r.max() == pytest.approx(WELD.depth) and WELD.depth == pytest.approx(0.01 * 0.4 / 4)
+    slope = np.gradient(r, x)
+    assert np.allclose(slope[(x > -0.19) & (x < -0.01)], 0.005) and np.allclose(slope[(x > 0.01) & (x < 0.19)], -0.005)
+    assert np.all(r[np.abs(x) >= 0.2] == 0)
+    profile = st.RailProfile([-0.2, 0.0, 0.2], [0.0, 0.001, 0.0])
+    np.testing.assert_allclose(profile(x), r, atol=1e-15)
+    with pytest.raises(st.BadInput, match="zero at both ends"):
+        st.RailProfile([0.0, 1.0], [1e-3, 0.0])
+    with pytest.raises(st.BadInput, match="total dip angle in rad"):
+        st.DippedWeld(angle=5.0)
+
+
+@pytest.fixture(scope="module")
+def boundaries():
+    return {name: st.fit_boundary(make(damping="viscous"))
+            for name, make in (("slab", st.slab_track), ("ballasted", st.ballasted_track))}
+
+
+@pytest.mark.parametrize("name, kmh", [("slab", 300.0), ("ballasted", 200.0)])
+def test_a_dipped_weld_on_ten_bays_with_broadband_ends_is_the_long_pinned_track(boundaries, name, kmh):
+    """The whole force history within 2 % of its range (measured: 0.01 %), the peak within 1 %."""
+    track = (st.slab_track if name == "slab" else st.ballasted_track)(damping="viscous")
+    bays, a_min = reflection_free_bays(track, 3.0)
+    assert 0.2 < a_min < 1.0 and bays * track.spacing > 3.0 + 20.0 / a_min - track.spacing
+    v = kmh / 3.6
+    runs = {}
+    for label, model in (("short", st.TruncatedTrack(track, 10, "boundary", system=boundaries[name])),
+                         ("long", st.TruncatedTrack(track, bays, "pinned"))):
+        runs[label] = st.wheel_rail_response(model, WHEEL, profile=WELD, x_contact=-3.0, speed=v, dt=1e-5,
+                                             duration=5.0 / v)
+    short, long = runs["short"].force, runs["long"].force
+    assert long.max() > 1.3 * WHEEL.preload  # the weld matters
+    assert np.max(np.abs(short - long)) < 0.02 * (long.max() - long.min())
+    assert abs(short.max() - long.max()) < 0.01 * long.max()
+    assert np.all(short >= 0)
+
+
+def test_p1_and_p2_converge_as_the_time_step_halves(boundaries):
+    track = st.ballasted_track(damping="viscous")
+    model = st.TruncatedTrack(track, 10, "boundary", system=boundaries["ballasted"])
+    peaks = []
+    for dt in (2e-5, 1e-5, 5e-6):
+        res = st.wheel_rail_response(model, WHEEL, profile=WELD, x_contact=-1.0, speed=200 / 3.6, dt=dt,
+                                     duration=2.0 / (200 / 3.6))
+        peaks.append(p1_p2(res, WELD))
+    peaks = np.array(peaks)
+    change = np.abs(np.diff(peaks, axis=0)) / peaks[1:]
+    assert np.all(change < 0.005) and change[1, 0] <= change[0, 0] + 1e-4  # P1 settles as dt halves
+    assert peaks[-1, 0] > peaks[-1, 1] > WHEEL.preload  # P1 above P2 above the static load
+
+
+def test_jenkins_p2_beside_the_time_domain_where_it_applies(boundaries):
+    """A long dip at a low speed on the slab track (a mass-spring-damper track in the P2 band): Jenkins
+    within 15 % of the time domain's P2; a short dip at speed is where the formula does not apply."""
+    track = st.slab_track(damping="viscous")
+    lumped = lumped_track(track)
+    f = np.linspace(10.0, 150.0, 15)
+    exact = st.InfiniteTrack(track).receptance(f, 0.0, [0.0])[:, 0, 0, 0]
+    assert np.max(np.abs(lumped.receptance(f) / exact - 1)) < 0.06  # the lumped track fits its band
+    model = st.TruncatedTrack(track, 10, "boundary", system=boundaries["slab"])
+    long_dip = st.DippedWeld(angle=0.004, length=3.0, x=0.0)
+    v = 80 / 3.6
+    res = st.wheel_rail_response(model, WHEEL, profile=long_dip, x_contact=-2.0, speed=v, dt=2e-5, duration=4.0 / v)
+    assert not res.lost_contact
+    p2 = p1_p2(res, long_dip)[1]
+    assert jenkins_p2(WHEEL, long_dip.angle, v, lumped) == pytest.approx(p2, rel=0.15)
+
+
+def test_track_forces_carry_the_static_load():
+    """A wheel standing in the middle of a long pinned ballasted track: the rail seats carry its preload,
+    each sleeper passes its pad's force to the ballast, and the rail sags under the wheel."""
+    model = st.TruncatedTrack(st.ballasted_track(damping="viscous"), 30, elements_per_bay=8)
+    res = st.wheel_rail_response(model, st.Wheel(), dt=1e-4, duration=0.03, watch_supports=range(-30, 30),
+                                 bending_at=[0.0, 0.3])
+    forces = res.track_forces
+    assert forces.rail_seat[-1].sum() == pytest.approx(1e5, rel=1e-3)
+    np.testing.assert_allclose(forces.ballast[-1], forces.rail_seat[-1], rtol=1e-6, atol=1e-6)
+    assert forces.bending[-1, 0] > 0 and forces.bending[-1, 0] > forces.bending[-1, 1]  # sagging, largest at the load
+    np.testing.assert_allclose(forces.x_supports, (np.arange(-30, 30) + 0.5) * 0.6)
+    with pytest.raises(st.BadInput, match="not in the model"):
+        st.wheel_rail_response(model, st.Wheel(), dt=1e-4, duration=0.03, watch_supports=[40])
+
+
+def test_a_profile_must_start_off_the_wheels():
+    model = st.TruncatedTrack(st.slab_track(damping="viscous"), 3, elements_per_bay=8)
+    with pytest.raises(st.BadInput, match="start off the profile"):
+        st.wheel_rail_response(model, st.Wheel(), profile=WELD, x_contact=0.05, speed=10.0, dt=1e-4, duration=0.05)
+    with pytest.raises(TypeError, match="profile must be an Irregularity"):
+        st.wheel_rail_response(model, st.Wheel(), profile=lambda x: 0 * x, speed=10.0, dt=1e-4, duration=0.05)
