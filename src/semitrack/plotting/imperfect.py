@@ -17,7 +17,7 @@ def weld_force_figure(runs: Mapping[tuple[float, str], object], reference: str =
     runs : mapping
         :func:`semitrack.paper.imperfect_study.weld_runs`: ``{(speed, model): WeldRun}``.
     reference : str
-        The model drawn in black (the long pinned one).
+        The model drawn wide in grey beneath the others (the long pinned one).
     title : str
         Figure title.
 
@@ -28,8 +28,9 @@ def weld_force_figure(runs: Mapping[tuple[float, str], object], reference: str =
     speeds = sorted({k for k, _ in runs})
     fig, axes = panels(len(speeds), figsize=(4.6 * len(speeds), 3.6), sharey=True)
     colours = itertools.cycle(("tab:red", "tab:blue", "tab:green"))
-    styles = {name: (dict(color="k", lw=1.6) if name == reference else dict(color=next(colours), lw=1.0, ls="--"))
-              for _, name in runs}
+    # the reference wide and light beneath, so that a model on top of it stays visible
+    styles = {name: (dict(color="0.65", lw=3.2, zorder=1) if name == reference else
+                     dict(color=next(colours), lw=1.1, ls="--", zorder=2)) for _, name in runs}
     for ax, kmh in zip(axes, speeds):
         for (speed, name), run in runs.items():
             if speed == kmh:
