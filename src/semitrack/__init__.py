@@ -25,6 +25,8 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "BallastedEquivalent": ("equivalent.systems", "BallastedEquivalent"),
     "CentralResponse": ("methods.receptance", "CentralResponse"),
     "EquivalentSystem": ("equivalent.systems", "EquivalentSystem"),
+    "MechanicalSystem": ("equivalent.mechanical", "MechanicalSystem"),
+    "MatrixSystem": ("equivalent.mechanical", "MatrixSystem"),
     "ErrorSummary": ("equivalent.metrics", "ErrorSummary"),
     "FETrack": ("fe.models", "FETrack"),
     "InfiniteTrack": ("methods.infinite", "InfiniteTrack"),
