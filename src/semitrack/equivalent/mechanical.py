@@ -26,7 +26,8 @@ from ..base.checks import as_frequencies
 from ..base.errors import InputError, InputTypeError
 from .assembly import IllConditionedError, dynamic_stiffness, end_loads, scaled_solve
 
-__all__ = ["MechanicalSystem", "MatrixSystem", "PassivityReport", "undamped_natural_frequencies", "PORT_DOFS"]
+__all__ = ["MechanicalSystem", "MatrixSystem", "PassivityReport", "undamped_natural_frequencies", "PORT_DOFS",
+           "PSD_RTOL", "SYMMETRY_RTOL"]
 
 #: The port DOFs of every end system, in matrix order: the rail's deflection and rotation at the cut.
 PORT_DOFS = ("w", "psi")
@@ -40,8 +41,8 @@ _COND_LIMIT = 1e12
 # Rounding of the assembly leaves ~1e-16 of the largest; a genuinely light part is kept.
 _MASSLESS_RTOL = 1e-12
 
-# Relative asymmetry accepted in a given matrix (rounding of its assembly or of a file's digits).
-_SYMMETRY_RTOL = 1e-12
+#: Relative asymmetry ``max |X - X^T| / max |X|`` accepted in a matrix: rounding of its assembly.
+SYMMETRY_RTOL = 1e-12
 
 #: Smallest eigenvalue accepted in M, C and K, as a fraction of the largest: rounding, not activity.
 PSD_RTOL = 1e-10
@@ -402,7 +403,7 @@ def _square_matrix(name: str, X: ArrayLike, n: int | None) -> np.ndarray:
     if not np.all(np.isfinite(X)):
         raise InputError(f"{name} must be finite")
     scale = np.max(np.abs(X))
-    if np.max(np.abs(X - X.T)) > _SYMMETRY_RTOL * max(scale, np.finfo(float).tiny):
+    if np.max(np.abs(X - X.T)) > SYMMETRY_RTOL * max(scale, np.finfo(float).tiny):
         raise InputError(f"{name} must be symmetric (a reciprocal system): max |{name} - {name}^T| = "
                          f"{np.max(np.abs(X - X.T)):.3e} of max |{name}| = {scale:.3e}")
     X = 0.5 * (X + X.T)

@@ -35,7 +35,7 @@ from numpy.typing import ArrayLike
 
 from ..base.errors import InputError, InputTypeError
 from .assembly import Layout, assembly, end_loads
-from .mechanical import MechanicalSystem, PassivityReport, undamped_natural_frequencies
+from .mechanical import SYMMETRY_RTOL, MechanicalSystem, PassivityReport, undamped_natural_frequencies
 
 __all__ = [
     "EquivalentSystem",
@@ -61,10 +61,6 @@ PARAMETER_UNITS: dict[str, str] = {
     "d_l": "N s/m",
     "d_r": "N s/m",
 }
-
-# Relative asymmetry tolerated in an assembled matrix before it counts as an assembly bug: the
-# P^T diag(v) P products are symmetric up to a few roundings of the largest entry.
-_SYMMETRY_RTOL = 1e-12
 
 
 def parameter_array(name: str, value: ArrayLike, *, positive: bool = False) -> np.ndarray:
@@ -129,7 +125,7 @@ def _symmetrised(name: str, X: np.ndarray) -> np.ndarray:
     """Check that an assembled matrix is symmetric to rounding, then return it exactly symmetric."""
     scale = np.max(np.abs(X)) if X.size else 0.0
     asym = np.max(np.abs(X - X.T)) if X.size else 0.0
-    if asym > _SYMMETRY_RTOL * max(scale, np.finfo(float).tiny):
+    if asym > SYMMETRY_RTOL * max(scale, np.finfo(float).tiny):
         raise RuntimeError(f"assembled {name} matrix is not symmetric: max |{name} - {name}^T| = {asym:.3e}")
     S = 0.5 * (X + X.T)
     S.setflags(write=False)
