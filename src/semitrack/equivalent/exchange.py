@@ -17,18 +17,23 @@ holds a ``conventions`` record (:func:`end_conventions`), in fields a program re
 This module also writes M, C, K for other codes, chosen by the suffix in
 :func:`~semitrack.export_system`:
 
-``.bdf``: Nastran bulk data, three symmetric ``DMIG`` matrices (IFO = 6, TIN = 2 real double)
-    for the Case Control commands ``K2GG`` (stiffness), ``B2GG`` (viscous damping) and ``M2GG``
-    (mass), which add them to the g-set matrices (MSC Nastran Quick Reference Guide, entries
-    DMIG and K2GG/B2GG/M2GG; remark there: several matrices named on one command are added).
-    A 16-character large field holds 11-12 significant digits, fewer than a double, so each
-    matrix is written as a leading part and its remainder (``KEND`` and ``KENDR``, ...), to be
-    named together, ``K2GG = KEND, KENDR``: their sum is the double to the last bit or two.
-    Internal DOFs are scalar points (``SPOINT``); the ports are components of the user's end grid.
-``.inp``: Abaqus keywords, ``*MATRIX INPUT`` (lower triangle, "row node, row DOF, column node,
-    column DOF, value" data lines, full precision) for ``*MATRIX ASSEMBLE, STIFFNESS=...,
-    MASS=..., VISCOUS DAMPING=...`` (Abaqus Keywords Reference Guide, *MATRIX INPUT and
-    *MATRIX ASSEMBLE); the internal DOFs are DOF 1 of nodes declared in the file.
+``.bdf``: Nastran bulk data, three symmetric ``DMIG`` matrices (IFO = 6, TIN = 2 real double,
+    lower triangle by column, large-field fixed format) for the Case Control commands ``K2GG``
+    (stiffness), ``B2GG`` (viscous damping) and ``M2GG`` (mass), which add them to the g-set
+    matrices (MSC Nastran Quick Reference Guide, Bulk Data entry DMIG and the Case Control
+    commands K2GG, B2GG, M2GG, whose remarks say that several matrices named on one command are
+    added). A Nastran field holds 8 characters (16 in large field: free-field entries longer than
+    8 are refused, Autodesk Nastran message T2005), so at most 11-12 significant digits, fewer
+    than a double: each matrix is written as a leading part and its remainder (``KEND`` and
+    ``KENDR``, ...), to be named together, ``K2GG = KEND, KENDR``; their sum is the double to the
+    last bit or two. Internal DOFs are scalar points (``SPOINT``, component 0); the ports are
+    components of the user's end grid.
+``.inp``: Abaqus keywords (Abaqus Keywords Reference Guide 2017, *MATRIX INPUT and *MATRIX
+    ASSEMBLE): ``*MATRIX INPUT, NAME=...`` with the data lines after the keyword (no INPUT
+    parameter), "row node, row DOF, column node, column DOF, value", lower triangle (the default
+    TYPE=SYMMETRIC), every digit (``repr``); then ``*MATRIX ASSEMBLE, STIFFNESS=END_K,
+    MASS=END_M, VISCOUS DAMPING=END_C`` (model data, model level). The internal DOFs are DOF 1 of
+    nodes the file declares (``*NODE``, in an assembly-level node set).
 
 Both codes' models usually have ``y`` up and rotations counterclockwise about ``z``: the files map
 ``w = -u_y`` (DOF 2, T2) and ``psi = -theta_z`` (DOF 6, R3) for a track along ``+x``, i.e. the
