@@ -1,5 +1,6 @@
 """End-to-end tests of the command-line program through a subprocess."""
 
+import csv
 import dataclasses
 import io
 import json
@@ -181,6 +182,12 @@ def test_fit_then_export_in_every_format(tmp_path):
         assert result.returncode == 0, result.stderr
         loader = {"json": st.load_system_json, "csv": st.load_system_csv, "mat": st.load_system_mat}[fmt]
         np.testing.assert_allclose(loader(out).receptance(f), reference, rtol=1e-10)
+    # Every file names the track and band it was fitted on, carried on by each export.
+    assert json.loads(system_file.read_text())["conventions"]["band_hz"] == [3.0, 300.0]
+    csv_conventions = {row[0]: row[1] for row in csv.reader((tmp_path / "export.csv").read_text().splitlines())
+                       if len(row) == 2}
+    assert json.loads(csv_conventions["track"]) == st.slab_track().name
+    assert json.loads(csv_conventions["band_hz"]) == [3.0, 300.0]
     # The .mat matrices themselves, as a MATLAB user sees them, reproduce the receptance.
     mat = scipy.io.loadmat(tmp_path / "export.mat")
     m, c, k = (np.asarray(mat[n], dtype=float) for n in ("M", "C", "K"))

@@ -362,7 +362,7 @@ def cmd_fit(args: argparse.Namespace) -> int:
                          constrained=not args.unconstrained)
     progress.update(1)
     progress.close()
-    save_system_json(fit.system, out)
+    save_system_json(fit.system, out, track=track.name, band_hz=(fmin, fmax))
     bars = f"{args.bars} bar" + "s" * (args.bars != 1)
     print(f"fitted a {layout} equivalent system with {bars} to '{printable(track.name)}' ({track_kind(track)}) "
           f"over {fmin:g}-{fmax:g} Hz")
@@ -437,33 +437,47 @@ def load_system_file(path: str) -> EquivalentSystem:
         raise InputError(f"{path}: cannot load the system: {message}") from None
 
 
-def _file_format(path: str) -> str:
-    """The ``format`` an end file declares (JSON key, .mat variable, or CSV [meta] row); "" if none."""
+def _file_header(path: str) -> tuple[str, dict]:
+    """The ``format`` an end file declares and its ``conventions`` record (JSON keys, .mat
+    variables, or the CSV rows); ``("", {})`` where it has none."""
     suffix = Path(path).suffix.lower()
     try:
         if suffix == ".json":
             from .equivalent.io import MAX_SYSTEM_BYTES
 
             data = json.loads(read_text(Path(path), MAX_SYSTEM_BYTES, "system file"))
-            return str(data.get("format", "")) if isinstance(data, dict) else ""
+            if not isinstance(data, dict):
+                return "", {}
+            conventions = data.get("conventions")
+            return str(data.get("format", "")), conventions if isinstance(conventions, dict) else {}
         if suffix == ".mat":
             import scipy.io
             from scipy.io.matlab import MatReadError
 
             try:
-                raw = scipy.io.loadmat(path, variable_names=["format"], simplify_cells=True)
+                raw = scipy.io.loadmat(path, variable_names=["format", "conventions_json"], simplify_cells=True)
             except MatReadError:
-                return ""
-            return str(raw.get("format", ""))
+                return "", {}
+            return str(raw.get("format", "")), json.loads(str(raw.get("conventions_json", "{}")))
         if suffix == ".csv":
-            with open(path, encoding="utf-8") as fh:
-                head = fh.read(4096)
-            return next((line.split(",", 1)[1].strip() for line in head.splitlines() if line.startswith("format,")), "")
+            import csv
+
+            from .equivalent.io import MAX_SYSTEM_BYTES
+
+            rows = list(csv.reader(read_text(Path(path), MAX_SYSTEM_BYTES, "system file").splitlines()))
+            fmt = next((row[1].strip() for row in rows if len(row) > 1 and row[0] == "format"), "")
+            start = next((i for i, row in enumerate(rows) if row[:1] == ["[conventions]"]), None)
+            conventions = {}
+            for row in rows[start + 2:] if start is not None else []:
+                if not row or row[0].startswith("["):
+                    break
+                conventions[row[0]] = json.loads(row[1])
+            return fmt, conventions
     except OSError as err:
         raise InputError(f"{path}: cannot read the system file ({err.strerror})") from None
-    except (ValueError, RecursionError):
-        return ""  # not JSON, too deep, or not a .mat file: the system loader says what is wrong
-    return ""
+    except (ValueError, RecursionError, IndexError):
+        return "", {}  # not JSON, too deep, or not a .mat file: the system loader says what is wrong
+    return "", {}
 
 
 def load_end_file(path: str):
@@ -483,7 +497,7 @@ def load_end_file(path: str):
     from .equivalent.exchange import MATRIX_FORMAT, load_matrix_system
     from .equivalent.io import load_system_csv, load_system_mat
 
-    fmt = _file_format(path)
+    fmt, _ = _file_header(path)
     try:
         if fmt == BOUNDARY_FORMAT:
             return load_boundary(path)
@@ -519,7 +533,10 @@ def cmd_export(args: argparse.Namespace) -> int:
     else:
         if args.mck:
             raise InputError("--mck applies to a boundary file; a system file is written as M, C, K already")
-        export_system(source, out, format=fmt)
+        conventions = _file_header(args.system)[1]  # the track and band it was fitted on, carried on
+        band = conventions.get("band_hz")
+        export_system(source, out, format=fmt, track=conventions.get("track") or None,
+                      band_hz=band if isinstance(band, list) and len(band) == 2 else None)
         what = f"a {source.kind} system with {source.n_dof} DOFs"
     print(f"{fmt} export of {what} written to {out}")
     return 0
