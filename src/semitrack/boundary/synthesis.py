@@ -212,8 +212,11 @@ def second_order_system(model: RationalEndStiffness, info: dict | None = None) -
     A, B, C, D = model.state_space()
     scale = 1.0 / np.sqrt(np.diag(D))  # D is diagonal: the Timoshenko dashpot
     with serial_blas():  # small dense matrices: threaded BLAS only contends (0.1 s -> 1 s measured)
-        A, B, C, t = _to_signature(A, B * scale, scale[:, None] * C, reciprocity_matrix(model))
-        A, B, n1 = _passive_coordinates(A, B, C, 2 * np.eye(2), t)
+        try:
+            A, B, C, t = _to_signature(A, B * scale, scale[:, None] * C, reciprocity_matrix(model))
+            A, B, n1 = _passive_coordinates(A, B, C, 2 * np.eye(2), t)
+        except np.linalg.LinAlgError as exc:  # a singular Krylov block or a storage that is not definite
+            raise SynthesisError(f"the model has no passive reciprocal realisation here ({exc})") from None
         M, Cd, K, maxwell = _network(A, B, n1)
     ports = np.ones(M.shape[0])
     ports[:2] = 1.0 / scale

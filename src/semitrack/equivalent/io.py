@@ -16,7 +16,10 @@ JSON (:func:`save_system_json`, :func:`load_system_json`)::
      "dof_names": ["w1 (m)", "phi_1 (rad)", ...],
      "matrices": {"M": {"values": [[...]], "entry_units": [[...]]}, "C": ..., "K": ...},
      "metadata": {"highest_natural_frequency": {"unit": "Hz", "value": ..., "note": ...},
-                  "central_difference_time_step": {"unit": "s", "value": ..., "note": ...}}}
+                  "central_difference_time_step": {"unit": "s", "value": ..., "note": ...}},
+     "conventions": {"side": "right", "load_convention": "applied_to_end", "port_dofs": ["w", "psi"],
+                     "port_indices": [0, 1], "left_end_mirror": [[1, 0], [0, -1]], "units": {...},
+                     "track": ..., "band_hz": [lo, hi] or null, "text": "..."}}
 
 ``metadata`` is written for the reader and ignored when a file is read (files without it, as
 written before it existed, load as before): the highest undamped natural frequency of
