@@ -70,6 +70,22 @@ def test_reciprocity_matrix_satisfies_its_equations(boundaries):
     assert np.allclose(T @ B, C.T, rtol=0, atol=1e-12 * np.abs(C).max())
 
 
+def test_a_state_space_that_is_not_minimal_is_reduced_exactly(boundaries):
+    """A real pole with a rank-1 residue r r^T (positive real: passivity kept) adds two states to the
+    state space but one DOF at most to the network: the unobservable state is projected out."""
+    bnd = boundaries["slab viscous"]
+    model = bnd.model
+    r = np.array([np.sqrt(model.D[0, 0]), 0.5 * np.sqrt(model.D[1, 1])]) * 2 * np.pi * 700.0
+    extra = [[r[0] * r[0], r[0] * r[1], r[1] * r[1]]]
+    wider = type(model)(np.r_[model.poles, -2 * np.pi * 700.0 + 0j], np.vstack([model.coefficients, extra]),
+                        model.K0, model.D)
+    system = second_order_system(wider)
+    assert system.n_internal <= bnd.second_order().n_internal + 1
+    f = np.geomspace(1e-3, 1e6, 200)
+    assert np.max(np.abs(system.receptance(f) / wider.receptance(f) - 1)) < 1e-6  # measured 1.3e-7
+    assert np.max(np.abs(wider.receptance(f) / model.receptance(f) - 1)) > 1e-2  # the pole matters
+
+
 def test_an_active_model_is_refused():
     """A model whose real part of Z turns negative has no passive network."""
     bnd = st.fit_boundary(st.slab_track(damping="viscous"), band=BAND, n_poles=24)

@@ -27,8 +27,9 @@ time invariant systems", arXiv:2201.05355):
    ``lambda > 0``. ``K0`` joins the port stiffness. The energy is ``x^T x / 2`` throughout.
 
 Every first-order state gives at most one internal DOF (a mass or a Maxwell DOF; a pure spring
-none). The synthesis runs on the model scaled by ``D^-1/2`` at the ports (as the passivity test
-does), so that ``w`` and ``psi`` weigh alike.
+none); states that are not minimal (a residue of lower rank) are projected out first, exactly.
+The synthesis runs on the model scaled by ``D^-1/2`` at the ports (as the passivity test does),
+so that ``w`` and ``psi`` weigh alike.
 
 **Limits**, stated where the system is made (:meth:`semitrack.BroadbandBoundary.second_order`):
 implicit integrators only (the Maxwell DOFs are massless); the internal DOFs have no spring path
@@ -61,10 +62,13 @@ SYNTHESIS_TOL = 1e-6
 
 # A symmetric A11 eigenvalue below this fraction of max |A| is rounding: the spring has no dashpot.
 _MAXWELL_RTOL = 1e-13
+# An eigenvalue of T below this fraction of the largest is a direction that is not minimal (the
+# paper's fits have 1e-10 to 1 of the largest; an exact rank-1 residue leaves 1e-17).
+_KERNEL_RTOL = 1e-14
 
 
 class SynthesisError(InputError):
-    """The model has no passive M, C, K network (it is not passive, not reciprocal or not minimal):
+    """The model has no passive M, C, K network (it is not passive or not reciprocal):
     a refusal of the model given, as the command line reports it (exit code 2)."""
 
 
@@ -149,12 +153,22 @@ def reciprocal_storage(P: np.ndarray, signature: np.ndarray, max_iter: int = 100
 
 
 def _to_signature(A, B, C, T):
-    """Coordinates in which ``T = diag(+-1)``: ``x = W x~`` with ``W = U |t|^-1/2``."""
+    """Coordinates in which ``T = diag(+-1)``: ``x = W z`` with ``W = U |t|^-1/2``, the kernel of ``T``
+    dropped.
+
+    A state space that is not minimal (a residue of lower rank than its pole's states, e.g. a real
+    pole's 2x2 coefficient of rank 1) has a singular ``T``. Its kernel is unobservable
+    (``C v = B^T T v = 0``) and invariant under ``A`` (``T A v = A^T T v = 0``), so projecting it
+    out, ``z = W^+ x``, ``A_r = W^+ A W``, is exact, and the model gets fewer states.
+    """
     t, U = np.linalg.eigh(T)
-    if np.min(np.abs(t)) <= 1e-14 * np.max(np.abs(t)):
-        raise SynthesisError("the reciprocity matrix is singular: the state space is not minimal")
+    keep = np.abs(t) > _KERNEL_RTOL * np.max(np.abs(t))
+    U, t = U[:, keep], t[keep]
     W = U / np.sqrt(np.abs(t))
-    return np.linalg.solve(W, A @ W), np.linalg.solve(W, B), C @ W, np.sign(t)
+    if np.all(keep):  # W is square: a solve keeps a few more digits than its transpose-based inverse
+        return np.linalg.solve(W, A @ W), np.linalg.solve(W, B), C @ W, np.sign(t)
+    W_plus = np.sqrt(np.abs(t))[:, None] * U.T
+    return W_plus @ A @ W, W_plus @ B, C @ W, np.sign(t)
 
 
 def _passive_coordinates(A, B, C, R, t):
@@ -188,6 +202,24 @@ def _network(A: np.ndarray, B: np.ndarray, n1: int) -> tuple[np.ndarray, np.ndar
     return mass, damper, elongation.T @ elongation, maxwell
 
 
+def _matrices(model: RationalEndStiffness) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """``(M, C, K, n_maxwell)`` of the network in physical port units, ``K0`` and ``D`` exact."""
+    A, B, C, D = model.state_space()
+    scale = 1.0 / np.sqrt(np.diag(D))  # D is diagonal: the Timoshenko dashpot
+    try:
+        A, B, C, t = _to_signature(A, B * scale, scale[:, None] * C, reciprocity_matrix(model))
+        A, B, n1 = _passive_coordinates(A, B, C, 2 * np.eye(2), t)
+    except np.linalg.LinAlgError as exc:  # a singular Krylov block or a storage that is not definite
+        raise SynthesisError(f"the model has no passive reciprocal realisation here ({exc})") from None
+    M, Cd, K, maxwell = _network(A, B, n1)
+    ports = np.ones(M.shape[0])
+    ports[:2] = 1.0 / scale
+    M, Cd, K = (ports[:, None] * X * ports[None, :] for X in (M, Cd, K))
+    K[:2, :2] += model.K0
+    Cd[:2, :2] = model.D  # exactly: the dashpot is pinned, not re-derived
+    return M, Cd, K, int(np.sum(maxwell))
+
+
 def second_order_system(model: RationalEndStiffness, info: dict | None = None) -> MatrixSystem:
     """The passive rational end model as symmetric positive semi-definite ``M, C, K`` (module docstring).
 
@@ -207,29 +239,19 @@ def second_order_system(model: RationalEndStiffness, info: dict | None = None) -
     Raises
     ------
     SynthesisError
-        When the model is not passive or not minimal, or the result misses :data:`SYNTHESIS_TOL`.
+        When the model is not passive, or the result misses :data:`SYNTHESIS_TOL`.
     """
-    A, B, C, D = model.state_space()
-    scale = 1.0 / np.sqrt(np.diag(D))  # D is diagonal: the Timoshenko dashpot
-    with serial_blas():  # small dense matrices: threaded BLAS only contends (0.1 s -> 1 s measured)
-        try:
-            A, B, C, t = _to_signature(A, B * scale, scale[:, None] * C, reciprocity_matrix(model))
-            A, B, n1 = _passive_coordinates(A, B, C, 2 * np.eye(2), t)
-        except np.linalg.LinAlgError as exc:  # a singular Krylov block or a storage that is not definite
-            raise SynthesisError(f"the model has no passive reciprocal realisation here ({exc})") from None
-        M, Cd, K, maxwell = _network(A, B, n1)
-    ports = np.ones(M.shape[0])
-    ports[:2] = 1.0 / scale
-    M, Cd, K = (ports[:, None] * X * ports[None, :] for X in (M, Cd, K))
-    K[:2, :2] += model.K0
-    Cd[:2, :2] = model.D  # exactly: the dashpot is pinned, not re-derived
-    n2 = M.shape[0] - 2 - int(np.sum(maxwell))
-    dofs = ("w (m)", "psi (rad)") + tuple(f"q{j} (kg^1/2 m, unit mass)" for j in range(1, n2 + 1)) \
-        + tuple(f"r{j} (N^1/2 m^1/2, massless)" for j in range(1, int(np.sum(maxwell)) + 1))
-    system = MatrixSystem(M, Cd, K, dofs=dofs, info=dict(info or {}))
-    f = np.geomspace(1e-3, 1e6, 181)
-    ref = model.receptance(f)
-    error = float(np.max(np.abs(system.receptance(f) - ref) / np.abs(ref)))
+    # Small dense matrices: threaded BLAS only contends; with other jobs on the machine its
+    # spinning threads cost 20 s of CPU where one thread takes 0.1-0.4 s (measured).
+    with serial_blas():
+        M, C, K, n_maxwell = _matrices(model)
+        n2 = M.shape[0] - 2 - n_maxwell
+        dofs = ("w (m)", "psi (rad)") + tuple(f"q{j} (kg^1/2 m, unit mass)" for j in range(1, n2 + 1)) \
+            + tuple(f"r{j} (N^1/2 m^1/2, massless)" for j in range(1, n_maxwell + 1))
+        system = MatrixSystem(M, C, K, dofs=dofs, info=dict(info or {}))
+        f = np.geomspace(1e-3, 1e6, 181)
+        ref = model.receptance(f)
+        error = float(np.max(np.abs(system.receptance(f) - ref) / np.abs(ref)))
     if error > SYNTHESIS_TOL:
         raise SynthesisError(f"the synthesised M, C, K differ from the rational model by {error:.2e} "
                              f"(relative, > {SYNTHESIS_TOL:g}) between 1 mHz and 1 MHz")
