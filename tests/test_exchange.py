@@ -112,8 +112,10 @@ def test_nastran_dmig_reproduces_the_receptance(boundary, tmp_path):
     system = boundary.second_order()
     text = st.export_system(system, tmp_path / "end.bdf").read_text()
     assert "K2GG = KEND, KENDR" in text and "to the right of a cut" in text
-    conv = json.loads(next(line for line in text.splitlines() if "conventions:" in line).split("conventions:", 1)[1])
-    _check_conventions({**conv, "text": text}, boundary.track_name)
+    assert max(len(line) for line in text.splitlines()) <= 80  # Nastran reads 80 columns
+    conv = json.loads("".join(line[2:] for line in text.splitlines() if line.startswith("$|")))
+    _check_conventions({**conv, "text": " ".join(line[2:] for line in text.splitlines() if line.startswith("$ "))},
+                       boundary.track_name)
     matrices = _parse_bdf(text)
     spoints = [int(x) for x in next(line for line in text.splitlines() if line.startswith("SPOINT")).split()[1::2]]
     labels = [(1, 2), (1, 6)] + [(p, 0) for p in range(spoints[0], spoints[1] + 1)]
@@ -143,6 +145,9 @@ def test_abaqus_matrix_input_reproduces_the_receptance(boundary, tmp_path):
     system = boundary.second_order()
     text = st.export_system(system, tmp_path / "end.inp").read_text()
     assert "*MATRIX ASSEMBLE, STIFFNESS=END_K, MASS=END_M, VISCOUS DAMPING=END_C" in text
+    conv = json.loads("".join(line[3:] for line in text.splitlines() if line.startswith("**|")))
+    _check_conventions({**conv, "text": " ".join(line[3:] for line in text.splitlines() if line.startswith("** "))},
+                       boundary.track_name)
     matrices = _parse_inp(text)
     nodes = sorted({row[0] for row, _ in matrices["END_K"]} - {1})
     labels = [(1, 2), (1, 6)] + [(n, 1) for n in nodes]

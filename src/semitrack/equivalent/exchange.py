@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import json
 import os
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -334,16 +335,22 @@ def _labels(system: MechanicalSystem, port_node: int) -> list[tuple[int, int]]:
 
 
 def _header(system: MechanicalSystem, comment: str, track, band_hz, port_node: int) -> list[str]:
+    """Comment lines of at most 72 characters (Nastran reads 80 columns, Abaqus 256): the conventions
+    in words, the node mapping and limits, then the conventions as JSON split over lines ``<comment>|``
+    (a reader joins them)."""
     conv = end_conventions(*_info(system, track, band_hz))
-    words = conv["text"].split(". ")
-    return [f"{comment} semitrack end system: {system.n_dof} DOFs ({system.n_internal} internal), SI units",
-            *[f"{comment} {w.rstrip('.')}." for w in words],
-            f"{comment} Ports on node {port_node}: {CODE_AXES['w']['note']} (DOF 2), {CODE_AXES['psi']['note']} "
-            "(DOF 6), for x along the track and y up; the port rows and columns are written in those axes.",
-            f"{comment} Internal DOFs: labels {FIRST_INTERNAL_LABEL}..{FIRST_INTERNAL_LABEL + system.n_internal - 1}. "
-            "Massless DOFs: implicit integration only; static/preload step: close the cut with the 2x2 "
-            "static stiffness instead; the internal masses are mathematical (no gravity on them).",
-            f"{comment} conventions: {json.dumps({k: v for k, v in conv.items() if k != 'text'})}"]
+    last = FIRST_INTERNAL_LABEL + system.n_internal - 1
+    words = (f"semitrack end system: {system.n_dof} DOFs ({system.n_internal} internal), SI units. "
+             + conv["text"] + f" Ports on node {port_node}: {CODE_AXES['w']['note']} (DOF 2), "
+             f"{CODE_AXES['psi']['note']} (DOF 6), for x along the track and y up; the port rows and columns "
+             f"are written in those axes. Internal DOFs: labels {FIRST_INTERNAL_LABEL}..{last}. Massless "
+             "DOFs: implicit integration only; a static or preload step closes the cut with the 2x2 static "
+             "stiffness instead; the internal masses are mathematical (no gravity on them).")
+    lines = [f"{comment} {line}" for line in textwrap.wrap(words, 72 - len(comment) - 1)]
+    data = json.dumps({k: v for k, v in conv.items() if k != "text"})
+    width = 72 - len(comment) - 1
+    lines.append(f"{comment} conventions as JSON (join the lines that start with {comment}|):")
+    return lines + [f"{comment}|{data[k:k + width]}" for k in range(0, len(data), width)]
 
 
 def _nastran_real(value: float) -> str:
