@@ -242,6 +242,8 @@ def test_boundary_files_export_to_every_format(tmp_path):
     assert run("fit", track_file, "--boundary", "--band", 3, 3000, "--poles", 24, "-o", tmp_path / "fit.bdf"
                ).returncode == 0
     assert (tmp_path / "fit.bdf").read_text() == (tmp_path / "end.bdf").read_text()
+    mck = run("fit", track_file, "--band", 3, 300, "--bars", 1, "--mck", "-o", tmp_path / "s.json")
+    assert mck.returncode == 2 and "--mck applies with --boundary" in mck.stderr
     same = run("export", boundary_file, "--format", "json")
     assert same.returncode == 2 and "would replace the input" in same.stderr
 

@@ -352,6 +352,8 @@ def cmd_fit(args: argparse.Namespace) -> int:
     (out,) = output_paths(("-o", args.output))
     if args.boundary:
         return _fit_boundary(args, track, (fmin, fmax), out)
+    if args.mck:
+        raise InputError("--mck applies with --boundary (a fitted system's file holds its M, C, K already)")
     from .equivalent.fitting import fit_equivalent
 
     checked(check_int_at_least, "--bars", args.bars, 1)
