@@ -302,7 +302,6 @@ class MechanicalSystem:
             tol=float(tol),
         )
 
-
     # --- natural frequencies -----------------------------------------------------------------------
     def natural_frequencies(self) -> np.ndarray:
         """Undamped natural frequencies (Hz) of the free system, ``K v = omega^2 M v``, ascending.
@@ -342,7 +341,10 @@ class MechanicalSystem:
         """Largest stable step (s) of the undamped central-difference scheme, ``2 / omega_max``.
 
         ``omega_max = 2 pi`` :meth:`highest_natural_frequency`; damping lowers the limit a
-        little. ``inf`` for a system without inertia.
+        little. ``inf`` for a system without inertia. Massless DOFs are condensed statically
+        here; where they carry dashpots (the broadband end's Maxwell DOFs,
+        :meth:`semitrack.BroadbandBoundary.second_order`) no explicit scheme steps them at all:
+        integrate such a system implicitly.
         """
         f_max = self.highest_natural_frequency()
         return 2.0 / (2 * np.pi * f_max) if f_max > 0 else math.inf
