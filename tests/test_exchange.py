@@ -165,6 +165,9 @@ def test_paper_system_files_carry_conventions(tmp_path):
     assert "[conventions]" in (tmp_path / "t4.csv").read_text() and st.load_system_csv(tmp_path / "t4.csv") == system
     st.export_system(system, tmp_path / "t4.mat")
     _check_conventions(json.loads(str(scipy.io.loadmat(tmp_path / "t4.mat")["conventions_json"][0])))
+    struct = scipy.io.loadmat(tmp_path / "t4.mat", simplify_cells=True)["conventions"]  # as MATLAB reads it
+    assert struct["side"] == "right" and struct["load_convention"] == "applied_to_end"
+    assert np.array_equal(struct["left_end_mirror"], np.diag([1.0, -1.0])) and list(struct["port_dofs"]) == ["w", "psi"]
     for suffix in (".bdf", ".inp"):  # the M, C, K formats take the paper's systems too
         assert "to the right of a cut" in st.export_system(system, tmp_path / f"t4{suffix}").read_text()
     text = (tmp_path / "t4.inp").read_text()

@@ -29,7 +29,7 @@ import scipy.io
 
 from ..base.errors import InputError, InputTypeError
 from ..base.files import atomic_write
-from ..equivalent.exchange import MATRIX_SUFFIXES, end_conventions, save_matrix_system
+from ..equivalent.exchange import MATRIX_SUFFIXES, end_conventions, mat_conventions, save_matrix_system
 from ..equivalent.metrics import ErrorSummary
 from .fitting import BroadbandBoundary
 from .passivity import passivity_report
@@ -152,7 +152,7 @@ def save_boundary(boundary: BroadbandBoundary, path, format: str | None = None) 
                "median_error": data["median_error"], "max_error": data["max_error"],
                "enforcement_rounds": data["enforcement_rounds"],
                "format": FORMAT, "units": json.dumps(UNITS), "track": data["track"],
-               "conventions_json": json.dumps(data["conventions"]), "conventions": data["conventions"]["text"],
+               "conventions_json": json.dumps(data["conventions"]), "conventions": mat_conventions(data["conventions"]),
                **_second_order_variables(boundary)}
         return atomic_write(path, lambda fh: scipy.io.savemat(fh, mat), binary=True)
     raise InputError(f"path must end in .json or .mat, got {str(path)!r}")

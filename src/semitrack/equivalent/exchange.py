@@ -54,7 +54,7 @@ from ..base.errors import InputError, InputTypeError
 from ..base.files import atomic_write
 from .mechanical import PORT_DOFS, MatrixSystem, MechanicalSystem
 
-__all__ = ["end_conventions", "conventions_text", "matrix_system_to_dict", "matrix_system_from_dict",
+__all__ = ["end_conventions", "conventions_text", "mat_conventions", "matrix_system_to_dict", "matrix_system_from_dict",
            "save_matrix_system", "load_matrix_system", "save_nastran_dmig", "save_abaqus_matrix",
            "MATRIX_FORMAT", "MATRIX_SUFFIXES", "CODE_AXES"]
 
@@ -266,14 +266,21 @@ def save_matrix_system(system: MechanicalSystem, path: str | os.PathLike, track:
                    "C": np.array(data["C"]), "K": np.array(data["K"]),
                    "dof_names": np.array(data["dof_names"], dtype=object),
                    "static_stiffness": np.array(data["static_stiffness"]),
-                   "conventions": _mat_conventions(data["conventions"]),
+                   "conventions": mat_conventions(data["conventions"]),
                    "conventions_json": json.dumps(data["conventions"]), "info_json": json.dumps(data["info"])}
         return atomic_write(path, lambda fh: scipy.io.savemat(fh, content, oned_as="row"), binary=True)
     raise InputError(f"path must end in one of {', '.join(MATRIX_SUFFIXES)}, got {str(path)!r}")
 
 
-def _mat_conventions(conv: dict) -> dict:
-    """The conventions as a MATLAB struct: numbers as arrays, None as an empty array."""
+def mat_conventions(conv: dict) -> dict:
+    """The conventions record as a MATLAB struct (:func:`scipy.io.savemat`): numbers as arrays,
+    lists of names as cell arrays, None as an empty array.
+
+    Parameters
+    ----------
+    conv : dict
+        A record of :func:`end_conventions`.
+    """
     out = {}
     for key, value in conv.items():
         if isinstance(value, dict):

@@ -70,7 +70,7 @@ import numpy as np
 
 from ..base.errors import InputError, InputTypeError
 from ..base.files import atomic_write, read_text
-from .exchange import MATRIX_SUFFIXES, end_conventions, save_matrix_system
+from .exchange import MATRIX_SUFFIXES, end_conventions, mat_conventions, save_matrix_system
 from .mechanical import MechanicalSystem
 from .systems import PARAMETER_UNITS, EquivalentSystem
 
@@ -442,10 +442,8 @@ def save_system_mat(system: EquivalentSystem, path: str | os.PathLike, *, track:
         "parameter_units": {name: PARAMETER_UNITS[name] for name in system.parameter_names()},
         "highest_natural_frequency_Hz": system.highest_natural_frequency(),
         "central_difference_time_step_s": system.central_difference_time_step(),
-        "conventions": {k: v for k, v in conventions.items() if v is not None and not isinstance(v, list)},
+        "conventions": mat_conventions(conventions),
         "conventions_json": json.dumps(conventions),
-        "port_dofs": np.array(conventions["port_dofs"], dtype=object),
-        "left_end_mirror": np.array(conventions["left_end_mirror"]),
     }
     import scipy.io  # here, not at the top: it costs ~0.15 s of every command line's start-up
 
