@@ -4,8 +4,9 @@ Independent checks: the Nastran ``.bdf`` and Abaqus ``.inp`` files are parsed by
 written here from the formats' documentation (the package reads neither); the port receptance of
 what was read is condensed here by a dense solve; a Newmark code written here attaches an exported
 end using only the file's own convention fields and reproduces the package's pulse response.
-Tolerances: 1e-9 relative for the receptance of every file (the package writes doubles in full;
-measured 1e-12), 1e-6 relative L2 for the time history (measured 1e-11).
+Tolerances: 1e-9 relative between the receptance of what a file holds and of the M, C, K written
+(the package writes doubles in full; measured 1e-12), 1e-6 relative L2 for the time history
+(measured 1e-11).
 """
 
 from __future__ import annotations
@@ -42,6 +43,12 @@ def _close(alpha, ref, tol=1e-9):
     return np.max(np.abs(alpha - ref) / np.abs(ref)) < tol
 
 
+def _written(boundary):
+    """The receptance of what is written: the end's M, C, K (to the rational model itself it is
+    1e-12 to 1e-9, the synthesis's own accuracy, checked in test_synthesis)."""
+    return _port_receptance(*boundary.second_order().matrices())
+
+
 def _check_conventions(conv, track=None):
     for key in CONVENTION_KEYS:
         assert key in conv, key
@@ -55,7 +62,7 @@ def _check_conventions(conv, track=None):
 
 def test_matrix_files_round_trip(boundary, tmp_path):
     system = boundary.second_order()
-    ref = boundary.receptance(F)
+    ref = _written(boundary)
     for suffix in (".json", ".csv", ".mat"):
         path = st.export_system(system, tmp_path / f"end{suffix}")
         back = st.load_matrix_system(path)
@@ -121,8 +128,11 @@ def test_nastran_dmig_reproduces_the_receptance(boundary, tmp_path):
     labels = [(1, 2), (1, 6)] + [(p, 0) for p in range(spoints[0], spoints[1] + 1)]
     M, C, K = (_dense(matrices[f"{c}END"], labels) + _dense(matrices[f"{c}ENDR"], labels) for c in "MBK")
     # the file's axes (y up, theta_z counterclockwise) flip both ports: the port receptance is unchanged
-    assert _close(_port_receptance(M, C, K), boundary.receptance(F))
-    assert _close(_port_receptance(M, C, K), _port_receptance(*system.matrices()), 1e-11)
+    assert _close(_port_receptance(M, C, K), _written(boundary))
+    # the remainders matter: the 16-character leading parts alone lose 3e-4 (measured)
+    lead = (_dense(matrices[f"{c}END"], labels) for c in "MBK")
+    assert not _close(_port_receptance(*lead), _written(boundary), 1e-6)
+    assert _close(_port_receptance(M, C, K), boundary.receptance(F), 1e-8)  # the synthesis's own 9e-10
 
 
 def _parse_inp(text):
@@ -153,7 +163,7 @@ def test_abaqus_matrix_input_reproduces_the_receptance(boundary, tmp_path):
     labels = [(1, 2), (1, 6)] + [(n, 1) for n in nodes]
     M, C, K = (_dense(matrices[name], labels) for name in ("END_M", "END_C", "END_K"))
     assert np.array_equal(K[2:, 2:], system.K[2:, 2:])  # repr: every digit
-    assert _close(_port_receptance(M, C, K), boundary.receptance(F))
+    assert _close(_port_receptance(M, C, K), _written(boundary))
 
 
 def test_paper_system_files_carry_conventions(tmp_path):
@@ -184,7 +194,7 @@ def test_boundary_files_carry_conventions_and_mck(boundary, tmp_path):
     st.save_boundary(boundary, tmp_path / "b.mat")
     raw = scipy.io.loadmat(tmp_path / "b.mat", simplify_cells=True)
     second = raw["second_order"]
-    assert _close(_port_receptance(second["M"], second["C"], second["K"]), boundary.receptance(F))
+    assert _close(_port_receptance(second["M"], second["C"], second["K"]), _written(boundary))
     _check_conventions(json.loads(raw["conventions_json"]), boundary.track_name)
     back = st.load_boundary(tmp_path / "b.mat")
     assert np.allclose(back.receptance(F), boundary.receptance(F), rtol=1e-12)
@@ -193,8 +203,7 @@ def test_boundary_files_carry_conventions_and_mck(boundary, tmp_path):
     st.export_boundary(boundary, tmp_path / "b_mck.mat", mck=True)
     assert {"M", "C", "K"} <= set(scipy.io.loadmat(tmp_path / "b_mck.mat"))
     st.export_boundary(boundary, tmp_path / "b_mck.json", mck=True)
-    assert _close(_port_receptance(*st.load_matrix_system(tmp_path / "b_mck.json").matrices()),
-                  boundary.receptance(F))
+    assert _close(_port_receptance(*st.load_matrix_system(tmp_path / "b_mck.json").matrices()), _written(boundary))
 
 
 def _newmark(M, C, K, load_dof, force, dt):
