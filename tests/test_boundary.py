@@ -12,6 +12,7 @@ import json
 
 import numpy as np
 import pytest
+from synthesis_checks import check_second_order
 
 import semitrack as st
 from semitrack.boundary.fitting import track_end_limits
@@ -263,6 +264,14 @@ def viscous_fits():
     """Boundaries of the paper's tracks with causal (viscous) damping, the time-domain model's."""
     return {name: st.fit_boundary(make(damping="viscous"), band=BAND)
             for name, make in (("slab", st.slab_track), ("ballasted", st.ballasted_track))}
+
+
+def test_the_study_fits_as_m_c_k(fitted, viscous_fits):
+    """The four study fits (hysteretic and viscous, slab and ballasted, their own orders) turn into
+    M, C, K that meet every target of issue 23 (tests/synthesis_checks.py)."""
+    for damping, fits in (("hysteretic", fitted), ("viscous", viscous_fits)):
+        for name, bnd in fits.items():
+            check_second_order(bnd, f"{name} {damping}")
 
 
 def test_left_boundary_end_is_the_mirror_of_the_right(fitted):

@@ -1,5 +1,6 @@
 """End-to-end tests of the command-line program through a subprocess."""
 
+import csv
 import dataclasses
 import io
 import json
@@ -181,6 +182,12 @@ def test_fit_then_export_in_every_format(tmp_path):
         assert result.returncode == 0, result.stderr
         loader = {"json": st.load_system_json, "csv": st.load_system_csv, "mat": st.load_system_mat}[fmt]
         np.testing.assert_allclose(loader(out).receptance(f), reference, rtol=1e-10)
+    # Every file names the track and band it was fitted on, carried on by each export.
+    assert json.loads(system_file.read_text())["conventions"]["band_hz"] == [3.0, 300.0]
+    csv_conventions = {row[0]: row[1] for row in csv.reader((tmp_path / "export.csv").read_text().splitlines())
+                       if len(row) == 2}
+    assert json.loads(csv_conventions["track"]) == st.slab_track().name
+    assert json.loads(csv_conventions["band_hz"]) == [3.0, 300.0]
     # The .mat matrices themselves, as a MATLAB user sees them, reproduce the receptance.
     mat = scipy.io.loadmat(tmp_path / "export.mat")
     m, c, k = (np.asarray(mat[n], dtype=float) for n in ("M", "C", "K"))
@@ -205,8 +212,40 @@ def test_fit_boundary_writes_a_passive_model_that_loads_back(tmp_path):
         reference = st.fit_boundary(track, band=(3, 3000), n_poles=24)
         f = np.geomspace(1.0, 1e4, 30)
         np.testing.assert_allclose(loaded.receptance(f), reference.receptance(f), rtol=1e-10)
-    bad = run("fit", track_file, "--boundary", "--band", 3, 3000, "-o", tmp_path / "b.csv")
-    assert bad.returncode == 2 and "json or .mat" in bad.stderr
+    bad = run("fit", track_file, "--boundary", "--band", 3, 3000, "-o", tmp_path / "b.txt")
+    assert bad.returncode == 2 and ".json/.mat/.csv/.bdf/.inp" in bad.stderr
+
+
+def test_boundary_files_export_to_every_format(tmp_path):
+    """``semitrack export`` takes boundary files: state space to state space and to every M, C, K format."""
+    track_file = tmp_path / "slab.toml"
+    track_file.write_text(track_to_toml(st.slab_track(damping="viscous")))
+    boundary_file = tmp_path / "boundary.json"
+    assert run("fit", track_file, "--boundary", "--band", 3, 3000, "--poles", 24, "-o", boundary_file).returncode == 0
+    reference = st.load_boundary(boundary_file)
+    f = np.geomspace(1.0, 1e4, 30)
+    result = run("export", boundary_file, "--format", "mat")  # as the README types it: boundary.mat beside it
+    assert result.returncode == 0, result.stderr
+    np.testing.assert_allclose(st.load_boundary(tmp_path / "boundary.mat").receptance(f), reference.receptance(f),
+                               rtol=1e-12)
+    for name, extra in (("end.csv", []), ("end_mck.json", ["--mck"]), ("end_mck.mat", ["--mck"]),
+                        ("end.bdf", []), ("end.inp", [])):
+        result = run("export", tmp_path / "boundary.mat", "-o", tmp_path / name, *extra)
+        assert result.returncode == 0, result.stderr
+        assert "M, C, K" in result.stdout
+    for name in ("end.csv", "end_mck.json", "end_mck.mat"):
+        np.testing.assert_allclose(st.load_matrix_system(tmp_path / name).receptance(f), reference.receptance(f),
+                                   rtol=1e-8)
+    # M, C, K files export on to the codes' formats; fit --boundary writes them directly
+    assert run("export", tmp_path / "end.csv", "-o", tmp_path / "again.inp").returncode == 0
+    assert (tmp_path / "again.inp").read_text() == (tmp_path / "end.inp").read_text()
+    assert run("fit", track_file, "--boundary", "--band", 3, 3000, "--poles", 24, "-o", tmp_path / "fit.bdf"
+               ).returncode == 0
+    assert (tmp_path / "fit.bdf").read_text() == (tmp_path / "end.bdf").read_text()
+    mck = run("fit", track_file, "--band", 3, 300, "--bars", 1, "--mck", "-o", tmp_path / "s.json")
+    assert mck.returncode == 2 and "--mck applies with --boundary" in mck.stderr
+    same = run("export", boundary_file, "--format", "json")
+    assert same.returncode == 2 and "would replace the input" in same.stderr
 
 
 @pytest.mark.parametrize("sub", ["example", "receptance", "fit", "export", "features"])

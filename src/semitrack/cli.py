@@ -20,6 +20,7 @@ import argparse
 import contextlib
 import functools
 import io
+import json
 import os
 import signal
 import sys
@@ -37,7 +38,7 @@ from .base.checks import MAX_FREQUENCIES, check_band, check_int_at_least, check_
 from .base.conventions import ALL_ELEMENTS, ELEMENT_UNITS, ELEMENTS
 from .base.errors import BadInput
 from .base.errors import InputError as PackageInputError
-from .base.files import atomic_write, check_output_path
+from .base.files import atomic_write, check_output_path, read_text
 from .base.paper_values import FIT_BANDS, PAPER_GRID_BAND, PAPER_GRID_STEP
 from .equivalent.io import export_system, load_system_json, save_system_json
 from .model.trackfile import EXAMPLES, TrackFileError, example_path, load_track_toml
@@ -351,6 +352,8 @@ def cmd_fit(args: argparse.Namespace) -> int:
     (out,) = output_paths(("-o", args.output))
     if args.boundary:
         return _fit_boundary(args, track, (fmin, fmax), out)
+    if args.mck:
+        raise InputError("--mck applies with --boundary (a fitted system's file holds its M, C, K already)")
     from .equivalent.fitting import fit_equivalent
 
     checked(check_int_at_least, "--bars", args.bars, 1)
@@ -361,7 +364,7 @@ def cmd_fit(args: argparse.Namespace) -> int:
                          constrained=not args.unconstrained)
     progress.update(1)
     progress.close()
-    save_system_json(fit.system, out)
+    save_system_json(fit.system, out, track=track.name, band_hz=(fmin, fmax))
     bars = f"{args.bars} bar" + "s" * (args.bars != 1)
     print(f"fitted a {layout} equivalent system with {bars} to '{printable(track.name)}' ({track_kind(track)}) "
           f"over {fmin:g}-{fmax:g} Hz")
@@ -370,13 +373,28 @@ def cmd_fit(args: argparse.Namespace) -> int:
     return 0
 
 
-def _fit_boundary(args: argparse.Namespace, track: Track, band: tuple[float, float], out: Path) -> int:
-    """``semitrack fit --boundary``: the broadband passive end model, written as JSON or .mat."""
-    from .boundary.fitting import check_n_poles, fit_boundary
-    from .boundary.io import save_boundary
+#: The formats of an end file, by suffix: a boundary's state space (json, mat) or any end's M, C, K.
+END_FORMATS = ("json", "mat", "csv", "bdf", "inp")
 
-    if out.suffix.lower() not in (".json", ".mat"):
-        raise InputError(f"-o must name a .json or .mat file for --boundary, got {out.name!r}")
+
+def _end_format(out: Path, given: str | None) -> str:
+    """The format of an output end file: ``--format`` or the suffix of ``-o``."""
+    fmt = given or out.suffix.lower().lstrip(".")
+    if fmt not in END_FORMATS:
+        raise InputError(f"cannot tell the format from {out.name!r}: give --format {'|'.join(END_FORMATS)} or a "
+                         f"{'/'.join('.' + x for x in END_FORMATS)} file name")
+    return fmt
+
+
+def _fit_boundary(args: argparse.Namespace, track: Track, band: tuple[float, float], out: Path) -> int:
+    """``semitrack fit --boundary``: the broadband passive end model, in any end format (its state space
+    as .json or .mat; its M, C, K as .csv, .bdf, .inp, or .json/.mat with --mck)."""
+    from .boundary.fitting import check_n_poles, fit_boundary
+    from .boundary.io import export_boundary
+
+    if out.suffix.lower().lstrip(".") not in END_FORMATS:
+        raise InputError(f"-o must name a {'/'.join('.' + x for x in END_FORMATS)} file for --boundary, "
+                         f"got {out.name!r}")
     if args.poles is not None:
         checked(check_n_poles, args.poles, "--poles")
     progress = Progress("fit", 1, quiet=args.quiet)
@@ -384,7 +402,7 @@ def _fit_boundary(args: argparse.Namespace, track: Track, band: tuple[float, flo
     bnd = fit_boundary(track, band=band, n_poles=args.poles, seed=args.seed)
     progress.update(1)
     progress.close()
-    save_boundary(bnd, out)
+    export_boundary(bnd, out, mck=args.mck)
     proof = "proven passive" if bnd.passivity else "NOT passive"
     print(f"fitted a broadband boundary with {bnd.n_poles} poles to '{printable(track.name)}' "
           f"({track_kind(track)}) over {band[0]:g}-{band[1]:g} Hz ({proof})")
@@ -421,15 +439,108 @@ def load_system_file(path: str) -> EquivalentSystem:
         raise InputError(f"{path}: cannot load the system: {message}") from None
 
 
+def _file_header(path: str) -> tuple[str, dict]:
+    """The ``format`` an end file declares and its ``conventions`` record (JSON keys, .mat
+    variables, or the CSV rows); ``("", {})`` where it has none."""
+    suffix = Path(path).suffix.lower()
+    try:
+        if suffix == ".json":
+            from .equivalent.io import MAX_SYSTEM_BYTES
+
+            data = json.loads(read_text(Path(path), MAX_SYSTEM_BYTES, "system file"))
+            if not isinstance(data, dict):
+                return "", {}
+            conventions = data.get("conventions")
+            return str(data.get("format", "")), conventions if isinstance(conventions, dict) else {}
+        if suffix == ".mat":
+            import scipy.io
+            from scipy.io.matlab import MatReadError
+
+            try:
+                raw = scipy.io.loadmat(path, variable_names=["format", "conventions_json"], simplify_cells=True)
+            except MatReadError:
+                return "", {}
+            return str(raw.get("format", "")), json.loads(str(raw.get("conventions_json", "{}")))
+        if suffix == ".csv":
+            import csv
+
+            from .equivalent.io import MAX_SYSTEM_BYTES
+
+            rows = list(csv.reader(read_text(Path(path), MAX_SYSTEM_BYTES, "system file").splitlines()))
+            fmt = next((row[1].strip() for row in rows if len(row) > 1 and row[0] == "format"), "")
+            start = next((i for i, row in enumerate(rows) if row[:1] == ["[conventions]"]), None)
+            conventions = {}
+            for row in rows[start + 2:] if start is not None else []:
+                if not row or row[0].startswith("["):
+                    break
+                conventions[row[0]] = json.loads(row[1])
+            return fmt, conventions
+    except OSError as err:
+        raise InputError(f"{path}: cannot read the system file ({err.strerror})") from None
+    except (ValueError, RecursionError, IndexError):
+        return "", {}  # not JSON, too deep, or not a .mat file: the system loader says what is wrong
+    return "", {}
+
+
+def load_end_file(path: str):
+    """An end file of any kind: a paper-style system, a broadband boundary, or an end's M, C, K.
+
+    Parameters
+    ----------
+    path : str
+        A ``.json``, ``.mat`` or ``.csv`` file written by the package.
+
+    Returns
+    -------
+    EquivalentSystem, BroadbandBoundary or MatrixSystem
+    """
+    from .boundary.io import FORMAT as BOUNDARY_FORMAT
+    from .boundary.io import load_boundary
+    from .equivalent.exchange import MATRIX_FORMAT, load_matrix_system
+    from .equivalent.io import load_system_csv, load_system_mat
+
+    fmt, _ = _file_header(path)
+    try:
+        if fmt == BOUNDARY_FORMAT:
+            return load_boundary(path)
+        if fmt == MATRIX_FORMAT:
+            return load_matrix_system(path)
+        suffix = Path(path).suffix.lower()
+        if suffix in (".csv", ".mat"):
+            return (load_system_csv if suffix == ".csv" else load_system_mat)(path)
+    except (KeyError, TypeError, ValueError) as err:
+        message = str(err).removeprefix(f"{path}: ")
+        raise InputError(f"{path}: cannot load the system: {message}") from None
+    return load_system_file(path)
+
+
 def cmd_export(args: argparse.Namespace) -> int:
-    system = load_system_file(args.system)
-    (out,) = output_paths(("-o", args.output))
-    if args.format is None and out.suffix.lower() not in (".json", ".csv", ".mat"):
-        raise InputError(f"cannot tell the format from {out.name!r}: give --format json|csv|mat or a "
-                         ".json/.csv/.mat file name")
-    export_system(system, out, format=args.format)
-    print(f"{args.format or out.suffix.lstrip('.')} export of a {system.layout} system with "
-          f"{system.n_dof} DOFs written to {out}")
+    from .boundary.fitting import BroadbandBoundary
+    from .boundary.io import export_boundary
+
+    source = load_end_file(args.system)
+    output = args.output
+    if output is None:  # beside the input, with the format's suffix
+        if args.format is None:
+            raise InputError("give -o FILE or --format FORMAT")
+        output = str(Path(args.system).with_suffix("." + args.format))
+        if Path(output).resolve() == Path(args.system).resolve():
+            raise InputError(f"the output {output!r} would replace the input: give -o FILE")
+    (out,) = output_paths(("-o", output))
+    fmt = _end_format(out, args.format)
+    if isinstance(source, BroadbandBoundary):
+        export_boundary(source, out, format=fmt, mck=args.mck)
+        as_mck = ", as M, C, K" if args.mck or fmt in ("csv", "bdf", "inp") else ""
+        what = f"a broadband boundary ({source.n_poles} poles{as_mck})"
+    else:
+        if args.mck:
+            raise InputError("--mck applies to a boundary file; a system file is written as M, C, K already")
+        conventions = _file_header(args.system)[1]  # the track and band it was fitted on, carried on
+        band = conventions.get("band_hz")
+        export_system(source, out, format=fmt, track=conventions.get("track") or None,
+                      band_hz=band if isinstance(band, list) and len(band) == 2 else None)
+        what = f"a {source.kind} system with {source.n_dof} DOFs"
+    print(f"{fmt} export of {what} written to {out}")
     return 0
 
 
@@ -613,19 +724,28 @@ def _fit_parser(sub) -> None:
     p.add_argument("--poles", type=int, default=None,
                    help="with --boundary: number of poles (default: chosen by the fit)")
     p.add_argument("-o", "--output", required=True,
-                   help="JSON file for the fitted system (with --boundary: .json or .mat)")
+                   help="JSON file for the fitted system (with --boundary: .json or .mat for the state space, "
+                        ".csv, .bdf (Nastran), .inp (Abaqus) for its M, C, K)")
+    p.add_argument("--mck", action="store_true",
+                   help="with --boundary: write the end's M, C, K (second-order form) also as .json or .mat")
     p.add_argument("--quiet", action="store_true", help="no progress line")
     p.set_defaults(func=cmd_fit)
 
 
 def _export_parser(sub) -> None:
     """The ``export`` command and its arguments, on the subparsers ``sub``."""
-    p = sub.add_parser("export", help="export M, C, K of a fitted system",
+    p = sub.add_parser("export", help="export a fitted system or boundary in another format",
                        formatter_class=argparse.RawDescriptionHelpFormatter,
-                       epilog="example:\n  semitrack export system.json --format mat -o system.mat")
-    p.add_argument("system", help="system file written by 'semitrack fit' (JSON)")
-    p.add_argument("--format", choices=("json", "csv", "mat"), help="format (default: from the suffix of -o)")
-    p.add_argument("-o", "--output", required=True, help="file to write")
+                       epilog="examples:\n  semitrack export system.json --format mat -o system.mat\n"
+                              "  semitrack export boundary.json --format mat\n"
+                              "  semitrack export boundary.json -o end.bdf      # its M, C, K for Nastran")
+    p.add_argument("system", help="system or boundary file written by 'semitrack fit' (.json, .mat, .csv)")
+    p.add_argument("--format", choices=END_FORMATS,
+                   help="format (default: from the suffix of -o): json, mat (a boundary's state space, or a system); "
+                        "csv, bdf (Nastran DMIG), inp (Abaqus *MATRIX INPUT): M, C, K")
+    p.add_argument("--mck", action="store_true", help="a boundary's M, C, K (second-order form) also as .json or .mat")
+    p.add_argument("-o", "--output", default=None,
+                   help="file to write (default: the input's name with the format's suffix)")
     p.set_defaults(func=cmd_export)
 
 

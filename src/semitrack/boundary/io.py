@@ -6,6 +6,17 @@ maximum errors, the passivity-enforcement rounds, and the units (the per-element
 orders tried and the fit time are not kept). Loading rebuilds the model from poles and
 coefficients and checks that the stored state space agrees with it, so a hand-edited or
 mismatched file is refused rather than trusted.
+
+Both also carry the conventions of every end file (:func:`semitrack.equivalent.exchange.end_conventions`:
+the semi-infinite track to the right of the cut, ``(Q, M)`` applied to the end so that the force
+on the user's node is ``-(Q, M)``, psi, the mirror ``P = diag(1, -1)`` of a left end, the ports,
+units, the track and band), in fields and in words; the .mat file also holds the end's M, C, K
+(:meth:`~.fitting.BroadbandBoundary.second_order`) in the struct ``second_order`` (its ``C`` is the
+state space's output matrix); the M, C, K form alone, ``export_boundary(b, "end.mat", mck=True)``,
+holds them as ``M``, ``C``, ``K``.
+:func:`export_boundary` writes a boundary in any format, the M, C, K ones (``.csv``, Nastran
+``.bdf``, Abaqus ``.inp``, and JSON or MAT with ``mck=True``) included. Floats are written in full
+(JSON's repr: 17 significant digits; .mat: doubles).
 """
 
 from __future__ import annotations
@@ -18,12 +29,18 @@ import scipy.io
 
 from ..base.errors import InputError, InputTypeError
 from ..base.files import atomic_write
+from ..equivalent.exchange import MATRIX_SUFFIXES, end_conventions, mat_conventions, save_matrix_system
 from ..equivalent.metrics import ErrorSummary
 from .fitting import BroadbandBoundary
 from .passivity import passivity_report
 from .rational import RationalEndStiffness
+from .synthesis import SynthesisError
 
-__all__ = ["boundary_to_dict", "boundary_from_dict", "save_boundary", "load_boundary"]
+__all__ = ["boundary_to_dict", "boundary_from_dict", "save_boundary", "load_boundary", "export_boundary",
+           "STATE_SPACE_SUFFIXES"]
+
+#: The suffixes of the state-space boundary files (the others write the end's M, C, K).
+STATE_SPACE_SUFFIXES = (".json", ".mat")
 
 FORMAT = "semitrack-broadband-boundary"
 VERSION = 1
@@ -61,6 +78,7 @@ def boundary_to_dict(boundary: BroadbandBoundary) -> dict:
         "state_space": {"A": ss.A.tolist(), "B": ss.B.tolist(), "C": ss.C.tolist(), "D": ss.D.tolist(),
                         "K0": ss.K0.tolist(), "dofs": list(ss.dofs)},
         "units": UNITS,
+        "conventions": end_conventions(b.track_name, b.band),
     }
 
 
@@ -110,7 +128,7 @@ def boundary_from_dict(data: dict, source: str = "data") -> BroadbandBoundary:
                              enforcement_rounds=int(data.get("enforcement_rounds", 0)))
 
 
-def save_boundary(boundary: BroadbandBoundary, path) -> Path:
+def save_boundary(boundary: BroadbandBoundary, path, format: str | None = None) -> Path:
     """Write a boundary to ``path``: ``.json`` (exact round trip) or ``.mat`` (MATLAB).
 
     Parameters
@@ -118,10 +136,12 @@ def save_boundary(boundary: BroadbandBoundary, path) -> Path:
     boundary : BroadbandBoundary
         The fitted boundary.
     path : str or Path
-        Output file; its suffix selects the format. Written atomically.
+        Output file; its suffix selects the format unless ``format`` is given. Written atomically.
+    format : {"json", "mat"}, optional
+        The format, whatever the suffix.
     """
     data = boundary_to_dict(boundary)
-    suffix = Path(path).suffix.lower()
+    suffix = f".{format.lower().lstrip('.')}" if format is not None else Path(path).suffix.lower()
     if suffix == ".json":
         return atomic_write(path, lambda fh: json.dump(data, fh, indent=1), binary=False)
     if suffix == ".mat":
@@ -131,9 +151,54 @@ def save_boundary(boundary: BroadbandBoundary, path) -> Path:
                "coefficients": boundary.model.coefficients, "band_hz": np.array(data["band_hz"]),
                "median_error": data["median_error"], "max_error": data["max_error"],
                "enforcement_rounds": data["enforcement_rounds"],
-               "format": FORMAT, "units": json.dumps(UNITS), "track": data["track"]}
+               "format": FORMAT, "units": json.dumps(UNITS), "track": data["track"],
+               "conventions_json": json.dumps(data["conventions"]), "conventions": mat_conventions(data["conventions"]),
+               **_second_order_variables(boundary)}
         return atomic_write(path, lambda fh: scipy.io.savemat(fh, mat), binary=True)
     raise InputError(f"path must end in .json or .mat, got {str(path)!r}")
+
+
+def _second_order_variables(boundary: BroadbandBoundary) -> dict:
+    """The struct ``second_order`` of a .mat file: ``M``, ``C``, ``K`` and ``dof_names`` of the end's
+    second-order form (``C`` at the top level is the state space's output matrix), or only a note
+    for a model that has none (one that is not passive)."""
+    try:
+        system = boundary.second_order()
+    except SynthesisError as exc:
+        return {"second_order": {"note": f"no M, C, K: {exc}"}}
+    M, C, K = system.matrices()
+    return {"second_order": {"M": M, "C": C, "K": K, "dof_names": np.array(system.dof_names(), dtype=object),
+                             "note": "the end in second-order form (BroadbandBoundary.second_order): ports (w, psi) "
+                                     "first; implicit integrators only (massless DOFs)"}}
+
+
+def export_boundary(boundary: BroadbandBoundary, path, format: str | None = None, mck: bool = False) -> Path:
+    """Write a boundary in any format: its state space (``.json``, ``.mat``) or its M, C, K.
+
+    Parameters
+    ----------
+    boundary : BroadbandBoundary
+        The fitted boundary.
+    path : str or Path
+        Output file, written atomically.
+    format : {"json", "mat", "csv", "bdf", "inp"}, optional
+        The format; default: from the suffix of ``path``.
+    mck : bool
+        Write the second-order form (:meth:`~.fitting.BroadbandBoundary.second_order`) also as
+        ``.json`` or ``.mat``; ``.csv``, ``.bdf`` and ``.inp`` always hold it.
+
+    Returns
+    -------
+    Path
+    """
+    b = _check_boundary(boundary)
+    key = f".{format.lower().lstrip('.')}" if format is not None else Path(path).suffix.lower()
+    if key not in MATRIX_SUFFIXES:
+        raise InputError(f"format must be one of {', '.join(x[1:] for x in MATRIX_SUFFIXES)} (or a path with that "
+                         f"suffix), got {format if format is not None else Path(path).suffix!r}")
+    if key in STATE_SPACE_SUFFIXES and not mck:
+        return save_boundary(b, path, format=key)
+    return save_matrix_system(b.second_order(), path, format=key)
 
 
 def load_boundary(path) -> BroadbandBoundary:

@@ -16,7 +16,10 @@ JSON (:func:`save_system_json`, :func:`load_system_json`)::
      "dof_names": ["w1 (m)", "phi_1 (rad)", ...],
      "matrices": {"M": {"values": [[...]], "entry_units": [[...]]}, "C": ..., "K": ...},
      "metadata": {"highest_natural_frequency": {"unit": "Hz", "value": ..., "note": ...},
-                  "central_difference_time_step": {"unit": "s", "value": ..., "note": ...}}}
+                  "central_difference_time_step": {"unit": "s", "value": ..., "note": ...}},
+     "conventions": {"side": "right", "load_convention": "applied_to_end", "port_dofs": ["w", "psi"],
+                     "port_indices": [0, 1], "left_end_mirror": [[1, 0], [0, -1]], "units": {...},
+                     "track": ..., "band_hz": [lo, hi] or null, "text": "..."}}
 
 ``metadata`` is written for the reader and ignored when a file is read (files without it, as
 written before it existed, load as before): the highest undamped natural frequency of
@@ -40,6 +43,15 @@ variables ``layout`` (char), ``n_bars``, ``M``, ``C``, ``K`` (double matrices), 
 of char), and (informative) ``highest_natural_frequency_Hz`` and
 ``central_difference_time_step_s``.
 
+Every file also carries the conventions of an end file (:func:`.exchange.end_conventions`): the
+side (the semi-infinite track to the right of the cut), the load convention (forces applied to the
+end; the force on the user's node is their negative), psi, the mirror ``P = diag(1, -1)`` of a left
+end, the port DOFs, units and the track and band fitted on: a ``conventions`` object in JSON, a
+``[conventions]`` section in CSV (values as JSON), a ``conventions`` struct (and
+``conventions_json``) in MAT. Readers ignore it. :func:`export_system` also writes any other
+:class:`~.mechanical.MechanicalSystem` (a broadband end's M, C, K) and the Nastran ``.bdf`` and
+Abaqus ``.inp`` files of :mod:`.exchange`.
+
 All writes are atomic: the file is written to a temporary file in the target folder and moved
 into place with :func:`os.replace`, so an error never leaves a half-written file.
 """
@@ -58,6 +70,8 @@ import numpy as np
 
 from ..base.errors import InputError, InputTypeError
 from ..base.files import atomic_write, read_text
+from .exchange import MATRIX_SUFFIXES, end_conventions, mat_conventions, save_matrix_system
+from .mechanical import MechanicalSystem
 from .systems import PARAMETER_UNITS, EquivalentSystem
 
 __all__ = [
@@ -151,13 +165,17 @@ def time_step_metadata(system: EquivalentSystem) -> dict[str, dict[str, Any]]:
 
 
 # --- dict / JSON ----------------------------------------------------------------------------------
-def system_to_dict(system: EquivalentSystem) -> dict[str, Any]:
-    """Plain-Python description of a system (the JSON layout above).
+def system_to_dict(system: EquivalentSystem, *, track: str = "", band_hz=None) -> dict[str, Any]:
+    """Plain-Python description of a system (the JSON layout above), with its conventions.
 
     Parameters
     ----------
     system : SlabEquivalent or BallastedEquivalent
         The system.
+    track : str
+        The track it was fitted on (recorded in the conventions; "" if not known).
+    band_hz : sequence of two floats, optional
+        The band it was fitted on (Hz).
     """
     system = _check_system(system)
     names = system.dof_names()
@@ -178,6 +196,7 @@ def system_to_dict(system: EquivalentSystem) -> dict[str, Any]:
             "K": {"values": K.tolist(), "entry_units": _entry_units(names, "")},
         },
         "metadata": time_step_metadata(system),
+        "conventions": end_conventions(track, band_hz),
     }
 
 
@@ -227,7 +246,7 @@ def system_from_dict(data: dict[str, Any], source: str = "data") -> EquivalentSy
     return system
 
 
-def save_system_json(system: EquivalentSystem, path: str | os.PathLike) -> Path:
+def save_system_json(system: EquivalentSystem, path: str | os.PathLike, *, track: str = "", band_hz=None) -> Path:
     """Write ``system`` to a JSON file (atomically).
 
     Parameters
@@ -236,12 +255,16 @@ def save_system_json(system: EquivalentSystem, path: str | os.PathLike) -> Path:
         The system.
     path : str or os.PathLike
         The file.
+    track : str
+        The track it was fitted on (recorded in the conventions).
+    band_hz : sequence of two floats, optional
+        The band it was fitted on (Hz).
 
     Returns
     -------
     Path
     """
-    data = system_to_dict(system)
+    data = system_to_dict(system, track=track, band_hz=band_hz)
     return atomic_write(path, lambda fh: json.dump(data, fh, indent=1), binary=False)
 
 
@@ -285,7 +308,7 @@ def _fmt(x: float) -> str:
     return repr(float(x))
 
 
-def save_system_csv(system: EquivalentSystem, path: str | os.PathLike) -> Path:
+def save_system_csv(system: EquivalentSystem, path: str | os.PathLike, *, track: str = "", band_hz=None) -> Path:
     """Write ``system`` to one sectioned CSV file (format in the module docstring), atomically.
 
     Parameters
@@ -294,6 +317,10 @@ def save_system_csv(system: EquivalentSystem, path: str | os.PathLike) -> Path:
         The system.
     path : str or os.PathLike
         The file.
+    track : str
+        The track it was fitted on (recorded in the conventions).
+    band_hz : sequence of two floats, optional
+        The band it was fitted on (Hz).
 
     Returns
     -------
@@ -316,6 +343,9 @@ def save_system_csv(system: EquivalentSystem, path: str | os.PathLike) -> Path:
     for name, values in system.parameters().items():
         cells = [_fmt(v) for v in values]
         w.writerow([name, PARAMETER_UNITS[name]] + cells + [""] * (N - len(cells)))
+    w.writerow(["[conventions]"])
+    w.writerow(["key", "value"])
+    w.writerows([key, json.dumps(value)] for key, value in end_conventions(track, band_hz).items())
     for label, X in zip("MCK", system.matrices()):
         w.writerow([f"[{label}]"])
         w.writerow(["dof"] + names)
@@ -378,7 +408,7 @@ def load_system_csv(path: str | os.PathLike) -> EquivalentSystem:
 
 
 # --- MAT --------------------------------------------------------------------------------------------
-def save_system_mat(system: EquivalentSystem, path: str | os.PathLike) -> Path:
+def save_system_mat(system: EquivalentSystem, path: str | os.PathLike, *, track: str = "", band_hz=None) -> Path:
     """Write ``system`` to a MATLAB .mat file (format 5) with :func:`scipy.io.savemat`, atomically.
 
     Parameters
@@ -387,6 +417,10 @@ def save_system_mat(system: EquivalentSystem, path: str | os.PathLike) -> Path:
         The system.
     path : str or os.PathLike
         The file.
+    track : str
+        The track it was fitted on (recorded in the conventions).
+    band_hz : sequence of two floats, optional
+        The band it was fitted on (Hz).
 
     Returns
     -------
@@ -394,6 +428,7 @@ def save_system_mat(system: EquivalentSystem, path: str | os.PathLike) -> Path:
     """
     system = _check_system(system)
     M, C, K = system.matrices()
+    conventions = end_conventions(track, band_hz)
     content = {
         "format": FORMAT_NAME,
         "version": FORMAT_VERSION,
@@ -407,6 +442,8 @@ def save_system_mat(system: EquivalentSystem, path: str | os.PathLike) -> Path:
         "parameter_units": {name: PARAMETER_UNITS[name] for name in system.parameter_names()},
         "highest_natural_frequency_Hz": system.highest_natural_frequency(),
         "central_difference_time_step_s": system.central_difference_time_step(),
+        "conventions": mat_conventions(conventions),
+        "conventions_json": json.dumps(conventions),
     }
     import scipy.io  # here, not at the top: it costs ~0.15 s of every command line's start-up
 
@@ -452,18 +489,29 @@ def load_system_mat(path: str | os.PathLike) -> EquivalentSystem:
 _WRITERS = {".json": save_system_json, ".csv": save_system_csv, ".mat": save_system_mat}
 
 
-def export_system(system: EquivalentSystem, path: str | os.PathLike,
-                  format: Literal["json", "csv", "mat"] | None = None) -> Path:
-    """Write ``system`` as JSON, CSV or MAT (formats in the module docstring), atomically.
+def export_system(system: MechanicalSystem, path: str | os.PathLike,
+                  format: Literal["json", "csv", "mat", "bdf", "inp"] | None = None, *, track: str | None = None,
+                  band_hz=None) -> Path:
+    """Write an end system as JSON, CSV, MAT, Nastran ``.bdf`` or Abaqus ``.inp``, atomically.
+
+    A paper-style system (:class:`~.systems.EquivalentSystem`) is written with its parameters
+    (formats in the module docstring) as JSON, CSV or MAT; any other
+    :class:`~.mechanical.MechanicalSystem` (a broadband end's
+    :meth:`~semitrack.BroadbandBoundary.second_order`), and every system as ``.bdf`` or ``.inp``,
+    by its matrices (:mod:`.exchange`). Every file states its conventions.
 
     Parameters
     ----------
-    system : SlabEquivalent or BallastedEquivalent
+    system : MechanicalSystem
         The system.
     path : str or os.PathLike
         The file.
-    format : {"json", "csv", "mat"}, optional
+    format : {"json", "csv", "mat", "bdf", "inp"}, optional
         The format; default: from the suffix of ``path``.
+    track : str, optional
+        The track it was fitted on (default: the system's own record, if any).
+    band_hz : sequence of two floats, optional
+        The band it was fitted on (Hz).
 
     Returns
     -------
@@ -486,7 +534,12 @@ def export_system(system: EquivalentSystem, path: str | os.PathLike,
     """
     path = _check_path(path)
     key = f".{format.lower().lstrip('.')}" if format is not None else path.suffix.lower()
-    if key not in _WRITERS:
-        raise InputError(f"format must be one of json, csv, mat (or a path with that suffix), got "
-                         f"{format if format is not None else path.suffix!r}")
-    return _WRITERS[key](system, path)
+    if key not in MATRIX_SUFFIXES:
+        raise InputError(f"format must be one of {', '.join(x[1:] for x in MATRIX_SUFFIXES)} (or a path with that "
+                         f"suffix), got {format if format is not None else path.suffix!r}")
+    if isinstance(system, EquivalentSystem) and key in _WRITERS:
+        return _WRITERS[key](system, path, track=track or "", band_hz=band_hz)
+    if not isinstance(system, MechanicalSystem):
+        raise InputTypeError(f"system must be a MechanicalSystem (an EquivalentSystem or "
+                             f"BroadbandBoundary.second_order()), got {type(system).__name__}")
+    return save_matrix_system(system, path, track, band_hz, format=key)

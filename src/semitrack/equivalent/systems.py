@@ -27,22 +27,22 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-import math
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import as_frequencies
 from ..base.errors import InputError, InputTypeError
-from .assembly import IllConditionedError, Layout, assembly, dynamic_stiffness, end_loads, scaled_solve
+from .assembly import Layout, assembly, end_loads
+from .mechanical import SYMMETRY_RTOL, MechanicalSystem, PassivityReport, undamped_natural_frequencies
 
 __all__ = [
     "EquivalentSystem",
     "SlabEquivalent",
     "BallastedEquivalent",
     "PassivityReport",
+    "undamped_natural_frequencies",
     "PARAMETER_UNITS",
 ]
 
@@ -61,19 +61,6 @@ PARAMETER_UNITS: dict[str, str] = {
     "d_l": "N s/m",
     "d_r": "N s/m",
 }
-
-# A dynamic stiffness matrix whose condition number, after symmetric diagonal scaling, exceeds
-# this is treated as singular: about 1e4 * machine epsilon of relative accuracy is left at most.
-_COND_LIMIT = 1e12
-
-# A mass-matrix eigenvalue below this fraction of the largest counts as zero: that direction
-# carries no inertia (a massless bar, as in the paper's Table 4) and follows the others statically.
-# Rounding of the assembly leaves ~1e-16 of the largest; a genuinely light part is kept.
-_MASSLESS_RTOL = 1e-12
-
-# Relative asymmetry tolerated in an assembled matrix before it counts as an assembly bug: the
-# P^T diag(v) P products are symmetric up to a few roundings of the largest entry.
-_SYMMETRY_RTOL = 1e-12
 
 
 def parameter_array(name: str, value: ArrayLike, *, positive: bool = False) -> np.ndarray:
@@ -138,7 +125,7 @@ def _symmetrised(name: str, X: np.ndarray) -> np.ndarray:
     """Check that an assembled matrix is symmetric to rounding, then return it exactly symmetric."""
     scale = np.max(np.abs(X)) if X.size else 0.0
     asym = np.max(np.abs(X - X.T)) if X.size else 0.0
-    if asym > _SYMMETRY_RTOL * max(scale, np.finfo(float).tiny):
+    if asym > SYMMETRY_RTOL * max(scale, np.finfo(float).tiny):
         raise RuntimeError(f"assembled {name} matrix is not symmetric: max |{name} - {name}^T| = {asym:.3e}")
     S = 0.5 * (X + X.T)
     S.setflags(write=False)
@@ -150,86 +137,12 @@ def _format_value(x: float) -> str:
     return "0" if x == 0 else f"{x:.4g}"
 
 
-def undamped_natural_frequencies(M: np.ndarray, K: np.ndarray, massless_rtol: float = _MASSLESS_RTOL) -> np.ndarray:
-    """Natural frequencies (Hz) of ``K v = omega^2 M v`` for symmetric ``M`` >= 0 and ``K`` >= 0.
-
-    Directions of M without inertia (eigenvalues of M below ``massless_rtol`` of its largest)
-    are condensed statically, ``K_c = K_aa - K_an K_nn^+ K_na`` (pseudo-inverse: a massless part
-    that is also free, e.g. a bar with zero mass and zero springs, adds nothing). They are
-    the infinite eigenvalues of the pencil: an explicit integrator must condense them too, as
-    they cannot be stepped, so they set no time step.
-
-    Parameters
-    ----------
-    M, K : ndarray, shape (n, n)
-        Symmetric mass and stiffness matrices (SI units, consistent DOFs).
-    massless_rtol : float
-        Relative threshold of a zero mass eigenvalue (-).
-
-    Returns
-    -------
-    ndarray
-        Ascending natural frequencies (Hz) of the directions with inertia; rigid-body modes
-        give 0. Empty when M is zero.
-    """
-    lam, V = np.linalg.eigh(M)
-    big = np.max(np.abs(lam)) if lam.size else 0.0
-    massive = lam > massless_rtol * big
-    if big <= 0 or not np.any(massive):
-        return np.zeros(0)
-    Kt = V.T @ K @ V
-    a, n = massive, ~massive
-    K_c = Kt[np.ix_(a, a)]
-    if np.any(n):
-        K_c = K_c - Kt[np.ix_(a, n)] @ np.linalg.pinv(Kt[np.ix_(n, n)], hermitian=True) @ Kt[np.ix_(n, a)]
-    scale = 1.0 / np.sqrt(lam[a])
-    omega2 = np.linalg.eigvalsh(0.5 * (K_c + K_c.T) * scale[:, None] * scale[None, :])
-    return np.sqrt(np.clip(omega2, 0.0, None)) / (2 * np.pi)
-
-
-@dataclass(frozen=True)
-class PassivityReport:
-    """Outcome of :meth:`EquivalentSystem.is_passive`; truthy when the system is passive.
-
-    Attributes
-    ----------
-    passive : bool
-        All checks passed.
-    min_eig_M, min_eig_C, min_eig_K : float
-        Smallest eigenvalue of M, C and K divided by their largest absolute eigenvalue (-).
-    min_eig_mobility : ndarray
-        Per frequency, the smallest eigenvalue of the Hermitian part of the end mobility
-        ``i omega alpha`` divided by the spectral norm of the mobility (-).
-    frequencies : ndarray
-        The frequencies checked (Hz).
-    worst_frequency : float
-        Frequency of the smallest ``min_eig_mobility`` (Hz).
-    tol : float
-        A relative eigenvalue counts as non-negative when it is >= ``-tol``.
-    """
-
-    passive: bool
-    min_eig_M: float
-    min_eig_C: float
-    min_eig_K: float
-    min_eig_mobility: np.ndarray
-    frequencies: np.ndarray
-    worst_frequency: float
-    tol: float
-
-    def __bool__(self) -> bool:
-        return bool(self.passive)
-
-
-def _relative_min_eig(X: np.ndarray) -> float:
-    ev = np.linalg.eigvalsh(X)
-    big = np.max(np.abs(ev))
-    return float(ev[0] / big) if big > 0 else 0.0
-
-
 @dataclass(frozen=True, eq=False)
-class EquivalentSystem:
+class EquivalentSystem(MechanicalSystem):
     """Common base of the two layouts; not meant to be instantiated itself.
+
+    A :class:`~.mechanical.MechanicalSystem`: its receptance, passivity and natural frequencies
+    follow from :meth:`matrices`, DOFs ``(w1, phi_1, ...)``, the ports first.
 
     Parameters
     ----------
@@ -300,6 +213,11 @@ class EquivalentSystem:
     def n_dof(self) -> int:
         """Number of degrees of freedom (N + 1 or 3N + 1)."""
         return assembly(self.layout, self.n_bars).n_dof
+
+    @property
+    def kind(self) -> str:
+        """How messages call the system: its layout."""
+        return self.layout
 
     def parameters(self) -> dict[str, np.ndarray]:
         """The parameters as a dict of name -> writable float array (copies); units in
@@ -413,76 +331,6 @@ class EquivalentSystem:
         M, C, K = (X[0] for X in assembly(self.layout, self.n_bars).matrices(params))
         return _symmetrised("M", M), _symmetrised("C", C), _symmetrised("K", K)
 
-    def matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Mass, damping and stiffness matrices ``(M, C, K)`` (SI units, DOFs of :meth:`dof_names`).
-
-        Rows are generalised forces (N for a displacement DOF, N m for a rotation), columns
-        are accelerations, velocities or displacements of the DOFs. Real, symmetric, copies.
-        """
-        return tuple(np.array(X) for X in self._mck)
-
-    def dynamic_stiffness(self, f: ArrayLike) -> np.ndarray:
-        """The dynamic stiffness ``Z = K + i omega C - omega^2 M``.
-
-        Parameters
-        ----------
-        f : float or array_like
-            Frequencies (Hz), positive and finite; scalar or 1-D.
-
-        Returns
-        -------
-        ndarray of complex, shape (n_f, n_dof, n_dof)
-            Rows are generalised forces (N or N m) per displacement (m) or rotation (rad).
-        """
-        M, C, K = self._mck
-        return dynamic_stiffness(M, C, K, 2 * np.pi * self._frequencies(f))
-
-    @staticmethod
-    def _frequencies(f) -> np.ndarray:
-        f_arr = as_frequencies(f)
-        if f_arr.ndim > 1:
-            raise InputError(f"f must be a scalar or a 1-D array of frequencies (Hz), got shape {f_arr.shape}")
-        return np.atleast_1d(f_arr)
-
-    def _solve(self, f_arr: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-        """Solve ``Z(f) x = rhs`` for every frequency (:func:`.assembly.scaled_solve`).
-
-        Raises ValueError when Z is singular or too ill-conditioned at some frequency.
-        """
-        try:
-            return scaled_solve(self.dynamic_stiffness(f_arr), rhs, cond_limit=_COND_LIMIT)
-        except IllConditionedError as exc:
-            raise InputError(
-                f"the dynamic stiffness of this {self.layout} system is singular (condition number "
-                f"{exc.cond:.3g} > {_COND_LIMIT:.0e} after scaling) at f = {f_arr[exc.index]!r} Hz "
-                f"({exc.n_bad} of {f_arr.size} frequencies); the receptance is undefined there "
-                "(e.g. all-zero parameters, a free rigid-body motion, or an undamped resonance)"
-            ) from None
-
-    # --- end receptance ------------------------------------------------------------------------
-    def receptance(self, f: ArrayLike) -> np.ndarray:
-        """Receptance at the left end of bar 1 (Eq. 22).
-
-        Parameters
-        ----------
-        f : float or array_like
-            Frequencies (Hz), positive and finite; scalar or 1-D.
-
-        Returns
-        -------
-        alpha : ndarray of complex, shape (n_f, 2, 2), or (2, 2) for a scalar ``f``
-            ``[[w1/Q (m/N), w1/M (1/N)], [phi_1/Q (1/N), phi_1/M (rad/(N m))]]``, with Q a
-            downward force and M a clockwise moment at the left end of bar 1.
-
-        Raises
-        ------
-        ValueError
-            For bad frequencies, or where the dynamic stiffness is singular.
-        """
-        f_arr = self._frequencies(f)
-        alpha = self._solve(f_arr, end_loads(self.n_dof))[:, :2, :]
-        return alpha[0] if np.ndim(f) == 0 else alpha
-
     def bar_centre_motion(self, f: ArrayLike) -> np.ndarray:
         """Vertical displacement of each bar's centre relative to ``w1`` under an end force.
 
@@ -504,130 +352,6 @@ class EquivalentSystem:
         phi = q[:, 1 : self.n_bars + 1]
         left_end = q[:, :1] + np.cumsum(phi * self.L, axis=1) - phi * self.L
         return (left_end + 0.5 * self.L * phi) / q[:, :1]
-
-    def end_stiffness(self, f: ArrayLike) -> np.ndarray:
-        """Dynamic stiffness condensed to ``(w1, phi_1)``: the inverse of :meth:`receptance`.
-
-        Parameters
-        ----------
-        f : float or array_like
-            Frequencies (Hz), positive and finite; scalar or 1-D.
-
-        Returns
-        -------
-        ndarray of complex, shape (n_f, 2, 2) or (2, 2)
-            Units ``[[N/m, N], [N, N m/rad]]``.
-        """
-        return np.linalg.inv(self.receptance(f))
-
-    def mirrored_receptance(self, f: ArrayLike) -> np.ndarray:
-        """Receptance at the junction of this system and its mirror image (paper Sec. 5.3).
-
-        The second copy is this system turned 180 deg about a vertical axis through the left
-        end of bar 1, so it extends to the left; the two are joined rigidly at that end (shared
-        ``w1`` and ``phi_1``), as the two halves of a complete track meet at the central cross
-        section. Mirroring keeps downward displacements and forces but reverses clockwise
-        rotations and moments, so the end dynamic stiffness of the left copy is
-        ``T K_R T`` with ``T = diag(1, -1)`` and ``K_R`` = :meth:`end_stiffness`. The junction
-        receptance is ``inv(K_R + T K_R T) = diag(1 / (2 K_R[0,0]), 1 / (2 K_R[1,1]))``; its
-        off-diagonal terms vanish by symmetry.
-
-        Parameters
-        ----------
-        f : float or array_like
-            Frequencies (Hz), positive and finite; scalar or 1-D.
-
-        Returns
-        -------
-        ndarray of complex, shape (n_f, 2, 2) or (2, 2)
-            ``[0, 0]`` (m/N) is the vertical point receptance compared with the complete track
-            in the paper's Fig. 16; ``[1, 1]`` (rad/(N m)) is the rotational one.
-        """
-        K_R = self.end_stiffness(f)
-        T = np.diag([1.0, -1.0])
-        return np.linalg.inv(K_R + T @ K_R @ T)
-
-    # --- passivity -------------------------------------------------------------------------------
-    def is_passive(self, f: ArrayLike, tol: float = 1e-9) -> PassivityReport:
-        """Check passivity: M, C, K positive semi-definite and the Hermitian part of the end
-        mobility ``i omega alpha`` positive semi-definite at every frequency.
-
-        Eigenvalues are compared relative to the largest one of each matrix (for the mobility,
-        to its spectral norm).
-
-        Parameters
-        ----------
-        f : float or array_like
-            Frequencies (Hz) at which the mobility is checked, positive and finite.
-        tol : float
-            Relative eigenvalues >= ``-tol`` (-) count as non-negative; absorbs rounding.
-
-        Returns
-        -------
-        PassivityReport
-            Truthy when passive.
-        """
-        if not (isinstance(tol, (int, float)) and np.isfinite(tol) and tol >= 0):
-            raise InputError(f"tol must be non-negative and finite, got {tol!r}")
-        f_arr = self._frequencies(f)
-        M, C, K = self._mck
-        eM, eC, eK = (_relative_min_eig(X) for X in (M, C, K))
-        Y = 1j * (2 * np.pi * f_arr)[:, None, None] * self.receptance(f_arr)
-        H = 0.5 * (Y + np.conj(np.swapaxes(Y, 1, 2)))
-        ev = np.linalg.eigvalsh(H)[:, 0]
-        norm = np.linalg.norm(Y, ord=2, axis=(1, 2))
-        rel = np.where(norm > 0, ev / np.where(norm > 0, norm, 1.0), 0.0)
-        passive = bool(min(eM, eC, eK) >= -tol and np.all(rel >= -tol))
-        return PassivityReport(
-            passive=passive, min_eig_M=eM, min_eig_C=eC, min_eig_K=eK,
-            min_eig_mobility=rel, frequencies=f_arr, worst_frequency=float(f_arr[np.argmin(rel)]),
-            tol=float(tol),
-        )
-
-
-    # --- natural frequencies -----------------------------------------------------------------------
-    def natural_frequencies(self) -> np.ndarray:
-        """Undamped natural frequencies (Hz) of the free system, ``K v = omega^2 M v``, ascending.
-
-        The system is unconstrained at its attachment DOFs. Massless directions (bars with
-        zero mass and inertia, as in the paper's Table 4) are condensed statically and give no
-        frequency: see :func:`undamped_natural_frequencies`. A light but not massless part keeps
-        its (high) frequency.
-
-        Returns
-        -------
-        ndarray
-            At most :attr:`n_dof` frequencies (Hz).
-        """
-        M, _, K = self._mck
-        return undamped_natural_frequencies(M, K)
-
-    def highest_natural_frequency(self) -> float:
-        """The highest undamped natural frequency (Hz) of :meth:`natural_frequencies` (0 if none).
-
-        It sets the time step of an explicit integrator: see :meth:`central_difference_time_step`.
-
-        Examples
-        --------
-        A single bar with ``J = m L^2 / 4`` bounces and pitches at ``sqrt(2 k / m) / (2 pi)``:
-
-        >>> import math
-        >>> import semitrack as st
-        >>> bar = st.SlabEquivalent(m=10.0, J=0.9, L=0.6, k=1e7, c_l=0.0, c_r=0.0, k_phi=[], c_phi=[])
-        >>> round(bar.highest_natural_frequency(), 6) == round(math.sqrt(2 * 1e7 / 10.0) / (2 * math.pi), 6)
-        True
-        """
-        f = self.natural_frequencies()
-        return float(f[-1]) if f.size else 0.0
-
-    def central_difference_time_step(self) -> float:
-        """Largest stable step (s) of the undamped central-difference scheme, ``2 / omega_max``.
-
-        ``omega_max = 2 pi`` :meth:`highest_natural_frequency`; damping lowers the limit a
-        little. ``inf`` for a system without inertia.
-        """
-        f_max = self.highest_natural_frequency()
-        return 2.0 / (2 * np.pi * f_max) if f_max > 0 else math.inf
 
     def __repr__(self) -> str:
         """The layout, size, each parameter on a line with its unit, and the highest natural frequency."""

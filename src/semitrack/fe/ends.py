@@ -8,8 +8,11 @@ users write, ``"pinned"``, ``"free"``, ``"equivalent"``, ``"boundary"``, ``"exac
 ``FreeEnd``
     nothing attached.
 ``EquivalentEnd``
-    a multi-rigid-body system's ``M, C, K`` (:class:`~semitrack.EquivalentSystem`): its first two
-    DOFs are the rail's ``(w, psi)`` at the end node, the others become DOFs of the model.
+    any end system's ``M, C, K`` (a :class:`~semitrack.equivalent.mechanical.MechanicalSystem`:
+    the paper's multi-rigid-body :class:`~semitrack.EquivalentSystem`, or a broadband boundary in
+    second-order form, :meth:`~semitrack.BroadbandBoundary.second_order`): its first two DOFs are
+    the rail's ``(w, psi)`` at the end node, the others become DOFs of the model. One code path
+    attaches every such system.
 ``BoundaryEnd``
     a broadband boundary (:class:`~semitrack.BroadbandBoundary`): its rational end stiffness in
     the frequency domain; in time its static stiffness and dashpot join ``K`` and ``C`` and its
@@ -37,7 +40,7 @@ from ..base.errors import InputError, InputTypeError
 from ..boundary.fitting import BroadbandBoundary
 from ..dynamics.states import StateBlock
 from ..equivalent.assembly import dynamic_stiffness
-from ..equivalent.systems import EquivalentSystem
+from ..equivalent.mechanical import MechanicalSystem
 from ..methods.transfer import end_stiffness
 from ..model.tracks import Track
 
@@ -180,19 +183,19 @@ class FreeEnd(End):
 
 @dataclass(frozen=True)
 class EquivalentEnd(End):
-    """An equivalent system's ``M, C, K`` attached at the end node (see the module docstring)."""
+    """An end system's ``M, C, K`` attached at the end node (see the module docstring)."""
 
     name: ClassVar[str] = "equivalent"
     closes_alone: ClassVar[bool] = True
-    system_type: ClassVar[type] = EquivalentSystem
-    equivalent: EquivalentSystem | None = None
+    system_type: ClassVar[type] = MechanicalSystem
+    equivalent: MechanicalSystem | None = None
 
     def __post_init__(self):
         super().__post_init__()
         _require_system(self, self.equivalent)
 
     @property
-    def system(self) -> EquivalentSystem:
+    def system(self) -> MechanicalSystem:
         return self.equivalent
 
     @property
@@ -276,9 +279,13 @@ FarEndName = Literal["pinned", "free", "exact"]
 def _require_system(end: End, system) -> None:
     kind = end.system_type
     if not isinstance(system, kind):
-        article = "an" if kind.__name__[0] in "AEIOU" else "a"
-        raise InputTypeError(f"system must be {article} {kind.__name__} for {article} {end.name!r} end, "
-                        f"got {type(system).__name__}")
+        # The paper's name for what an 'equivalent' end takes; any MechanicalSystem (M, C, K) will do.
+        shown = "EquivalentSystem" if kind is MechanicalSystem else kind.__name__
+        also = (" (or any MechanicalSystem, e.g. BroadbandBoundary.second_order())"
+                if kind is MechanicalSystem else "")
+        article = "an" if shown[0] in "AEIOU" else "a"
+        raise InputTypeError(f"system must be {article} {shown} for {article} {end.name!r} end{also}, "
+                             f"got {type(system).__name__}")
 
 
 def end_kinds(*names: str) -> tuple[type[End], ...]:
@@ -346,7 +353,7 @@ def _name(end: str | End) -> str:
     return end.name if isinstance(end, End) else end
 
 
-def make_end(kind: str | End, system: EquivalentSystem | BroadbandBoundary | None = None, label: str = "") -> End:
+def make_end(kind: str | End, system: MechanicalSystem | BroadbandBoundary | None = None, label: str = "") -> End:
     """An end from its name and, for ``"equivalent"`` and ``"boundary"``, its system.
 
     Parameters
@@ -354,8 +361,9 @@ def make_end(kind: str | End, system: EquivalentSystem | BroadbandBoundary | Non
     kind : str or End
         One of :data:`END_NAMES`, or an end already made (returned as it is; ``system`` must be
         None then).
-    system : EquivalentSystem or BroadbandBoundary, optional
-        Required by ``"equivalent"`` (an :class:`~semitrack.EquivalentSystem`) and ``"boundary"``
+    system : MechanicalSystem or BroadbandBoundary, optional
+        Required by ``"equivalent"`` (an :class:`~semitrack.EquivalentSystem` or any other
+        :class:`~semitrack.equivalent.mechanical.MechanicalSystem`) and ``"boundary"``
         (a :class:`~semitrack.BroadbandBoundary`) ends; refused by the others.
     label : str
         How tables and figures call it (default: the kind's name).

@@ -1,0 +1,459 @@
+"""Files that carry their conventions: the end systems' M, C, K for this package and for other codes.
+
+Every end file the package writes (a paper-style system, a broadband boundary, its M, C, K form)
+holds a ``conventions`` record (:func:`end_conventions`), in fields a program reads and in words:
+
+* ``side``: ``"right"``: the file models the semi-infinite track to the right of the cut;
+* ``load_convention``: ``"applied_to_end"``: ``(Q, M)`` are the force and moment applied to the
+  ports (the end of that semi-infinite track); the force on the user's end node is ``-(Q, M)``;
+* ``port_dofs`` and ``port_indices``: the rail's ``w`` (m, downward) and ``psi`` (rad, the
+  clockwise rotation of the cross-section from bending alone, seen with the track running to the
+  right) are the matrices' first two DOFs;
+* ``left_end_mirror``: ``[[1, 0], [0, -1]]``: a left end (track to the left of the cut) takes
+  ``P K P`` on the ports with ``P = diag(1, -1)`` (the internal DOFs unchanged);
+* ``units``, ``time_factor`` (``exp(i omega t)``), ``track`` and ``band_hz`` fitted on, and
+  ``precision``: numbers in full double precision (``repr``, 17 significant digits).
+
+This module also writes M, C, K for other codes, chosen by the suffix in
+:func:`~semitrack.export_system`:
+
+``.bdf``: Nastran bulk data, three symmetric ``DMIG`` matrices (IFO = 6, TIN = 2 real double,
+    lower triangle by column, large-field fixed format) for the Case Control commands ``K2GG``
+    (stiffness), ``B2GG`` (viscous damping) and ``M2GG`` (mass), which add them to the g-set
+    matrices (MSC Nastran Quick Reference Guide, Bulk Data entry DMIG and the Case Control
+    commands K2GG, B2GG, M2GG, whose remarks say that several matrices named on one command are
+    added). A Nastran field holds 8 characters (16 in large field: free-field entries longer than
+    8 are refused, Autodesk Nastran message T2005), so at most 11-12 significant digits, fewer
+    than a double: each matrix is written as a leading part and its remainder (``KEND`` and
+    ``KENDR``, ...), to be named together, ``K2GG = KEND, KENDR``; their sum is the double to the
+    last bit or two. Internal DOFs are scalar points (``SPOINT``, component 0); the ports are
+    components of the user's end grid.
+``.inp``: Abaqus keywords (Abaqus Keywords Reference Guide 2017, *MATRIX INPUT and *MATRIX
+    ASSEMBLE): ``*MATRIX INPUT, NAME=...`` with the data lines after the keyword (no INPUT
+    parameter), "row node, row DOF, column node, column DOF, value", lower triangle (the default
+    TYPE=SYMMETRIC), every digit (``repr``); then ``*MATRIX ASSEMBLE, STIFFNESS=END_K,
+    MASS=END_M, VISCOUS DAMPING=END_C`` (model data, model level). The internal DOFs are DOF 1 of
+    nodes the file declares (``*NODE``, in an assembly-level node set).
+
+Both codes' models usually have ``y`` up and rotations counterclockwise about ``z``: the files map
+``w = -u_y`` (DOF 2, T2) and ``psi = -theta_z`` (DOF 6, R3) for a track along ``+x``, i.e. the
+ports' rows and columns of the internal coupling change sign (``P = diag(-1, -1)``, the port
+block unchanged). The header comments say so, and which node to attach.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import textwrap
+from pathlib import Path
+
+import numpy as np
+
+from ..base.errors import InputError, InputTypeError
+from ..base.files import atomic_write
+from .mechanical import PORT_DOFS, MatrixSystem, MechanicalSystem
+
+__all__ = ["end_conventions", "conventions_text", "mat_conventions", "matrix_system_to_dict", "matrix_system_from_dict",
+           "save_matrix_system", "load_matrix_system", "save_nastran_dmig", "save_abaqus_matrix",
+           "MATRIX_FORMAT", "MATRIX_SUFFIXES", "CODE_AXES"]
+
+#: The ``format`` of a MatrixSystem file.
+MATRIX_FORMAT = "semitrack.mechanical.system"
+MATRIX_VERSION = 1
+#: The suffixes of the M, C, K files written here.
+MATRIX_SUFFIXES = (".json", ".csv", ".mat", ".bdf", ".inp")
+#: How the ports map to a finite-element code's axes (x along the track, y up): DOF and sign.
+CODE_AXES = {"w": {"dof": 2, "sign": -1.0, "note": "w = -u_y (downward deflection, y up)"},
+             "psi": {"dof": 6, "sign": -1.0, "note": "psi = -theta_z (clockwise, z out of the x-y plane)"}}
+#: Node label of the first internal DOF in the .bdf and .inp files (one scalar point or node each).
+FIRST_INTERNAL_LABEL = 9_000_001
+
+
+def end_conventions(track: str = "", band_hz=None) -> dict:
+    """The conventions record of an end file (module docstring), with the track and band fitted on.
+
+    Parameters
+    ----------
+    track : str
+        Name of the track the system models ("" if not known).
+    band_hz : sequence of two floats, optional
+        Band of the fit (Hz), if any.
+
+    Returns
+    -------
+    dict
+        Plain data (JSON-ready), with a ``text`` entry saying it in words.
+    """
+    band = None if band_hz is None else [float(b) for b in band_hz]
+    return {
+        "side": "right", "load_convention": "applied_to_end", "port_dofs": list(PORT_DOFS), "port_indices": [0, 1],
+        "w": "vertical deflection of the rail at the cut, downward positive (m)",
+        "psi": "rotation of the rail's cross-section from bending alone, clockwise positive seen with the "
+               "track running to the right (rad)",
+        "left_end_mirror": [[1.0, 0.0], [0.0, -1.0]],
+        "units": {"length": "m", "rotation": "rad", "force": "N", "moment": "N m", "time": "s", "mass": "kg",
+                  "frequency": "Hz"},
+        "time_factor": "exp(i omega t)", "track": str(track), "band_hz": band,
+        "precision": "IEEE doubles written in full (repr: 17 significant digits); at least 12 are needed",
+        "text": conventions_text(track, band),
+    }
+
+
+def conventions_text(track: str = "", band_hz=None) -> str:
+    """The conventions in words, as every file states them.
+
+    Parameters
+    ----------
+    track : str
+        Name of the track the system models.
+    band_hz : sequence of two floats, optional
+        Band of the fit (Hz).
+    """
+    fitted = f" It was fitted on the track {track!r}" if track else " The track it models is not recorded"
+    fitted += f" over {band_hz[0]:g}-{band_hz[1]:g} Hz." if band_hz is not None else "."
+    return ("This file models the semi-infinite track to the right of a cut. Its first two DOFs (the ports) are "
+            "the rail's w (m, downward) and psi (rad, the clockwise rotation of the cross-section from bending "
+            "alone) at the cut; (Q, M) are the force and moment applied to that end, so the force on your end "
+            "node is -(Q, M). For a left end (track to the left of the cut) use P K P with P = diag(1, -1) on "
+            "the ports. SI units, time factor exp(i omega t)." + fitted)
+
+
+def _check_system(system) -> MechanicalSystem:
+    if not isinstance(system, MechanicalSystem):
+        raise InputTypeError(f"system must be a MechanicalSystem (an EquivalentSystem, or "
+                             f"BroadbandBoundary.second_order()), got {type(system).__name__}")
+    return system
+
+
+def _info(system: MechanicalSystem, track: str | None, band_hz) -> tuple[str, object]:
+    """The track and band of a system: given, or from a MatrixSystem's info."""
+    info = system.info if isinstance(system, MatrixSystem) else {}
+    return (track if track is not None else str(info.get("track", ""))), \
+        (band_hz if band_hz is not None else info.get("band_hz"))
+
+
+# --- JSON, CSV, MAT of a MatrixSystem --------------------------------------------------------------
+def matrix_system_to_dict(system: MechanicalSystem, track: str | None = None, band_hz=None) -> dict:
+    """Plain data of any end system's matrices, with its conventions (format :data:`MATRIX_FORMAT`).
+
+    Parameters
+    ----------
+    system : MechanicalSystem
+        The system.
+    track : str, optional
+        The track it models (default: the system's ``info``).
+    band_hz : sequence of two floats, optional
+        The band it was fitted on (Hz; default: the system's ``info``).
+    """
+    system = _check_system(system)
+    track, band_hz = _info(system, track, band_hz)
+    M, C, K = system.matrices()
+    info = dict(system.info) if isinstance(system, MatrixSystem) else {"origin": f"{system.kind} equivalent system"}
+    return {"format": MATRIX_FORMAT, "version": MATRIX_VERSION, "conventions": end_conventions(track, band_hz),
+            "info": info, "dof_names": system.dof_names(),
+            "static_stiffness": system.static_stiffness().tolist(),
+            "limits": ("implicit integrators only when M is singular (massless DOFs); a static or preload step "
+                       "closes the cut with static_stiffness (2x2) and starts the internal DOFs unloaded; the "
+                       "internal masses are mathematical: no gravity on them"),
+            "M": M.tolist(), "C": C.tolist(), "K": K.tolist()}
+
+
+def matrix_system_from_dict(data: dict, source: str = "data") -> MatrixSystem:
+    """Rebuild a :class:`~.mechanical.MatrixSystem` from :func:`matrix_system_to_dict` output.
+
+    Parameters
+    ----------
+    data : dict
+        The plain data.
+    source : str
+        Where it came from, quoted in errors.
+    """
+    if not isinstance(data, dict) or data.get("format") != MATRIX_FORMAT:
+        raise InputError(f"{source}: not a {MATRIX_FORMAT} file (its 'format' must be {MATRIX_FORMAT!r})")
+    conv = data.get("conventions", {})
+    if not isinstance(conv, dict) or conv.get("side", "right") != "right" or \
+            list(conv.get("port_indices", [0, 1])) != [0, 1]:
+        raise InputError(f"{source}: conventions must describe a right end with the ports first")
+    try:
+        return MatrixSystem(np.asarray(data["M"], dtype=float), np.asarray(data["C"], dtype=float),
+                            np.asarray(data["K"], dtype=float), dofs=tuple(data.get("dof_names", ())),
+                            info=dict(data.get("info", {}), track=conv.get("track", ""), band_hz=conv.get("band_hz")))
+    except KeyError as exc:
+        raise InputError(f"{source}: missing key {exc.args[0]!r}") from None
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{source}: {exc}") from None
+
+
+def _csv_text(data: dict) -> str:
+    """Sections ``[meta]`` and ``[conventions]`` (key, value; anything but a string as JSON), ``[M] [C] [K]``."""
+    import csv
+    import io
+
+    buf = io.StringIO()
+    out = csv.writer(buf, lineterminator="\n")
+    out.writerows([["[meta]"], ["key", "value"], ["format", data["format"]], ["version", data["version"]],
+                   ["info", json.dumps(data["info"])], ["dof_names", json.dumps(data["dof_names"])],
+                   ["static_stiffness", json.dumps(data["static_stiffness"])], ["[conventions]"], ["key", "value"]])
+    out.writerows([key, json.dumps(value)] for key, value in data["conventions"].items())
+    for name in "MCK":
+        out.writerow([f"[{name}]"])
+        out.writerows([repr(float(v)) for v in row] for row in data[name])
+    return buf.getvalue()
+
+
+def _csv_data(text: str, source: str) -> dict:
+    """The dict of :func:`_csv_text`'s sections."""
+    import csv
+
+    sections, current = {}, None
+    for row in csv.reader(text.splitlines()):
+        if not row:
+            continue
+        if row[0].startswith("[") and row[0].endswith("]"):
+            current = sections.setdefault(row[0][1:-1], [])
+        elif current is None:
+            raise InputError(f"{source}: data before the first [section] line")
+        else:
+            current.append(row)
+    try:
+        meta = {r[0]: r[1] for r in sections["meta"][1:]}
+        data = {"format": meta["format"], "version": int(meta["version"]), "info": json.loads(meta["info"]),
+                "dof_names": json.loads(meta["dof_names"]),
+                "conventions": {r[0]: json.loads(r[1]) for r in sections["conventions"][1:]}}
+        data.update({name: [[float(v) for v in r] for r in sections[name]] for name in "MCK"})
+    except (KeyError, IndexError, ValueError) as exc:
+        raise InputError(f"{source}: not a {MATRIX_FORMAT} CSV file ({exc})") from None
+    return data
+
+
+def save_matrix_system(system: MechanicalSystem, path: str | os.PathLike, track: str | None = None,
+                       band_hz=None, format: str | None = None) -> Path:
+    """Write any end system's M, C, K with its conventions: ``.json``, ``.csv``, ``.mat``, ``.bdf``, ``.inp``.
+
+    Parameters
+    ----------
+    system : MechanicalSystem
+        The system (an :class:`~.systems.EquivalentSystem`, or a broadband end's second-order form).
+    path : str or os.PathLike
+        The file; its suffix selects the format. Written atomically.
+    track : str, optional
+        The track it models (default: the system's ``info``).
+    band_hz : sequence of two floats, optional
+        The band it was fitted on (Hz; default: the system's ``info``).
+    format : {"json", "csv", "mat", "bdf", "inp"}, optional
+        The format; default: from the suffix of ``path``.
+
+    Returns
+    -------
+    Path
+    """
+    suffix = f".{format.lower().lstrip('.')}" if format is not None else Path(path).suffix.lower()
+    if suffix == ".bdf":
+        return save_nastran_dmig(system, path, track, band_hz)
+    if suffix == ".inp":
+        return save_abaqus_matrix(system, path, track, band_hz)
+    data = matrix_system_to_dict(system, track, band_hz)
+    if suffix == ".json":
+        return atomic_write(path, lambda fh: json.dump(data, fh, indent=1), binary=False)
+    if suffix == ".csv":
+        text = _csv_text(data)
+        return atomic_write(path, lambda fh: fh.write(text), binary=False)
+    if suffix == ".mat":
+        import scipy.io  # deferred: ~0.15 s of every command line's start-up
+
+        content = {"format": MATRIX_FORMAT, "version": MATRIX_VERSION, "M": np.array(data["M"]),
+                   "C": np.array(data["C"]), "K": np.array(data["K"]),
+                   "dof_names": np.array(data["dof_names"], dtype=object),
+                   "static_stiffness": np.array(data["static_stiffness"]),
+                   "conventions": mat_conventions(data["conventions"]),
+                   "conventions_json": json.dumps(data["conventions"]), "info_json": json.dumps(data["info"])}
+        return atomic_write(path, lambda fh: scipy.io.savemat(fh, content, oned_as="row"), binary=True)
+    raise InputError(f"path must end in one of {', '.join(MATRIX_SUFFIXES)}, got {str(path)!r}")
+
+
+def mat_conventions(conv: dict) -> dict:
+    """The conventions record as a MATLAB struct (:func:`scipy.io.savemat`): numbers as arrays,
+    lists of names as cell arrays, None as an empty array.
+
+    Parameters
+    ----------
+    conv : dict
+        A record of :func:`end_conventions`.
+    """
+    out = {}
+    for key, value in conv.items():
+        if isinstance(value, dict):
+            out[key] = {k: str(v) for k, v in value.items()}
+        elif value is None:
+            out[key] = np.zeros((0, 0))
+        elif isinstance(value, list) and value and isinstance(value[0], str):
+            out[key] = np.array(value, dtype=object)
+        else:
+            out[key] = np.array(value) if isinstance(value, list) else value
+    return out
+
+
+def load_matrix_system(path: str | os.PathLike) -> MatrixSystem:
+    """Read a file of :func:`save_matrix_system` (``.json``, ``.csv`` or ``.mat``).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+
+    Returns
+    -------
+    MatrixSystem
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".json":
+        with open(path, encoding="utf-8") as fh:
+            return matrix_system_from_dict(json.load(fh), str(path))
+    if suffix == ".csv":
+        return matrix_system_from_dict(_csv_data(path.read_text(encoding="utf-8"), str(path)), str(path))
+    if suffix == ".mat":
+        import scipy.io
+
+        raw = scipy.io.loadmat(path, simplify_cells=True)
+        try:
+            data = {"format": raw["format"], "M": np.atleast_2d(raw["M"]), "C": np.atleast_2d(raw["C"]),
+                    "K": np.atleast_2d(raw["K"]), "dof_names": list(np.atleast_1d(raw["dof_names"])),
+                    "conventions": json.loads(raw["conventions_json"]), "info": json.loads(raw["info_json"])}
+        except KeyError as exc:
+            raise InputError(f"{path}: missing variable {exc.args[0]!r}") from None
+        return matrix_system_from_dict(data, str(path))
+    raise InputError(f"path must end in .json, .csv or .mat to be read, got {str(path)!r}")
+
+
+# --- Nastran and Abaqus ---------------------------------------------------------------------------
+def _code_matrices(system: MechanicalSystem) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """M, C, K in a code's axes (:data:`CODE_AXES`): the ports' signs applied on both sides."""
+    sign = np.ones(system.n_dof)
+    sign[:2] = [CODE_AXES["w"]["sign"], CODE_AXES["psi"]["sign"]]
+    return tuple(sign[:, None] * X * sign[None, :] for X in system.matrices())
+
+
+def _labels(system: MechanicalSystem, port_node: int) -> list[tuple[int, int]]:
+    """(node or grid, component) of each DOF: the ports on ``port_node``, internal DOFs as scalar points."""
+    ports = [(port_node, CODE_AXES["w"]["dof"]), (port_node, CODE_AXES["psi"]["dof"])]
+    return ports + [(FIRST_INTERNAL_LABEL + j, 0) for j in range(system.n_internal)]
+
+
+def _header(system: MechanicalSystem, comment: str, track, band_hz, port_node: int) -> list[str]:
+    """Comment lines of at most 72 characters (Nastran reads 80 columns, Abaqus 256): the conventions
+    in words, the node mapping and limits, then the conventions as JSON split over lines ``<comment>|``
+    (a reader joins them)."""
+    conv = end_conventions(*_info(system, track, band_hz))
+    last = FIRST_INTERNAL_LABEL + system.n_internal - 1
+    words = (f"semitrack end system: {system.n_dof} DOFs ({system.n_internal} internal), SI units. "
+             + conv["text"] + f" Ports on node {port_node}: {CODE_AXES['w']['note']} (DOF 2), "
+             f"{CODE_AXES['psi']['note']} (DOF 6), for x along the track and y up; the port rows and columns "
+             f"are written in those axes. Internal DOFs: labels {FIRST_INTERNAL_LABEL}..{last}. Massless "
+             "DOFs: implicit integration only; a static or preload step closes the cut with the 2x2 static "
+             "stiffness instead; the internal masses are mathematical (no gravity on them).")
+    lines = [f"{comment} {line}" for line in textwrap.wrap(words, 72 - len(comment) - 1)]
+    data = json.dumps({k: v for k, v in conv.items() if k != "text"})
+    width = 72 - len(comment) - 1
+    lines.append(f"{comment} conventions as JSON (join the lines that start with {comment}|):")
+    return lines + [f"{comment}|{data[k:k + width]}" for k in range(0, len(data), width)]
+
+
+def _nastran_real(value: float) -> str:
+    """A real in a 16-character large field, as many significant digits as fit (D exponent: double)."""
+    for digits in range(12, 0, -1):
+        mantissa, exponent = f"{value:.{digits}E}".split("E")
+        text = f"{mantissa}D{int(exponent):+d}"
+        if len(text) <= 16:
+            return text
+    raise AssertionError(value)  # a double always fits with one digit
+
+
+def _dmig_lines(name: str, X: np.ndarray, labels: list[tuple[int, int]]) -> list[str]:
+    """One symmetric DMIG matrix (IFO 6, TIN 2) in large-field fixed format, lower triangle by column."""
+    def card(first: str, fields: list[str]) -> list[str]:
+        rows = [f"{first:<8}" + "".join(f"{f:>16}" for f in fields[:4])]
+        rows += ["*       " + "".join(f"{f:>16}" for f in fields[k:k + 4]) for k in range(4, len(fields), 4)]
+        return rows
+    lines = card("DMIG*", [name, "0", "6", "2", "0", "", "", ""])
+    for j, (gj, cj) in enumerate(labels):
+        terms = [k for k in range(j, X.shape[0]) if X[k, j] != 0.0]
+        if not terms:
+            continue
+        fields = [name, str(gj), str(cj), ""]
+        for k in terms:
+            fields += [str(labels[k][0]), str(labels[k][1]), _nastran_real(X[k, j]), ""]
+        lines += card("DMIG*", fields)
+    return lines
+
+
+def save_nastran_dmig(system: MechanicalSystem, path: str | os.PathLike, track: str | None = None,
+                      band_hz=None, port_node: int = 1) -> Path:
+    """Write M, C, K as Nastran ``DMIG`` bulk data for ``K2GG``, ``B2GG``, ``M2GG`` (module docstring).
+
+    Parameters
+    ----------
+    system : MechanicalSystem
+        The system.
+    path : str or os.PathLike
+        The ``.bdf`` file, written atomically.
+    track : str, optional
+        The track it models (default: the system's ``info``).
+    band_hz : sequence of two floats, optional
+        The band it was fitted on (Hz).
+    port_node : int
+        The grid of the user's end node that carries the ports.
+
+    Returns
+    -------
+    Path
+    """
+    system = _check_system(system)
+    labels = _labels(system, port_node)
+    lines = _header(system, "$", track, band_hz, port_node)
+    lines += ["$ Case Control: K2GG = KEND, KENDR   B2GG = BEND, BENDR   M2GG = MEND, MENDR",
+              "$ (each matrix is a leading part and its remainder: their sum is the double)"]
+    if system.n_internal:
+        lines.append(f"SPOINT  {FIRST_INTERNAL_LABEL:<8}THRU    {FIRST_INTERNAL_LABEL + system.n_internal - 1:<8}")
+    for code, X in zip("MBK", _code_matrices(system)):
+        lead = np.vectorize(lambda v: float(_nastran_real(v).replace("D", "E")))(X)
+        lines += _dmig_lines(f"{code}END", lead, labels) + _dmig_lines(f"{code}ENDR", X - lead, labels)
+    text = "\n".join(lines) + "\n"
+    return atomic_write(path, lambda fh: fh.write(text), binary=False)
+
+
+def save_abaqus_matrix(system: MechanicalSystem, path: str | os.PathLike, track: str | None = None,
+                       band_hz=None, port_node: int = 1) -> Path:
+    """Write M, C, K as Abaqus ``*MATRIX INPUT`` keywords for ``*MATRIX ASSEMBLE`` (module docstring).
+
+    Parameters
+    ----------
+    system : MechanicalSystem
+        The system.
+    path : str or os.PathLike
+        The ``.inp`` file, written atomically (to ``*INCLUDE`` in the model).
+    track : str, optional
+        The track it models (default: the system's ``info``).
+    band_hz : sequence of two floats, optional
+        The band it was fitted on (Hz).
+    port_node : int
+        The label of the user's end node that carries the ports.
+
+    Returns
+    -------
+    Path
+    """
+    system = _check_system(system)
+    labels = [(node, max(dof, 1)) for node, dof in _labels(system, port_node)]  # internal DOFs: DOF 1 of a node
+    lines = _header(system, "**", track, band_hz, port_node)
+    if system.n_internal:
+        lines.append("*NODE, NSET=SEMITRACK_END_INTERNAL")
+        lines += [f"{node}, 0., 0., 0." for node, _ in labels[2:]]
+    for name, X in zip(("END_M", "END_C", "END_K"), _code_matrices(system)):
+        lines.append(f"*MATRIX INPUT, NAME={name}")
+        lines += [f"{labels[i][0]}, {labels[i][1]}, {labels[j][0]}, {labels[j][1]}, {float(X[i, j])!r}"
+                  for j in range(X.shape[0]) for i in range(j, X.shape[0]) if X[i, j] != 0.0]
+    lines.append("*MATRIX ASSEMBLE, STIFFNESS=END_K, MASS=END_M, VISCOUS DAMPING=END_C")
+    text = "\n".join(lines) + "\n"
+    return atomic_write(path, lambda fh: fh.write(text), binary=False)
