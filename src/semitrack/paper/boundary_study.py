@@ -15,12 +15,15 @@ returns a table (:class:`pandas.DataFrame`) or arrays that the chapter displays 
 * The ends in use: 10-bay truncated tracks in the frequency domain (:func:`compared_boundary_ends`,
   :func:`w1_error_table`) and a broadband pulse in the time domain (:func:`pulse_study`,
   :func:`pulse_error_table`).
+* The paper's open problem in the paper's own form: the broadband end as M, C, K
+  (:func:`mck_summary`) beside the paper's system under the same pulse (:func:`mck_pulse_study`).
 
 Errors are relative (``|approx - reference| / |reference|``); tables give them in per cent.
 """
 
 from __future__ import annotations
 
+import time
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, replace
 
@@ -35,14 +38,14 @@ from ..boundary.fitting import BroadbandBoundary, fit_boundary, track_end_limits
 from ..equivalent.metrics import error_band_grid, error_summary, receptance_errors
 from ..equivalent.systems import EquivalentSystem
 from ..fe.ends import EXACT, PINNED, BoundaryEnd, EquivalentEnd
-from ..fe.truncation import truncation_errors
+from ..fe.truncation import relative_l2_error, truncation_errors
 from ..methods.receptance import semi_infinite_receptance
 from ..model.tracks import Track, ballasted_track, require_track, slab_track
 
 __all__ = ["STUDY_BAND", "study_tracks", "boundary_summary", "passivity_table", "route_comparison",
            "band_errors", "error_curves", "receptance_curves", "limits_table", "order_study", "LossFactorBound",
            "maxwell_loss_bound", "causality_table", "passivity_margin", "compared_boundary_ends", "w1_error_table",
-           "pulse_study", "pulse_error_table"]
+           "pulse_study", "pulse_error_table", "mck_summary", "mck_pulse_study"]
 
 #: The band of the broadband boundary (Hz): from the paper's lowest frequency to 3 kHz.
 STUDY_BAND = (3.0, 3000.0)
@@ -593,3 +596,71 @@ def pulse_error_table(results: Mapping[str, dict]) -> pd.DataFrame:
                                    columns=["pinned ends: L2 error (%)", "boundary ends: L2 error (%)"])
     table.index = pd.MultiIndex.from_tuples(table.index, names=["track", "recorded"])
     return table
+
+
+def mck_summary(boundaries: Mapping[str, BroadbandBoundary], f: ArrayLike | None = None) -> pd.DataFrame:
+    """Each broadband end as M, C, K (:meth:`BroadbandBoundary.second_order`): size, time, exactness, definiteness.
+
+    Parameters
+    ----------
+    boundaries : mapping of str to BroadbandBoundary
+        Label to boundary.
+    f : array_like, optional
+        Frequencies of the comparison with the state space (Hz); default 1 mHz to 1 MHz, 400 points.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per boundary: first-order states, internal DOFs, conversion time (s), the largest
+        element error of the M, C, K receptance against the state space's, and the smallest
+        eigenvalue of M, C and K relative to each one's largest.
+    """
+    f = np.geomspace(1e-3, 1e6, 400) if f is None else as_frequencies(f)
+    rows = {}
+    for label, bnd in boundaries.items():
+        start = time.perf_counter()
+        mck = bnd.second_order()
+        wall = time.perf_counter() - start
+        eig = min(np.linalg.eigvalsh(X)[0] / np.max(np.abs(np.linalg.eigvalsh(X))) for X in mck.matrices())
+        rows[label] = {"states": bnd.state_space().A.shape[0], "internal DOFs": mck.n_internal,
+                       "conversion (s)": wall, "largest error against the state space": float(
+                           np.max(np.abs(mck.receptance(f) / bnd.receptance(f) - 1))),
+                       "smallest relative eigenvalue of M, C, K": float(eig)}
+    return pd.DataFrame.from_dict(rows, orient="index").rename_axis("boundary")
+
+
+def mck_pulse_study(track: Track, boundary: BroadbandBoundary, system: EquivalentSystem, n_bays: int = 10,
+                    reference_bays: int = 100, **kwargs) -> dict:
+    """The same broadband pulse as :func:`pulse_study` on 10-bay models closed by the paper's system, the
+    broadband end as M, C, K, and the broadband end as its state space.
+
+    Parameters
+    ----------
+    track : Track
+        The track (viscous damping).
+    boundary : BroadbandBoundary
+        Its broadband end.
+    system : EquivalentSystem
+        The paper's equivalent system for the track (Table 4 or 7).
+    n_bays, reference_bays : int
+        Bays of the truncated models and of the long pinned reference.
+    **kwargs
+        Passed on to :func:`semitrack.fe.truncation.truncation_errors` (``f_max``, ``dt``, ``t_end``).
+
+    Returns
+    -------
+    dict
+        The result of :func:`~semitrack.fe.truncation.truncation_errors`, keyed by the ends' labels,
+        and ``"M, C, K against the state space"``: the relative L2 difference of the two broadband
+        models' responses per position.
+    """
+    labels = ("the paper's system", "broadband end as M, C, K", "broadband end as state space")
+    ends = (EquivalentEnd(label=labels[0], equivalent=system),
+            EquivalentEnd(label=labels[1], equivalent=boundary.second_order()),
+            BoundaryEnd(label=labels[2], boundary=boundary))
+    settings = dict(positions=(0.0, 3 * track.spacing), f_max=6000.0, dt=1e-5, t_end=0.03)
+    settings.update(kwargs)
+    out = truncation_errors(track, None, n_bays=n_bays, reference_bays=reference_bays, ends=ends,
+                            elements_per_bay=8, **settings)
+    out["M, C, K against the state space"] = relative_l2_error(out[labels[1]].u, out[labels[2]].u)
+    return out
