@@ -117,7 +117,8 @@ class FETrack:
         self.foundation: Foundation = foundation_of(self.track)
         self.n_left = check_int_at_least("n_left", n_left, 0)
         self.n_right = check_int_at_least("n_right", n_right, 0)
-        self.end_models: dict[str, End] = model_ends(left, right, system, self.n_left + self.n_right)
+        self.end_models: dict[str, End] = model_ends(left, right, system, self.n_left + self.n_right,
+                                                          track=self.track)
         self.left, self.right = self.end_models["left"].name, self.end_models["right"].name
         ne = check_int_at_least("elements_per_bay", elements_per_bay, 2)
         if ne % 2:
