@@ -160,13 +160,17 @@ def track_kind(track: Track) -> str:
     return f"flexible slab, {slab.fasteners} fasteners per {slab.length:g} m slab, cut at {cut}"
 
 
-def output_paths(*named: tuple[str, str | None]) -> list[Path | None]:
-    """Check every output file before the work starts: each writable, no file named twice.
+def output_paths(*named: tuple[str, str | None], inputs: tuple[tuple[str, str], ...] = ()) -> list[Path | None]:
+    """Check every output file before the work starts: each writable, no file named twice, no input replaced.
 
     Parameters
     ----------
     *named : tuple of (str, str or None)
         ``(option, path)`` pairs, e.g. ``("-o", "alpha.csv")``; a None path (not asked for) is skipped.
+    inputs : tuple of (str, str)
+        ``(what, path)`` of every file the command reads (:func:`input_files`): an output that is
+        one of them, by any name (the same path, a symbolic or a hard link; compared with
+        :func:`os.path.samefile`), is refused, since writing it would replace the input.
 
     Returns
     -------
@@ -181,7 +185,31 @@ def output_paths(*named: tuple[str, str | None]) -> list[Path | None]:
         if target.resolve() in seen:
             raise InputError(f"{option} and {seen[target.resolve()]} name the same file {path!r}: name two files")
         seen[target.resolve()] = option
+        for what, source in inputs:
+            if target.exists() and os.path.exists(source) and os.path.samefile(target, source):
+                raise InputError(f"{option} {path!r} is the {what} {source!r}: writing it would replace the "
+                                 "input; name another file")
     return [None if path is None else Path(path) for _, path in named]
+
+
+def input_files(track_path: str, track: Track) -> tuple[tuple[str, str], ...]:
+    """The files a track command reads: the track file and the tables it names (pads, foundation).
+
+    Parameters
+    ----------
+    track_path : str
+        The track file as given.
+    track : Track
+        The track read from it.
+
+    Returns
+    -------
+    tuple of (str, str)
+        ``(what, path)`` pairs for :func:`output_paths`.
+    """
+    curves = [track.foundation, *track.curves.values()]
+    tables = tuple(("table", curve.file) for curve in curves if isinstance(getattr(curve, "file", None), str))
+    return (("track file", track_path), *tables)
 
 
 def plot_format(path: Path) -> str:
@@ -280,7 +308,8 @@ def cmd_receptance(args: argparse.Namespace) -> int:
                          "in [slab]): the paper's Eq. (14) ignores the slab the two halves share; use "
                          "--method transfer, or cut = \"joint\" in the track file")
     f = frequency_grid(args.fmin, args.fmax, args.df)
-    out, plot = output_paths(("-o", None if args.output == "-" else args.output), ("--plot", args.plot))
+    out, plot = output_paths(("-o", None if args.output == "-" else args.output), ("--plot", args.plot),
+                             inputs=input_files(args.track, track))
     if plot is not None:
         plot_format(plot)
     if out is None:
@@ -322,7 +351,8 @@ def cmd_decay(args: argparse.Namespace) -> int:
     fmin, fmax = checked(check_band, args.band, "--band")
     frequency("--band", fmax)
     checked(check_positive, "--df", args.df)
-    out, plot = output_paths(("-o", None if args.output == "-" else args.output), ("--plot", args.plot))
+    out, plot = output_paths(("-o", None if args.output == "-" else args.output), ("--plot", args.plot),
+                             inputs=input_files(args.track, track))
     if plot is not None:
         plot_format(plot)
     if track.has_flexible_slab:
@@ -348,11 +378,13 @@ def cmd_fit(args: argparse.Namespace) -> int:
     fmin, fmax = checked(check_band, args.band, "--band")
     frequency("--band", args.band[1])
     checked(check_int_at_least, "--seed", args.seed, 0)
-    (out,) = output_paths(("-o", args.output))
+    (out,) = output_paths(("-o", args.output), inputs=input_files(args.track, track))
+    _fit_options_agree(args)
     if args.boundary:
         return _fit_boundary(args, track, (fmin, fmax), out)
     from .equivalent.fitting import fit_equivalent
 
+    args.bars = 5 if args.bars is None else args.bars
     checked(check_int_at_least, "--bars", args.bars, 1)
     layout = args.layout or ("ballasted" if track.is_ballasted or track.foundation is not None else "slab")
     progress = Progress("fit", 1, quiet=args.quiet)
@@ -368,6 +400,19 @@ def cmd_fit(args: argparse.Namespace) -> int:
     print(f"median relative error {fit.median_error:.4f}, maximum {fit.max_error:.4f} ({', '.join(ELEMENTS)})")
     print(f"written to {out}")
     return 0
+
+
+def _fit_options_agree(args: argparse.Namespace) -> None:
+    """Refuse options of one kind of fit given to the other (they would be silently ignored)."""
+    if args.boundary:
+        given = [name for name, value in (("--bars", args.bars), ("--layout", args.layout)) if value is not None]
+        given += ["--unconstrained"] if args.unconstrained else []
+        if given:
+            raise InputError(f"{' and '.join(given)} set an equivalent system's fit, not --boundary's (which "
+                             "takes --poles): drop them or drop --boundary")
+    elif args.poles is not None:
+        raise InputError("--poles sets the order of a --boundary fit: add --boundary, or give an equivalent "
+                         "system's --bars instead")
 
 
 def _fit_boundary(args: argparse.Namespace, track: Track, band: tuple[float, float], out: Path) -> int:
@@ -423,7 +468,7 @@ def load_system_file(path: str) -> EquivalentSystem:
 
 def cmd_export(args: argparse.Namespace) -> int:
     system = load_system_file(args.system)
-    (out,) = output_paths(("-o", args.output))
+    (out,) = output_paths(("-o", args.output), inputs=(("system file", args.system),))
     if args.format is None and out.suffix.lower() not in (".json", ".csv", ".mat"):
         raise InputError(f"cannot tell the format from {out.name!r}: give --format json|csv|mat or a "
                          ".json/.csv/.mat file name")
@@ -601,7 +646,7 @@ def _fit_parser(sub) -> None:
                               "  semitrack fit slab.toml --boundary --band 3 3000 -o boundary.json"
                               .format(*FIT_BANDS["ballasted"]))
     p.add_argument("track", help="track description file (TOML)")
-    p.add_argument("--bars", type=int, default=5, help="number of rigid bars N (default 5)")
+    p.add_argument("--bars", type=int, default=None, help="number of rigid bars N (default 5)")
     p.add_argument("--layout", choices=("slab", "ballasted"), default=None,
                    help="the equivalent system's layout (default: ballasted for sleepers on ballast or a measured "
                         "foundation, whose own dynamics its second mass takes; slab otherwise)")

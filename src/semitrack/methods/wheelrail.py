@@ -57,4 +57,7 @@ def wheel_rail_force(track: Track | PeriodicCell, f: ArrayLike, wheel: Wheel, x:
         raise InputTypeError(f"wheel must be a semitrack Wheel (e.g. st.Wheel()), got {type(wheel).__name__}")
     f = as_frequencies(f)
     alpha_r = point_receptance(track, f, x)[..., 0, 0]
-    return -1.0 / (wheel.receptance(f) + 1.0 / wheel.contact_stiffness + alpha_r)
+    # -1 / (1/z_W + alpha_C + alpha_R) written with the wheel's dynamic stiffness z_W, which is 0
+    # (not its receptance infinite) at an undamped primary suspension's resonance: the force is 0 there
+    z_w = wheel.dynamic_stiffness(f)
+    return -z_w / (1.0 + z_w * (1.0 / wheel.contact_stiffness + alpha_r))
