@@ -299,7 +299,7 @@ def _plot_receptance(path: Path, track: Track, f: np.ndarray, alpha: np.ndarray)
 
 
 def cmd_receptance(args: argparse.Namespace) -> int:
-    from .methods.receptance import semi_infinite_receptance
+    from .methods.receptance import frequency_blocks, semi_infinite_receptance
 
     track = _track(args.track)
     if args.method == "wavenumber" and track.has_flexible_slab and track.slab.cut_span != 0:
@@ -314,6 +314,7 @@ def cmd_receptance(args: argparse.Namespace) -> int:
         plot_format(plot)
     if out is None:
         stdout()
+    frequency_blocks(track.cell(), f, "--fmin, --fmax, --df")  # the whole grid's work, before its first block
     progress = Progress("receptance", int(np.ceil(f.size / BLOCK)), quiet=args.quiet)
     blocks = []
     for n, start in enumerate(range(0, f.size, BLOCK), start=1):
