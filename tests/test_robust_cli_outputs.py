@@ -10,6 +10,9 @@ as is a ``--boundary`` band whose fit would take hours.
 from __future__ import annotations
 
 import os
+import subprocess
+import sys
+import textwrap
 import time
 from pathlib import Path
 
@@ -129,3 +132,47 @@ def test_a_boundary_band_of_hours_is_refused(capsys, track, tmp_path):
     assert_refused(capsys, ["fit", track, "--boundary", "--band", "3", "299000", "-o", out], [track], "band",
                    "samples", "limit")
     assert not out.exists()
+
+
+# --- Ctrl-C while numpy or scipy loads ---------------------------------------------------------------
+INTERRUPTED_IMPORT = textwrap.dedent("""
+    import sys
+
+    class Interrupted:  # a Ctrl-C during the import of {module}, reported as numpy reports it
+        def find_spec(self, name, path=None, target=None):
+            if name == "{module}":
+                try:
+                    raise KeyboardInterrupt
+                except KeyboardInterrupt as err:
+                    raise ImportError("Importing the numpy C-extensions failed: check your install") from err
+            return None
+
+    sys.meta_path.insert(0, Interrupted())
+    from semitrack.__main__ import main
+    sys.argv = ["semitrack", *sys.argv[1:]]
+    sys.exit(main())
+""")
+
+
+@pytest.mark.parametrize("module", ["numpy", "scipy"])
+def test_an_import_interrupted_by_ctrl_c_exits_130(track, tmp_path, module):
+    # numpy: while the command line itself loads; scipy: in the fit's deferred imports
+    env = {**os.environ, "PYTHONPATH": str(Path(st.__file__).parent.parent)}
+    start = time.perf_counter()
+    out = subprocess.run([sys.executable, "-c", INTERRUPTED_IMPORT.format(module=module), "fit", str(track),
+                          "--band", "3", "300", "-o", str(tmp_path / "s.json")], env=env, capture_output=True,
+                         text=True, timeout=60)
+    assert out.returncode == 130, out.stderr
+    assert out.stderr.splitlines() == [out.stderr.strip()] and "interrupted" in out.stderr, out.stderr
+    assert "Traceback" not in out.stderr and "install" not in out.stderr
+    assert time.perf_counter() - start < 30
+    assert not (tmp_path / "s.json").exists()
+
+
+def test_a_real_import_error_is_still_reported(track, tmp_path):
+    env = {**os.environ, "PYTHONPATH": str(Path(st.__file__).parent.parent)}
+    script = INTERRUPTED_IMPORT.format(module="scipy").replace("raise KeyboardInterrupt", "raise OSError")
+    script = script.replace("except KeyboardInterrupt", "except OSError")
+    out = subprocess.run([sys.executable, "-c", script, "fit", str(track), "--band", "3", "300", "-o",
+                          str(tmp_path / "s.json")], env=env, capture_output=True, text=True, timeout=60)
+    assert out.returncode == 1 and "unexpected failure" in out.stderr and "Traceback" in out.stderr

@@ -35,7 +35,7 @@ import numpy as np
 from . import __version__
 from .base.checks import MAX_FREQUENCIES, check_band, check_int_at_least, check_positive, check_work
 from .base.conventions import ALL_ELEMENTS, ELEMENT_UNITS, ELEMENTS
-from .base.errors import BadInput
+from .base.errors import BadInput, caused_by_interrupt
 from .base.errors import InputError as PackageInputError
 from .base.files import atomic_write, check_output_path
 from .base.paper_values import FIT_BANDS, PAPER_GRID_BAND, PAPER_GRID_STEP
@@ -789,7 +789,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             command = f"semitrack {args.command}"
             try:
                 return run(args)
-            except Exception:  # noqa: BLE001 - an unexpected failure is reported in full
+            except Exception as err:  # noqa: BLE001 - an unexpected failure is reported in full
+                if caused_by_interrupt(err):  # e.g. Ctrl-C during a deferred import of numpy or scipy
+                    raise KeyboardInterrupt from None
                 print(f"{command}: unexpected failure, please report it:", file=sys.stderr)
                 traceback.print_exc()
                 return 1

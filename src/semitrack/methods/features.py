@@ -24,11 +24,11 @@ from .receptance import CentralResponse, Method, central_response, check_frequen
 
 #: The curves of the paper's Fig. 4/10/5/11 in which peaks and dips are looked for: those of the
 #: complete track, then the distinct receptance elements of :data:`semitrack.base.conventions.ELEMENTS`.
+QUANTITIES = ("w1", "psi2", "Q2", "M1", "det", *ELEMENTS)
 #: Evaluations the refinement of the extrema may add to the grid's, counted in the work check of
 #: :func:`characteristic_frequencies` (Brent's method takes ~10-30 per extremum; a slab of many
 #: fasteners has hundreds of extrema).
 REFINEMENT_ALLOWANCE = 2_000
-QUANTITIES = ("w1", "psi2", "Q2", "M1", "det", *ELEMENTS)
 
 
 def response_curves(track: Track | PeriodicCell, f: ArrayLike, method: Method = "transfer",

@@ -121,9 +121,9 @@ def _settings(method: str, options: dict) -> WavenumberSettings | None:
 #: :data:`~semitrack.base.checks.MAX_FREQUENCIES`.
 MAX_FREQUENCY_SUPPORTS = 200_000
 #: Memory of one block of frequencies evaluated at once (bytes); a frequency takes ~200 S^2 bytes
-#: (measured: 1.6 GiB for 200 frequencies of a 200-fastener slab in one block; blocks of 12 took
-#: twice the time of one block, blocks of 37 are near it).
-BLOCK_BYTES = 300_000_000
+#: at least (measured: 1.6 GiB for 200 frequencies of a 200-fastener slab in one block, 845 MiB
+#: for 37 at 3-300 Hz, 165 MiB in blocks of 12, this budget's).
+BLOCK_BYTES = 100_000_000
 
 
 def check_frequency_work(cell: PeriodicCell, n_frequencies: float, request: str = "f") -> int:
