@@ -134,6 +134,19 @@ def test_roughness_above_the_nyquist_frequency_is_warned(model):
         roughness_from_spectrum(100.0).sampled(2e-5, 10)  # the ISO 3095 spectrum at 100 m/s reaches 31.7 kHz
 
 
+def test_both_roughness_builders_warn_when_given_the_step():
+    with pytest.warns(RuntimeWarning, match=r"40000 to 40000 Hz.*25000 Hz") as record:
+        corrugation(100.0, 100.0 / 40_000.0, 1e-7, dt=2e-5)
+    assert record[0].filename == __file__  # the warning points at the caller
+    with pytest.warns(RuntimeWarning, match=r"from 25\d+ to 3\d+ Hz.*25000 Hz"):
+        roughness_from_spectrum(100.0, dt=2e-5)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        corrugation(100.0, 0.05, 1e-7, dt=2e-5)  # 2 kHz: resolved
+        roughness_from_spectrum(20.0, dt=2e-5)  # up to 6.3 kHz: resolved
+    refused(lambda: corrugation(100.0, 0.05, 1e-7, dt=-1.0), InputError, "dt")
+
+
 MEASURE = textwrap.dedent("""
     import resource, sys, time
     import semitrack as st

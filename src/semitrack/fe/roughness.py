@@ -296,7 +296,7 @@ def _band_numbers(centres: ArrayLike, name: str = "centres") -> np.ndarray:
 
 
 def roughness_from_spectrum(speed: float, wavelengths: ArrayLike | None = None, levels: ArrayLike | None = None,
-                            *, period: float = 0.1, seed: int = 0) -> Roughness:
+                            *, period: float = 0.1, seed: int = 0, dt: float | None = None) -> Roughness:
     """A broadband roughness with given one-third-octave band levels, random phases.
 
     Each band of wavelength, passed at ``speed``, covers a band of frequency; its mean square
@@ -318,6 +318,9 @@ def roughness_from_spectrum(speed: float, wavelengths: ArrayLike | None = None, 
         least one line.
     seed : int
         Seed of the random phases (>= 0).
+    dt : float, optional
+        The time step the roughness will be sampled at (s): lines above its Nyquist frequency
+        are warned about at once (:meth:`Roughness.warn_aliasing`), as sampling them warns.
 
     Returns
     -------
@@ -357,11 +360,19 @@ def roughness_from_spectrum(speed: float, wavelengths: ArrayLike | None = None, 
         amplitudes.extend(np.full(j.size, REFERENCE_ROUGHNESS * 10 ** (level / 20) * np.sqrt(2.0 / j.size)))
     order = np.argsort(lines)
     phases = np.random.default_rng(seed).uniform(0.0, 2 * np.pi, len(lines))
-    return Roughness(np.asarray(lines)[order], np.asarray(amplitudes)[order], phases, speed, period,
-                     label=f"{n.size}-band spectrum at {speed:.4g} m/s, seed {seed}")
+    return _checked_for(dt, Roughness(np.asarray(lines)[order], np.asarray(amplitudes)[order], phases, speed, period,
+                                      label=f"{n.size}-band spectrum at {speed:.4g} m/s, seed {seed}"))
 
 
-def corrugation(speed: float, wavelength: float, amplitude: float, *, phase: float = 0.0) -> Roughness:
+def _checked_for(dt: float | None, roughness: Roughness) -> Roughness:
+    """``roughness``, warned about when it has lines that a step ``dt`` (if given) cannot resolve."""
+    if dt is not None:
+        roughness.warn_aliasing(check_positive("dt", dt), stacklevel=4)
+    return roughness
+
+
+def corrugation(speed: float, wavelength: float, amplitude: float, *, phase: float = 0.0,
+                dt: float | None = None) -> Roughness:
     """A single-wavelength roughness ``amplitude cos(2 pi speed t / wavelength + phase)``.
 
     Parameters
@@ -374,6 +385,9 @@ def corrugation(speed: float, wavelength: float, amplitude: float, *, phase: flo
         Amplitude (m), half the peak-to-trough depth; non-negative.
     phase : float
         Phase (rad) at t = 0.
+    dt : float, optional
+        The time step it will be sampled at (s): a line above its Nyquist frequency is warned
+        about at once (:meth:`Roughness.warn_aliasing`).
 
     Returns
     -------
@@ -388,5 +402,5 @@ def corrugation(speed: float, wavelength: float, amplitude: float, *, phase: flo
     speed, wavelength = check_positive("speed", speed), check_positive("wavelength", wavelength)
     amplitude, phase = check_nonnegative("amplitude", amplitude), check_real("phase", phase)
     f = speed / wavelength
-    return Roughness(np.array([f]), np.array([amplitude]), np.array([phase]), speed, 1.0 / f,
-                     label=f"corrugation {wavelength:.4g} m at {speed:.4g} m/s")
+    return _checked_for(dt, Roughness(np.array([f]), np.array([amplitude]), np.array([phase]), speed, 1.0 / f,
+                                      label=f"corrugation {wavelength:.4g} m at {speed:.4g} m/s"))
