@@ -3,7 +3,7 @@
 Every case asserts the exception class, a one-line message naming the file and the key or check,
 a time bound, and that the file was left as it was. The largest cases (``/dev/zero`` behind a
 ``.json`` name, a ``.mat`` whose compressed variable inflates to 1 GB) run in a subprocess whose
-peak RSS is measured with :func:`resource.getrusage`: under 1 GB and 30 s before the refusal.
+peak RSS is measured (``VmHWM``, :mod:`peak_memory`): under 1 GB and 30 s before the refusal.
 """
 
 from __future__ import annotations
@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import scipy.io
+from peak_memory import PEAK_RSS
 
 import semitrack as st
 from semitrack.base.errors import BadInput, InputError
@@ -105,15 +106,15 @@ def test_a_mat_whose_compressed_field_inflates(tmp_path):
     refused(path, "inflate to more than")
 
 
-MEASURE = textwrap.dedent("""
-    import resource, sys, time
+MEASURE = PEAK_RSS + textwrap.dedent("""
+    import sys, time
     import semitrack as st
     start = time.perf_counter()
     try:
         st.{loader}(sys.argv[1])
     except Exception as err:
         print(type(err).__name__, "|", err)
-    print(time.perf_counter() - start, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
+    print(time.perf_counter() - start, peak_rss_kib())
 """)
 
 

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from peak_memory import PEAK_RSS
 
 import semitrack as st
 from semitrack.base.errors import InputError, InputTypeError
@@ -135,15 +136,15 @@ def test_200_fasteners_in_python(many):
     refused(lambda: st.fit_boundary(track), InputError, "200 supports")
 
 
-MEASURE = textwrap.dedent("""
-    import resource, sys, time
+MEASURE = PEAK_RSS + textwrap.dedent("""
+    import sys, time
     import numpy as np
     import semitrack as st
     track = st.load_track_toml(sys.argv[1])
     start = time.perf_counter()
     alpha = st.semi_infinite_receptance(track, np.linspace(3.0, 300.0, 38))
     print(bool(np.all(np.isfinite(alpha))), time.perf_counter() - start,
-          resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
+          peak_rss_kib())
 """)
 
 

@@ -2,7 +2,7 @@
 
 Each case asserts the exception (or warning) class, a one-line message naming the parameter, and
 a time bound; the runs that would allocate gigabytes are refused before any allocation, which a
-subprocess measures (peak RSS by :func:`resource.getrusage`: under 1 GB, under 30 s).
+subprocess measures (peak RSS, ``VmHWM`` by :mod:`peak_memory`: under 1 GB, under 30 s).
 """
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from peak_memory import PEAK_RSS
 
 import semitrack as st
 from semitrack.base.errors import InputError, InputTypeError
@@ -147,8 +148,8 @@ def test_both_roughness_builders_warn_when_given_the_step():
     refused(lambda: corrugation(100.0, 0.05, 1e-7, dt=-1.0), InputError, "dt")
 
 
-MEASURE = textwrap.dedent("""
-    import resource, sys, time
+MEASURE = PEAK_RSS + textwrap.dedent("""
+    import sys, time
     import semitrack as st
     from semitrack.fe.roughness import roughness_from_spectrum
     from semitrack.fe.timedomain import moving_load_response, pulse_response
@@ -167,7 +168,7 @@ MEASURE = textwrap.dedent("""
             print(name, "ran")
         except Exception as err:
             print(name, type(err).__name__, time.perf_counter() - start)
-    print("rss", resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
+    print("rss", peak_rss_kib())
 """)
 
 
