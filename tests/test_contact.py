@@ -70,6 +70,7 @@ def test_synthesised_roughness_has_the_spectrum_s_band_levels_in_its_samples():
 
 @pytest.mark.parametrize("speed, dt, period", [(100.0, 1e-5, 0.1), (10.0, 4e-5, 0.2), (300 / 3.6, 2e-5, 0.1),
                                                (100.0, 3e-5, 0.1)])
+@pytest.mark.filterwarnings("ignore:.*Nyquist frequency:RuntimeWarning")  # aliasing on purpose
 def test_sampled_roughness_by_fft_equals_its_cosine_sums(speed, dt, period):
     """One period by an inverse FFT, repeated; lines above the step's Nyquist frequency (the ISO
     spectrum at 100 m/s reaches 31.7 kHz) fold onto their aliases as the cosines' samples do; a

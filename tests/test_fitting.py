@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 import semitrack as st
+from semitrack.base import records
 from semitrack.base.paper_values import FIT_BANDS
 from semitrack.equivalent import cache
 from semitrack.equivalent.constraints import (
@@ -465,21 +466,21 @@ def test_cached_fit_folder_is_read_back_and_survives_corruption(counted_fits, tm
     track = st.ballasted_track()
     folder = tmp_path / "cache"  # created by cached_fit
     first = st.cached_fit(track, "ballasted", cache_dir=folder, **SMALL)
-    files = list(folder.glob("fit-*.pkl"))
-    assert [f.name for f in files] == [f"fit-{cache.fit_cache_key(track, 'ballasted', **SMALL)}.pkl"]
+    files = list(folder.glob("fit-*.json"))
+    assert [f.name for f in files] == [f"fit-{cache.fit_cache_key(track, 'ballasted', **SMALL)}.json"]
     assert not list(folder.glob("*.tmp"))  # the atomic write left no temporary file
     cache.clear_fit_memo()  # a new process: only the folder remembers
     back = st.cached_fit(track, "ballasted", cache_dir=folder, **SMALL)
     assert len(counted_fits) == 1
     _same_fit(back, first)
-    assert not back.theta.flags.writeable and not back.system.m.flags.writeable  # read-only after unpickling
-    for junk in (b"", b"not a pickle", pickle.dumps({"a": 1})):  # empty, corrupt, not a FitResult
+    assert not back.theta.flags.writeable and not back.system.m.flags.writeable  # read-only when read back
+    junks = (b"", b"not json", pickle.dumps({"a": 1}), b'{"d": {"a": 1}}', b'{"r": "Track", "v": {}}')
+    for junk in junks:  # empty, corrupt, an old pickle, not a FitResult, a type the cache never builds
         files[0].write_bytes(junk)
         cache.clear_fit_memo()
         _same_fit(st.cached_fit(track, "ballasted", cache_dir=folder, **SMALL), first)
-        with open(files[0], "rb") as fh:
-            _same_fit(pickle.load(fh), first)  # rewritten
-    assert len(counted_fits) == 4
+        _same_fit(records.loads(files[0].read_text(), cache._record_types()), first)  # rewritten
+    assert len(counted_fits) == 1 + len(junks)
 
 
 def test_cache_keys_tell_arguments_apart():
@@ -556,8 +557,8 @@ def test_cached_central_response_is_central_response_computed_once(monkeypatch, 
         np.testing.assert_array_equal(getattr(sweep.response, name), getattr(direct, name))
     assert sweep.response.method == "wavenumber" and sweep.elapsed > 0
     assert cache.cached_central_response(track, list(SWEEP_F), "wavenumber", cache_dir=folder) is sweep
-    files = list(folder.glob("response-*.pkl"))
-    assert [f.name for f in files] == [f"response-{cache.response_cache_key(track, SWEEP_F)}.pkl"]
+    files = list(folder.glob("response-*.json"))
+    assert [f.name for f in files] == [f"response-{cache.response_cache_key(track, SWEEP_F)}.json"]
     cache.clear_fit_memo()  # a new process: only the folder remembers, elapsed included
     back = cache.cached_central_response(track, SWEEP_F, cache_dir=folder)
     np.testing.assert_array_equal(back.response.alpha, sweep.response.alpha)

@@ -2,7 +2,8 @@
 
 The console script enters here, not in :mod:`semitrack.cli`, so that an interrupt that arrives
 while the program is still importing numpy, scipy and the package (the first second or so) ends
-it with exit code 130 and one line, as it does later, instead of a traceback.
+it with exit code 130 and one line, as it does later, instead of a traceback; an ImportError
+raised from that interrupt (numpy reports a Ctrl-C during its import as a "bad install") too.
 """
 
 import sys
@@ -13,6 +14,13 @@ def main() -> int:
     try:
         from .cli import main as cli_main
     except KeyboardInterrupt:
+        print("semitrack: interrupted", file=sys.stderr)
+        return 130
+    except ImportError as err:  # numpy's "bad install" text for a Ctrl-C while it loads
+        from .base.errors import caused_by_interrupt
+
+        if not caused_by_interrupt(err):
+            raise
         print("semitrack: interrupted", file=sys.stderr)
         return 130
     return cli_main()

@@ -36,7 +36,7 @@ import numpy as np
 from . import __version__
 from .base.checks import MAX_FREQUENCIES, check_band, check_int_at_least, check_positive, check_work
 from .base.conventions import ALL_ELEMENTS, ELEMENT_UNITS, ELEMENTS
-from .base.errors import BadInput
+from .base.errors import BadInput, caused_by_interrupt
 from .base.errors import InputError as PackageInputError
 from .base.files import atomic_write, check_output_path, read_text
 from .base.paper_values import FIT_BANDS, PAPER_GRID_BAND, PAPER_GRID_STEP
@@ -161,13 +161,17 @@ def track_kind(track: Track) -> str:
     return f"flexible slab, {slab.fasteners} fasteners per {slab.length:g} m slab, cut at {cut}"
 
 
-def output_paths(*named: tuple[str, str | None]) -> list[Path | None]:
-    """Check every output file before the work starts: each writable, no file named twice.
+def output_paths(*named: tuple[str, str | None], inputs: tuple[tuple[str, str], ...] = ()) -> list[Path | None]:
+    """Check every output file before the work starts: each writable, no file named twice, no input replaced.
 
     Parameters
     ----------
     *named : tuple of (str, str or None)
         ``(option, path)`` pairs, e.g. ``("-o", "alpha.csv")``; a None path (not asked for) is skipped.
+    inputs : tuple of (str, str)
+        ``(what, path)`` of every file the command reads (:func:`input_files`): an output that is
+        one of them, by any name (the same path, a symbolic or a hard link; compared with
+        :func:`os.path.samefile`), is refused, since writing it would replace the input.
 
     Returns
     -------
@@ -182,7 +186,31 @@ def output_paths(*named: tuple[str, str | None]) -> list[Path | None]:
         if target.resolve() in seen:
             raise InputError(f"{option} and {seen[target.resolve()]} name the same file {path!r}: name two files")
         seen[target.resolve()] = option
+        for what, source in inputs:
+            if target.exists() and os.path.exists(source) and os.path.samefile(target, source):
+                raise InputError(f"{option} {path!r} is the {what} {source!r}: writing it would replace the "
+                                 "input; name another file")
     return [None if path is None else Path(path) for _, path in named]
+
+
+def input_files(track_path: str, track: Track) -> tuple[tuple[str, str], ...]:
+    """The files a track command reads: the track file and the tables it names (pads, foundation).
+
+    Parameters
+    ----------
+    track_path : str
+        The track file as given.
+    track : Track
+        The track read from it.
+
+    Returns
+    -------
+    tuple of (str, str)
+        ``(what, path)`` pairs for :func:`output_paths`.
+    """
+    curves = [track.foundation, *track.curves.values()]
+    tables = tuple(("table", curve.file) for curve in curves if isinstance(getattr(curve, "file", None), str))
+    return (("track file", track_path), *tables)
 
 
 def plot_format(path: Path) -> str:
@@ -272,7 +300,7 @@ def _plot_receptance(path: Path, track: Track, f: np.ndarray, alpha: np.ndarray)
 
 
 def cmd_receptance(args: argparse.Namespace) -> int:
-    from .methods.receptance import semi_infinite_receptance
+    from .methods.receptance import frequency_blocks, semi_infinite_receptance
 
     track = _track(args.track)
     if args.method == "wavenumber" and track.has_flexible_slab and track.slab.cut_span != 0:
@@ -281,11 +309,13 @@ def cmd_receptance(args: argparse.Namespace) -> int:
                          "in [slab]): the paper's Eq. (14) ignores the slab the two halves share; use "
                          "--method transfer, or cut = \"joint\" in the track file")
     f = frequency_grid(args.fmin, args.fmax, args.df)
-    out, plot = output_paths(("-o", None if args.output == "-" else args.output), ("--plot", args.plot))
+    out, plot = output_paths(("-o", None if args.output == "-" else args.output), ("--plot", args.plot),
+                             inputs=input_files(args.track, track))
     if plot is not None:
         plot_format(plot)
     if out is None:
         stdout()
+    frequency_blocks(track.cell(), f, "--fmin, --fmax, --df")  # the whole grid's work, before its first block
     progress = Progress("receptance", int(np.ceil(f.size / BLOCK)), quiet=args.quiet)
     blocks = []
     for n, start in enumerate(range(0, f.size, BLOCK), start=1):
@@ -323,7 +353,8 @@ def cmd_decay(args: argparse.Namespace) -> int:
     fmin, fmax = checked(check_band, args.band, "--band")
     frequency("--band", fmax)
     checked(check_positive, "--df", args.df)
-    out, plot = output_paths(("-o", None if args.output == "-" else args.output), ("--plot", args.plot))
+    out, plot = output_paths(("-o", None if args.output == "-" else args.output), ("--plot", args.plot),
+                             inputs=input_files(args.track, track))
     if plot is not None:
         plot_format(plot)
     if track.has_flexible_slab:
@@ -349,13 +380,15 @@ def cmd_fit(args: argparse.Namespace) -> int:
     fmin, fmax = checked(check_band, args.band, "--band")
     frequency("--band", args.band[1])
     checked(check_int_at_least, "--seed", args.seed, 0)
-    (out,) = output_paths(("-o", args.output))
+    (out,) = output_paths(("-o", args.output), inputs=input_files(args.track, track))
+    _fit_options_agree(args)
     if args.boundary:
         return _fit_boundary(args, track, (fmin, fmax), out)
     if args.mck:
         raise InputError("--mck applies with --boundary (a fitted system's file holds its M, C, K already)")
     from .equivalent.fitting import fit_equivalent
 
+    args.bars = 5 if args.bars is None else args.bars
     checked(check_int_at_least, "--bars", args.bars, 1)
     layout = args.layout or ("ballasted" if track.is_ballasted or track.foundation is not None else "slab")
     progress = Progress("fit", 1, quiet=args.quiet)
@@ -375,6 +408,19 @@ def cmd_fit(args: argparse.Namespace) -> int:
 
 #: The formats of an end file, by suffix: a boundary's state space (json, mat) or any end's M, C, K.
 END_FORMATS = ("json", "mat", "csv", "bdf", "inp")
+
+
+def _fit_options_agree(args: argparse.Namespace) -> None:
+    """Refuse options of one kind of fit given to the other (they would be silently ignored)."""
+    if args.boundary:
+        given = [name for name, value in (("--bars", args.bars), ("--layout", args.layout)) if value is not None]
+        given += ["--unconstrained"] if args.unconstrained else []
+        if given:
+            raise InputError(f"{' and '.join(given)} set an equivalent system's fit, not --boundary's (which "
+                             "takes --poles): drop them or drop --boundary")
+    elif args.poles is not None:
+        raise InputError("--poles sets the order of a --boundary fit: add --boundary, or give an equivalent "
+                         "system's --bars instead")
 
 
 def _end_format(out: Path, given: str | None) -> str:
@@ -526,7 +572,7 @@ def cmd_export(args: argparse.Namespace) -> int:
         output = str(Path(args.system).with_suffix("." + args.format))
         if Path(output).resolve() == Path(args.system).resolve():
             raise InputError(f"the output {output!r} would replace the input: give -o FILE")
-    (out,) = output_paths(("-o", output))
+    (out,) = output_paths(("-o", output), inputs=(("system file", args.system),))
     fmt = _end_format(out, args.format)
     if isinstance(source, BroadbandBoundary):
         export_boundary(source, out, format=fmt, mck=args.mck)
@@ -712,7 +758,7 @@ def _fit_parser(sub) -> None:
                               "  semitrack fit slab.toml --boundary --band 3 3000 -o boundary.json"
                               .format(*FIT_BANDS["ballasted"]))
     p.add_argument("track", help="track description file (TOML)")
-    p.add_argument("--bars", type=int, default=5, help="number of rigid bars N (default 5)")
+    p.add_argument("--bars", type=int, default=None, help="number of rigid bars N (default 5)")
     p.add_argument("--layout", choices=("slab", "ballasted"), default=None,
                    help="the equivalent system's layout (default: ballasted for sleepers on ballast or a measured "
                         "foundation, whose own dynamics its second mass takes; slab otherwise)")
@@ -863,7 +909,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             command = f"semitrack {args.command}"
             try:
                 return run(args)
-            except Exception:  # noqa: BLE001 - an unexpected failure is reported in full
+            except Exception as err:  # noqa: BLE001 - an unexpected failure is reported in full
+                if caused_by_interrupt(err):  # e.g. Ctrl-C during a deferred import of numpy or scipy
+                    raise KeyboardInterrupt from None
                 print(f"{command}: unexpected failure, please report it:", file=sys.stderr)
                 traceback.print_exc()
                 return 1

@@ -42,6 +42,30 @@ def check_nonnegative(name: str, value: object) -> float:
     return v
 
 
+def check_in_range(name: str, value: float, bounds: tuple[float, float], why: str) -> float:
+    """A number (already checked real) within ``bounds`` inclusive; the message says the range and why.
+
+    Parameters
+    ----------
+    name : str
+        The parameter, for messages.
+    value : float
+        The value.
+    bounds : (float, float)
+        Lowest and highest value accepted.
+    why : str
+        The unit and the reason for the range, e.g. ``"kg, a physical wheel"``.
+
+    Returns
+    -------
+    float
+    """
+    lo, hi = bounds
+    if not lo <= value <= hi:
+        raise InputError(f"{name} must be from {lo:g} to {hi:g} ({why}), got {value!r}")
+    return value
+
+
 def check_string(name: str, value: object) -> str:
     """A ``str`` (labels such as a track's name)."""
     if not isinstance(value, str):
@@ -94,6 +118,45 @@ def check_work(size: float, limit: float, request: str, hint: str) -> None:
         raise InputError(f"{request}, more than the limit of {limit:.0f} (time and memory); {hint}")
 
 
+#: Most time steps counted by :func:`check_steps` (beyond, no run is possible; the runs' own
+#: limits, in ``dynamics.simulate.check_limits``, are far lower).
+MAX_STEPS = 10**15
+
+
+def check_steps(dt: float, duration: float, names: tuple[str, str] = ("dt", "duration"), ceil: bool = False) -> int:
+    """The number of steps ``dt`` (checked > 0) takes to cover ``duration`` (checked > 0): at least one.
+
+    Parameters
+    ----------
+    dt : float
+        Time step (s).
+    duration : float
+        What the steps cover (s).
+    names : (str, str)
+        How messages call the two.
+    ceil : bool
+        Round the number of steps up (cover at least ``duration``); else to the nearest.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    ValueError
+        When ``dt`` is longer than ``duration`` (no step would be taken) or the count is beyond
+        :data:`MAX_STEPS`, naming both values.
+    """
+    dt, duration = check_positive(names[0], dt), check_positive(names[1], duration)
+    if dt > duration:
+        raise InputError(f"{names[0]}={dt!r} s is longer than {names[1]}={duration!r} s: no step would be taken; "
+                         f"give {names[0]} <= {names[1]}")
+    ratio = duration / dt
+    check_work(ratio, MAX_STEPS, f"{names[1]}={duration!r} s / {names[0]}={dt!r} s gives {ratio:.3g} steps",
+               f"use a larger {names[0]}")
+    return max(int(math.ceil(ratio - 1e-9 * ratio) if ceil else round(ratio)), 1)
+
+
 def as_frequencies(f: ArrayLike, name: str = "f") -> np.ndarray:
     """Frequencies in Hz as a float array (any shape); all must be positive and finite.
 
@@ -123,6 +186,31 @@ def as_frequencies(f: ArrayLike, name: str = "f") -> np.ndarray:
             f"{name} must be positive and finite (Hz); {int(bad.sum())} value(s) are not, e.g. {first!r}"
         )
     return arr
+
+
+def check_positive_pair(name: str, value: object) -> tuple[float, float]:
+    """Two real numbers, each > 0 and finite (e.g. a fit's ``(median, max)`` error tolerances).
+
+    Parameters
+    ----------
+    name : str
+        The parameter, for messages.
+    value : object
+        The value to check.
+
+    Returns
+    -------
+    tuple of float
+    """
+    try:
+        a, b = value
+    except (TypeError, ValueError):
+        a = b = None
+    if not (_is_real_number(a) and _is_real_number(b)):
+        raise InputTypeError(f"{name} must be a pair of numbers, got {value!r}")
+    if not all(math.isfinite(float(v)) and float(v) > 0 for v in (a, b)):
+        raise InputError(f"{name} must be two positive finite numbers, got {value!r}")
+    return float(a), float(b)
 
 
 def check_band(band: ArrayLike, name: str = "band") -> tuple[float, float]:

@@ -9,7 +9,7 @@ unexpected failure by its class alone.
 
 from __future__ import annotations
 
-__all__ = ["BadInput", "InputError", "InputTypeError"]
+__all__ = ["BadInput", "InputError", "InputTypeError", "caused_by_interrupt"]
 
 
 class BadInput(Exception):
@@ -22,3 +22,27 @@ class InputError(BadInput, ValueError):
 
 class InputTypeError(BadInput, TypeError):
     """An input of a type the package refuses."""
+
+
+def caused_by_interrupt(error: BaseException) -> bool:
+    """Whether ``error`` is, or was raised while handling, a ``KeyboardInterrupt`` (Ctrl-C).
+
+    A Ctrl-C that arrives while numpy loads its compiled core turns into numpy's ImportError about
+    a "bad install", raised from the interrupt; the command line reports it as the interrupt it is.
+
+    Parameters
+    ----------
+    error : BaseException
+        The exception caught.
+
+    Returns
+    -------
+    bool
+    """
+    seen = set()
+    while error is not None and id(error) not in seen:
+        if isinstance(error, KeyboardInterrupt):
+            return True
+        seen.add(id(error))
+        error = error.__cause__ or error.__context__
+    return False

@@ -31,7 +31,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import check_band, check_int_at_least, check_positive
+from ..base.checks import check_band, check_int_at_least, check_positive, check_positive_pair, check_work
 from ..base.errors import InputError
 from ..base.threads import serial_blas
 from ..equivalent.mechanical import MatrixSystem
@@ -54,6 +54,12 @@ MAX_POLES = 120
 STATIC_FREQUENCY = 1e-3
 #: Largest error grid accepted (band / df), a guard against a mistyped band or step.
 MAX_GRID = 100_000
+#: Most vector-fitting relocations and starts per order; and their product with the fit's samples,
+#: the work of one order (the default fit: ~1 200 samples x 20 relocations x 1 start; measured
+#: ~0.5-2 s per order on the paper's tracks, so the limit is a few minutes at most).
+MAX_ITERATIONS = 1_000
+MAX_STARTS = 100
+MAX_FIT_WORK = 1_000_000
 
 
 def check_n_poles(n_poles: object, name: str = "n_poles") -> int:
@@ -247,6 +253,15 @@ def _check_track_covers(track: Track, band: tuple[float, float]) -> None:
                          "value) or let them hold their end values (outside = \"hold\")")
 
 
+def _check_effort(n_starts: object, n_iter: object) -> tuple[int, int]:
+    """``n_starts`` and ``n_iter`` checked: integers from 1 to :data:`MAX_STARTS` and :data:`MAX_ITERATIONS`."""
+    n_starts = check_int_at_least("n_starts", n_starts, 1)
+    n_iter = check_int_at_least("n_iter", n_iter, 1)
+    for name, value, limit in (("n_starts", n_starts, MAX_STARTS), ("n_iter", n_iter, MAX_ITERATIONS)):
+        check_work(value, limit, f"{name}={value}", f"give {name} <= {limit} (each costs a full fit of the order)")
+    return n_starts, n_iter
+
+
 def _fit_samples(band: tuple[float, float], df: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(fit frequencies, error-grid frequencies, guard mask).
 
@@ -350,12 +365,15 @@ def fit_boundary(track: Track, band: tuple[float, float] = (3.0, 3000.0), n_pole
     if (band[1] - band[0]) / df > MAX_GRID:
         raise InputError(f"band / df must give at most {MAX_GRID} frequencies, got band={band} Hz with df={df} Hz")
     check_int_at_least("seed", seed, 0)
-    n_starts = check_int_at_least("n_starts", n_starts, 1)
-    n_iter = check_int_at_least("n_iter", n_iter, 1)
+    tol = check_positive_pair("tol", tol)
+    n_starts, n_iter = _check_effort(n_starts, n_iter)
     orders = ORDERS if n_poles is None else (check_n_poles(n_poles),)
     _check_track_covers(track, band)
     start = time.perf_counter()
     f, grid, guard = _fit_samples(band, df)
+    check_work(f.size * n_iter * n_starts, MAX_FIT_WORK,
+               f"band={band} Hz with df={df:g} Hz gives {f.size} samples, x n_iter={n_iter} x n_starts={n_starts}",
+               "fit a narrower band (a boundary is fitted over 3 Hz - 3 kHz), a larger df, or fewer iterations")
     alpha = semi_infinite_receptance(track, f)
     K0, D = track_end_limits(track)
     on_grid = np.isin(f, grid)

@@ -35,6 +35,7 @@ from .fitting import BroadbandBoundary
 from .passivity import passivity_report
 from .rational import RationalEndStiffness
 from .synthesis import SynthesisError
+from .validation import check_boundary_data, check_boundary_physics, read_boundary_file
 
 __all__ = ["boundary_to_dict", "boundary_from_dict", "save_boundary", "load_boundary", "export_boundary",
            "STATE_SPACE_SUFFIXES"]
@@ -82,20 +83,8 @@ def boundary_to_dict(boundary: BroadbandBoundary) -> dict:
     }
 
 
-def _array(data: dict, key: str, source: str) -> np.ndarray:
-    try:
-        out = np.asarray(data[key], dtype=float)
-    except KeyError:
-        raise InputError(f"{source}: missing key {key!r}") from None
-    except (TypeError, ValueError):
-        raise InputError(f"{source}: {key!r} must be an array of numbers") from None
-    if not np.all(np.isfinite(out)):
-        raise InputError(f"{source}: {key!r} must be finite")
-    return out
-
-
-def boundary_from_dict(data: dict, source: str = "data") -> BroadbandBoundary:
-    """Rebuild a boundary from :func:`boundary_to_dict` output; the passivity test is re-run.
+def boundary_from_dict(data: dict, source: str = "data", check: bool = True) -> BroadbandBoundary:
+    """Rebuild a boundary from :func:`boundary_to_dict` output, checked; the passivity test is re-run.
 
     Parameters
     ----------
@@ -103,29 +92,39 @@ def boundary_from_dict(data: dict, source: str = "data") -> BroadbandBoundary:
         The plain data.
     source : str
         Name of the data's origin, quoted in error messages.
+    check : bool
+        Refuse a model that is unstable, has a static stiffness that is not positive definite or
+        fails the exact passivity test (:func:`~.validation.check_boundary_physics`). ``False``
+        (for experts) builds it anyway, to inspect it: such a model still cannot close an FE
+        track, whose boundary end makes the same checks. The structure and values are checked
+        in either case (:func:`~.validation.check_boundary_data`).
+
+    Returns
+    -------
+    BroadbandBoundary
+
+    Raises
+    ------
+    InputError
+        Naming the source, the key or the check that failed.
     """
-    if not isinstance(data, dict) or data.get("format") != FORMAT:
-        raise InputError(f"{source}: not a {FORMAT} file (its 'format' must be {FORMAT!r})")
-    poles = _array(data, "poles", source)
-    if poles.ndim != 2 or poles.shape[1] != 2:
-        raise InputError(f"{source}: 'poles' must be a list of [re, im] pairs")
+    v = check_boundary_data(data, source, FORMAT, VERSION)
     try:
-        model = RationalEndStiffness(poles[:, 0] + 1j * poles[:, 1], _array(data, "coefficients", source),
-                                     _array(data, "K0", source), _array(data, "D", source))
+        model = RationalEndStiffness(v["poles"], v["coefficients"], v["K0"], v["D"])
     except ValueError as exc:
         raise InputError(f"{source}: {exc}") from None
-    stored = data.get("state_space")
-    if isinstance(stored, dict):
+    if v["state_space"] is not None:
         ss = model.state_space()
-        for key in ("A", "B", "C", "D", "K0"):
-            if not np.allclose(_array(stored, key, source), getattr(ss, key), rtol=1e-9, atol=0):
+        for key, stored in v["state_space"].items():
+            theirs = getattr(ss, key)
+            if stored.shape != theirs.shape or not np.allclose(stored, theirs, rtol=1e-9, atol=0):
                 raise InputError(f"{source}: state_space[{key!r}] does not match the poles and coefficients")
-    band = tuple(float(x) for x in _array(data, "band_hz", source))
-    errors = ErrorSummary(median=float(data.get("median_error", np.nan)), max=float(data.get("max_error", np.nan)),
-                          per_element={})
-    return BroadbandBoundary(model=model, band=band, errors=errors, passivity=passivity_report(model),
-                             track_name=str(data.get("track", "")),
-                             enforcement_rounds=int(data.get("enforcement_rounds", 0)))
+    passivity = passivity_report(model)
+    if check:
+        check_boundary_physics(model, passivity, source)
+    errors = ErrorSummary(median=v["median_error"], max=v["max_error"], per_element={})
+    return BroadbandBoundary(model=model, band=v["band"], errors=errors, passivity=passivity,
+                             track_name=v["track"], enforcement_rounds=v["enforcement_rounds"])
 
 
 def save_boundary(boundary: BroadbandBoundary, path, format: str | None = None) -> Path:
@@ -201,25 +200,30 @@ def export_boundary(boundary: BroadbandBoundary, path, format: str | None = None
     return save_matrix_system(b.second_order(), path, format=key)
 
 
-def load_boundary(path) -> BroadbandBoundary:
-    """Read a boundary written by :func:`save_boundary` (``.json`` or ``.mat``).
+def load_boundary(path, check: bool = True) -> BroadbandBoundary:
+    """Read a boundary written by :func:`save_boundary` (``.json`` or ``.mat``), checked completely.
+
+    The file's size is bounded before it is parsed, and every field is checked (structure, types,
+    shapes, the number of poles, values) before a model is built (:mod:`.validation`); then the
+    model's physics: stable poles, ``K0`` positive definite, the exact passivity test.
 
     Parameters
     ----------
     path : str or Path
         The file.
+    check : bool
+        ``False`` (for experts) loads a model that fails the physics checks, to inspect it (see
+        :func:`boundary_from_dict`); files that are damaged or malformed are refused in either case.
+
+    Returns
+    -------
+    BroadbandBoundary
+
+    Raises
+    ------
+    InputError
+        One line naming the file and the key or check that failed.
+    OSError
+        If the file cannot be read.
     """
-    path = Path(path)
-    if path.suffix.lower() == ".json":
-        with open(path, encoding="utf-8") as fh:
-            return boundary_from_dict(json.load(fh), source=str(path))
-    if path.suffix.lower() == ".mat":
-        m = scipy.io.loadmat(path, squeeze_me=False)
-        poles = np.asarray(m["poles"]).ravel()
-        data = {"format": str(np.asarray(m["format"]).ravel()[0]), "poles": np.c_[poles.real, poles.imag].tolist(),
-                "coefficients": m["coefficients"], "K0": m["K0"], "D": m["D"], "band_hz": np.ravel(m["band_hz"]),
-                **{key: np.ravel(m[key])[0] for key in ("median_error", "max_error", "enforcement_rounds") if key in m},
-                "track": str(np.asarray(m["track"]).ravel()[0]) if np.asarray(m["track"]).size else "",
-                "state_space": {k: m[k] for k in ("A", "B", "C", "D", "K0")}}
-        return boundary_from_dict(data, source=str(path))
-    raise InputError(f"path must end in .json or .mat, got {str(path)!r}")
+    return boundary_from_dict(read_boundary_file(path), source=str(path), check=check)

@@ -16,8 +16,9 @@ touch the track by their contacts only, the track being the largest part of the 
 (:func:`compiled_contacts_hold`), and numba; else, or with ``compiled=False``, the NumPy loop
 runs.
 
-Limits, checked before any work: steps times DOFs :data:`MAX_STEP_DOFS`, recorded values
-:data:`MAX_RECORDED`.
+Limits, checked before any work (:func:`check_limits`, which the time-domain entry points call
+before they allocate a step's arrays): steps times DOFs and a fixed cost per step
+:data:`MAX_STEP_DOFS`, values held per step :data:`MAX_RECORDED`.
 """
 
 from __future__ import annotations
@@ -45,10 +46,16 @@ from .system import SecondOrderSystem
 __all__ = ["MAX_STEP_DOFS", "MAX_RECORDED", "simulate", "compiled_available", "compiled_contacts_hold",
            "check_limits"]
 
-#: Most steps x DOFs of one integration (compiled ~12 ns each, NumPy ~100 ns: 5e9 ~ 1-8 min).
+#: Most steps x (DOFs + :data:`STEP_OVERHEAD`) of one integration (compiled ~12 ns per DOF, NumPy
+#: ~100 ns: 5e9 ~ 1-8 min).
 MAX_STEP_DOFS = 5_000_000_000
-#: Most recorded values, (n_steps + 1) x outputs (8 bytes each: 2e8 ~ 1.6 GB).
-MAX_RECORDED = 200_000_000
+#: The fixed cost of one step, in DOFs: the contact solve, the states, the loads and the recording
+#: of a step cost what ~1000 DOFs of the matrix solve cost (a 33-DOF model's step costs ~30 times
+#: its DOFs' share: by steps x DOFs alone, 1e8 steps of it passed the limit and allocated 763 MiB).
+STEP_OVERHEAD = 1_000
+#: Most values held per run for every step: (n_steps + 1) x (outputs + per-step inputs + the time),
+#: 8 bytes each: 5e7 ~ 400 MB, so that a run stays well under 1 GB.
+MAX_RECORDED = 50_000_000
 
 
 def compiled_available() -> bool:
@@ -71,18 +78,31 @@ def _initial_acceleration(M: sp.spmatrix, r0: np.ndarray) -> np.ndarray:
                          "force; start from rest with zero load at t = 0") from None
 
 
-def check_limits(n_steps: int, n_dof: int, n_out: int) -> None:
-    """Refuse, before any work, a run beyond :data:`MAX_STEP_DOFS` or :data:`MAX_RECORDED`.
+def check_limits(n_steps: int, n_dof: int, n_out: int, n_in: int = 1, request: str | None = None) -> None:
+    """Refuse, before any work or allocation, a run beyond :data:`MAX_STEP_DOFS` or :data:`MAX_RECORDED`.
+
+    The time is ``n_steps x (n_dof + STEP_OVERHEAD)`` (:data:`STEP_OVERHEAD`: the fixed cost of a
+    step); the memory ``(n_steps + 1) x (n_out + n_in + 1)`` values (outputs, per-step inputs
+    such as loads, moving points and roughness, and the time).
 
     Parameters
     ----------
     n_steps, n_dof, n_out : int
         Steps, DOFs and recorded outputs of the run.
+    n_in : int
+        Values per step of the inputs (a load history's columns, a moving point's DOFs and
+        weights, a roughness sample per wheel).
+    request : str, optional
+        What gave ``n_steps``, naming the parameters (e.g. ``"duration=1 s / dt=1e-09 s"``).
     """
-    check_work(n_steps * n_dof, MAX_STEP_DOFS, f"n_steps = {n_steps} steps x {n_dof} DOFs give "
-               f"{n_steps * n_dof} step-DOFs", "use a larger dt, a shorter duration or a smaller model")
-    check_work((n_steps + 1) * n_out, MAX_RECORDED, f"n_steps = {n_steps} steps x {n_out} outputs give "
-               f"{(n_steps + 1) * n_out} recorded values", "record fewer outputs (outputs=...) or fewer steps")
+    asked = f"n_steps = {n_steps} steps" if request is None else f"{request} gives n_steps = {n_steps} steps"
+    check_work(n_steps * (n_dof + STEP_OVERHEAD), MAX_STEP_DOFS,
+               f"{asked} x {n_dof} DOFs (+ {STEP_OVERHEAD} per step) give {n_steps * (n_dof + STEP_OVERHEAD):.3g} "
+               "step-DOFs", "use a larger dt, a shorter duration or a smaller model")
+    per_step = n_out + n_in + 1
+    check_work((n_steps + 1) * per_step, MAX_RECORDED, f"{asked} x {n_out} outputs (+ {n_in + 1} input values per "
+               f"step) give {(n_steps + 1) * per_step:.3g} values held",
+               "record fewer outputs (outputs=...) or take fewer steps")
 
 
 def _check_points(name: str, points, n: int, rows: int) -> None:

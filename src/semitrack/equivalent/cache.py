@@ -22,16 +22,20 @@ Arrays (``fit_freqs``, a sampled ``target``) enter by dtype, shape and bytes, an
 system by its layout and parameters. A callable ``target`` cannot be keyed (its code and state
 are not part of any stable identity) and is refused; call :func:`~.fitting.fit_equivalent`.
 
-**Files.** With ``cache_dir``, the result is pickled to ``<cache_dir>/fit-<key>.pkl`` (a sweep:
-``response-<key>.pkl``), written atomically (a temporary file in the folder, then
-:func:`os.replace`), and read back by later processes. A file that cannot be read (truncated,
-corrupt, written by an incompatible version) is ignored: the result is recomputed and the file
-rewritten.
+**Files.** With ``cache_dir``, the result is stored as data, never as a pickle: JSON of its
+numbers, strings and arrays (:mod:`semitrack.base.records`) in ``<cache_dir>/fit-<key>.json``
+(a sweep: ``response-<key>.json``), written atomically (a temporary file in the folder, then
+:func:`os.replace`), and read back by later processes. Reading builds only the package's own
+result types (the fit, its system and errors, a sweep), each through its constructor and its
+checks, so a file planted in the folder can at worst hold wrong numbers, never run code. A file
+that cannot be read (truncated, corrupt, too large, written by an incompatible version, or a
+pickle left by an older version) is ignored: the result is recomputed and the file rewritten.
 
 **For the book build only.** The notebooks call ``st.cached_fit(track, layout, band=...,
 seed=0, cache_dir="../_build/.semitrack-cache")``; ``_build`` is git-ignored and removed by CI
-before each build, so the cache lives for one build and is never committed. Loading a pickle
-runs code: point ``cache_dir`` only at a folder your own build writes.
+before each build, so the cache lives for one build and is never committed. Nothing in the
+folder is executed, but its numbers are trusted: point ``cache_dir`` at a folder your own build
+writes.
 
 A cached result is the very object the first call returned: its ``elapsed`` is the time of that
 fit (or sweep), and warnings of the fit (poor or unconverged) are issued only when it is computed.
@@ -45,15 +49,16 @@ import hashlib
 import inspect
 import json
 import os
-import pickle
 import time
 from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
 
+from ..base import records
 from ..base.checks import as_frequencies, check_band
-from ..base.errors import InputTypeError
+from ..base.errors import InputError, InputTypeError
+from ..base.files import read_text
 from ..base.paper_values import FIT_BANDS
 from ..methods.receptance import CentralResponse, Method, central_response
 from ..model.curves import FrequencyCurve
@@ -62,7 +67,8 @@ from ..model.tracks import Track, require_track
 from .assembly import Layout, check_layout
 from .fitting import FitResult, fit_equivalent
 from .io import atomic_write
-from .systems import EquivalentSystem
+from .metrics import ErrorSummary
+from .systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent
 
 __all__ = ["cached_fit", "fit_cache_key", "package_source_digest", "clear_fit_memo", "CachedResponse",
            "cached_central_response", "response_cache_key"]
@@ -186,14 +192,21 @@ def fit_cache_key(track: Track, layout: Layout, n_bars: int = 5, band: tuple[flo
     return hashlib.sha256(json.dumps(description, sort_keys=True).encode()).hexdigest()
 
 
+#: Largest cache file read back (bytes): a fit or a sweep of the paper's grid is well under 1 MB.
+MAX_CACHE_BYTES = 50_000_000
+
+
+def _record_types() -> dict[str, type]:
+    """The only types a cache file may build: the results and what they hold."""
+    kinds = (FitResult, ErrorSummary, SlabEquivalent, BallastedEquivalent, CachedResponse, CentralResponse)
+    return {kind.__name__: kind for kind in kinds}
+
+
 def _load(path: Path, kind: type = FitResult):
     """The result (of type ``kind``) stored at ``path``, or None when it is absent or cannot be read."""
     try:
-        with open(path, "rb") as fh:
-            result = pickle.load(fh)
-    except FileNotFoundError:
-        return None
-    except Exception:  # truncated, corrupt or incompatible: recompute and rewrite
+        result = records.loads(read_text(path, MAX_CACHE_BYTES, "cache file"), _record_types())
+    except (OSError, InputError):  # absent, too large, not JSON, a foreign type: recompute and rewrite
         return None
     return result if isinstance(result, kind) else None
 
@@ -207,7 +220,8 @@ def _computed_once(key: str, path: Path | None, kind: type, compute):
         result = compute()
         if path is not None:
             path.parent.mkdir(parents=True, exist_ok=True)
-            atomic_write(path, lambda fh: pickle.dump(result, fh, protocol=pickle.HIGHEST_PROTOCOL), binary=True)
+            text = records.dumps(result)
+            atomic_write(path, lambda fh: fh.write(text))
     _MEMO[key] = result
     return result
 
@@ -233,7 +247,7 @@ def cached_fit(track: Track, layout: Layout, n_bars: int = 5, band: tuple[float,
     seed : int
         Seed of the multi-start.
     cache_dir : str or os.PathLike, optional
-        Folder of the pickled results (created if missing), e.g.
+        Folder of the stored results (created if missing), e.g.
         ``"../_build/.semitrack-cache"`` from the book's notebooks. None: the in-process memo
         only.
     **options
@@ -258,7 +272,7 @@ def cached_fit(track: Track, layout: Layout, n_bars: int = 5, band: tuple[float,
     True
     """
     key = fit_cache_key(track, layout, n_bars, band, seed, **options)
-    path = None if cache_dir is None else Path(cache_dir) / f"fit-{key}.pkl"
+    path = None if cache_dir is None else Path(cache_dir) / f"fit-{key}.json"
     return _computed_once(key, path, FitResult,
                           lambda: fit_equivalent(**_bound_arguments(track, layout, n_bars, band, seed, options)))
 
@@ -324,7 +338,7 @@ def cached_central_response(track: Track, f, method: Method = "wavenumber",
     method : {"transfer", "wavenumber"}
         The method; the paper's wavenumber method by default.
     cache_dir : str or os.PathLike, optional
-        Folder of the pickled results (created if missing); None: the in-process memo only.
+        Folder of the stored results (created if missing); None: the in-process memo only.
     **settings
         Settings of the wavenumber method, as for
         :func:`~semitrack.methods.receptance.central_response`.
@@ -343,7 +357,7 @@ def cached_central_response(track: Track, f, method: Method = "wavenumber",
     ((2, 2, 2), True)
     """
     key = response_cache_key(track, f, method, **settings)
-    path = None if cache_dir is None else Path(cache_dir) / f"response-{key}.pkl"
+    path = None if cache_dir is None else Path(cache_dir) / f"response-{key}.json"
 
     def compute() -> CachedResponse:
         start = time.perf_counter()

@@ -68,8 +68,8 @@ from typing import Any, Literal
 
 import numpy as np
 
-from ..base.errors import InputError, InputTypeError
-from ..base.files import atomic_write, read_text
+from ..base.errors import BadInput, InputError, InputTypeError
+from ..base.files import atomic_write, read_json, read_mat, read_text
 from .exchange import MATRIX_SUFFIXES, end_conventions, mat_conventions, save_matrix_system
 from .mechanical import MechanicalSystem
 from .systems import PARAMETER_UNITS, EquivalentSystem
@@ -125,7 +125,7 @@ def _check_matrices(system: EquivalentSystem, stored: dict, source: str) -> None
     for name, rebuilt in zip("MCK", system.matrices()):
         if name not in stored:
             continue
-        X = np.asarray(stored[name], dtype=float)
+        X = _numbers(stored[name], source, f"matrices[{name!r}]")
         if X.shape != rebuilt.shape:
             warnings.warn(f"{source}: stored {name} has shape {X.shape}, the parameters give "
                           f"{rebuilt.shape}; the parameters are used", UserWarning, stacklevel=3)
@@ -213,6 +213,14 @@ def _entries(data: dict[str, Any], key: str, source: str) -> dict[str, Any]:
     return out
 
 
+def _numbers(values, source: str, key: str) -> np.ndarray:
+    """``values`` as a float array, or a one-line refusal naming the source and the key."""
+    try:
+        return np.asarray(values, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{source}: {key} must be a number or a list of numbers, got {str(values)[:40]}") from None
+
+
 def system_from_dict(data: dict[str, Any], source: str = "data") -> EquivalentSystem:
     """Rebuild a system from :func:`system_to_dict` output (matrices checked if present).
 
@@ -237,10 +245,13 @@ def system_from_dict(data: dict[str, Any], source: str = "data") -> EquivalentSy
     for key in ("layout", "parameters"):
         if key not in data:
             raise InputError(f"{source}: missing key {key!r}")
-    params = {name: np.asarray(values, dtype=float)
+    params = {name: _numbers(values, source, f"parameters[{name!r}]")
               for name, values in _entries(data, "parameters", source).items()}
     params["layout"] = data["layout"]
-    system = EquivalentSystem.from_parameters(params)
+    try:
+        system = EquivalentSystem.from_parameters(params)
+    except BadInput as err:  # the rule that failed, with the file it failed in
+        raise type(err)(f"{source}: {err}") from None
     stored = _entries(data, "matrices", source)
     _check_matrices(system, stored, source)
     return system
@@ -291,13 +302,7 @@ def load_system_json(path: str | os.PathLike) -> EquivalentSystem:
         If the file cannot be read.
     """
     path = _check_path(path)
-    text = read_text(path, MAX_SYSTEM_BYTES, "system file")
-    try:
-        data = json.loads(text)
-    except RecursionError:
-        raise InputError(f"{path}: not a system file: its objects or arrays are nested too deeply") from None
-    except ValueError as err:
-        raise InputError(f"{path}: not a JSON file: {err}") from None
+    data = read_json(path, MAX_SYSTEM_BYTES, "system file")
     if not isinstance(data, dict):
         raise InputError(f"{path}: not a system file: it must hold a JSON object, got {type(data).__name__}")
     return system_from_dict(data, source=str(path))
@@ -374,37 +379,56 @@ def load_system_csv(path: str | os.PathLike) -> EquivalentSystem:
         For a file without its [meta] or [parameters] section, of another format or version.
     """
     path = _check_path(path)
-    sections: dict[str, list[list[str]]] = {}
-    current = None
-    with open(path, encoding="utf-8", newline="") as fh:
-        for row in csv.reader(fh):
-            if not row or not any(cell.strip() for cell in row):
-                continue
-            head = row[0].strip()
-            if head.startswith("[") and head.endswith("]"):
-                current = head[1:-1]
-                sections[current] = []
-            elif current is None:
-                raise InputError(f"{path}: data before the first [section] line: {row!r}")
-            else:
-                sections[current].append(row)
+    sections = _csv_sections(path)
     for key in ("meta", "parameters"):
         if key not in sections:
             raise InputError(f"{path}: missing section [{key}]")
-    meta = {row[0]: row[1] for row in sections["meta"][1:]}
+    meta = {row[0]: row[1] if len(row) > 1 else "" for row in sections["meta"][1:]}
     data = {
         "format": meta.get("format"),
-        "version": int(meta["version"]) if "version" in meta else None,
+        "version": _csv_number(meta["version"], path, "[meta] version") if "version" in meta else None,
         "layout": meta.get("layout"),
         "parameters": {
-            row[0]: [float(c) for c in row[2:] if c.strip() != ""] for row in sections["parameters"][1:]
+            row[0]: [_csv_number(c, path, f"[parameters] {row[0]}") for c in row[2:] if c.strip() != ""]
+            for row in sections["parameters"][1:]
         },
         "matrices": {
-            label: [[float(c) for c in row[1:]] for row in sections[label][1:]]
+            label: [[_csv_number(c, path, f"[{label}] {row[0]}") for c in row[1:]] for row in sections[label][1:]]
             for label in "MCK" if label in sections
         },
     }
     return system_from_dict(data, source=str(path))
+
+
+def _csv_sections(path: Path) -> dict[str, list[list[str]]]:
+    """The rows of each ``[section]`` of a system CSV file, read as bounded text."""
+    sections: dict[str, list[list[str]]] = {}
+    current = None
+    try:
+        rows = list(csv.reader(_io.StringIO(read_text(path, MAX_SYSTEM_BYTES, "system file"), newline="")))
+    except csv.Error as err:
+        raise InputError(f"{path}: not a CSV file ({err})") from None
+    for row in rows:
+        if not row or not any(cell.strip() for cell in row):
+            continue
+        head = row[0].strip()
+        if head.startswith("[") and head.endswith("]"):
+            current = head[1:-1]
+            sections[current] = []
+        elif current is None:
+            raise InputError(f"{path}: not a system file: data before the first [section] line: {row!r:.60}")
+        else:
+            sections[current].append(row)
+    return sections
+
+
+def _csv_number(cell: str, path: Path, where: str) -> float | int:
+    """A number of a system CSV file (an int when it is written as one), or a one-line refusal."""
+    text = cell.strip()
+    try:
+        return int(text) if text.lstrip("+-").isdigit() else float(text)
+    except ValueError:
+        raise InputError(f"{path}: {where}: {text[:40]!r} is not a number") from None
 
 
 # --- MAT --------------------------------------------------------------------------------------------
@@ -469,19 +493,22 @@ def load_system_mat(path: str | os.PathLike) -> EquivalentSystem:
         For a file without the variables ``layout`` and ``parameters``.
     """
     path = _check_path(path)
-    import scipy.io
-
-    raw = scipy.io.loadmat(path, simplify_cells=True)
+    raw = read_mat(path, MAX_SYSTEM_BYTES, "system file", simplify=True)
     for key in ("layout", "parameters"):
         if key not in raw:
             raise InputError(f"{path}: missing variable {key!r}")
-    data = {
-        "format": raw.get("format"),
-        "version": int(raw["version"]) if "version" in raw else None,
-        "layout": raw["layout"],
-        "parameters": {n: np.atleast_1d(np.asarray(v, dtype=float)).ravel() for n, v in raw["parameters"].items()},
-        "matrices": {n: np.atleast_2d(raw[n]) for n in "MCK" if n in raw},
-    }
+    if not isinstance(raw["parameters"], dict):
+        raise InputError(f"{path}: the variable 'parameters' must be a struct, got {type(raw['parameters']).__name__}")
+    try:
+        data = {
+            "format": raw.get("format"),
+            "version": int(raw["version"]) if "version" in raw else None,
+            "layout": raw["layout"],
+            "parameters": {n: np.atleast_1d(np.asarray(v, dtype=float)).ravel() for n, v in raw["parameters"].items()},
+            "matrices": {n: np.atleast_2d(np.asarray(raw[n], dtype=float)) for n in "MCK" if n in raw},
+        }
+    except (TypeError, ValueError, OverflowError) as err:
+        raise InputError(f"{path}: a variable is not a number or an array of numbers ({err})") from None
     return system_from_dict(data, source=str(path))
 
 

@@ -46,13 +46,13 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ..base.checks import check_int_at_least, check_nonnegative, check_positive
+from ..base.checks import check_int_at_least, check_nonnegative, check_positive, check_steps
 from ..base.errors import InputError, InputTypeError
 from ..dynamics.contact import MAX_NEWTON, HertzContacts, solve_hertz
 from ..dynamics.factor import factorise
 from ..dynamics.newmark import Newmark
 from ..dynamics.points import PointSet
-from ..dynamics.simulate import simulate
+from ..dynamics.simulate import check_limits, simulate
 from ..dynamics.system import union
 from ..methods.infinite import InfiniteTrack
 from ..methods.wheelrail import wheel_rail_force
@@ -235,7 +235,9 @@ def _check_inputs(model, vehicle, roughness, x_contact, speed, dt, duration, ram
     if roughness is not None and speed > 0 and not math.isclose(roughness.speed, speed, rel_tol=1e-9):
         raise InputError(f"a rolling wheel passes the roughness at its own speed: roughness.speed must equal "
                          f"speed={speed!r} m/s, got {roughness.speed!r}")
-    n_steps = int(round(duration / dt))
+    n_steps = check_steps(dt, duration)
+    k = len(vehicle.wheels)  # per step and wheel: 3 outputs, a moving point (4 DOFs, 4 weights), roughness, load, x
+    check_limits(n_steps, model.n_dof + k, 3 * k, 11 * k, f"duration={duration!r} s / dt={dt!r} s")
     x = x0[None, :] + speed * dt * np.arange(n_steps + 1)[:, None]
     for name, value in (("x_contact", x[0]), ("x_contact + speed * duration", x[-1])):
         off = (value < model.x[0]) | (value > model.x[-1])

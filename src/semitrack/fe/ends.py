@@ -38,6 +38,7 @@ import numpy as np
 from ..base.checks import check_choice
 from ..base.errors import InputError, InputTypeError
 from ..boundary.fitting import BroadbandBoundary
+from ..boundary.validation import check_boundary_physics, check_boundary_track
 from ..dynamics.states import StateBlock
 from ..equivalent.assembly import dynamic_stiffness
 from ..equivalent.mechanical import MechanicalSystem
@@ -131,6 +132,15 @@ class End:
         """The attached system or boundary (None for pinned, free and exact ends)."""
         return None
 
+    def check_track(self, track: Track) -> None:
+        """Refuse closing a model of ``track`` with an end that belongs to another track (none here).
+
+        Parameters
+        ----------
+        track : Track
+            The track of the model.
+        """
+
     @property
     def internal_dofs(self) -> int:
         """DOFs the end adds to the model beyond the rail's ``(w, psi)`` at its node."""
@@ -219,10 +229,21 @@ class BoundaryEnd(End):
     def __post_init__(self):
         super().__post_init__()
         _require_system(self, self.boundary)
+        check_boundary_physics(self.boundary.model, self.boundary.passivity, "the boundary end's model")
 
     @property
     def system(self) -> BroadbandBoundary:
         return self.boundary
+
+    def check_track(self, track: Track) -> None:
+        """Refuse a boundary fitted to another track (its pinned ``K0`` or dashpot differs by > 1 %).
+
+        Parameters
+        ----------
+        track : Track
+            The track of the model.
+        """
+        check_boundary_track(self.boundary.model, track, f"the boundary (fitted to {self.boundary.track_name!r})")
 
     def stiffness(self, track: Track, omega: np.ndarray, side: Side) -> np.ndarray:
         return mirrored(self.boundary.dynamic_stiffness(omega / (2 * np.pi)), side)
@@ -293,7 +314,8 @@ def end_kinds(*names: str) -> tuple[type[End], ...]:
     return tuple(_KINDS[check_choice("ends", name, END_NAMES)] for name in names)
 
 
-def model_ends(left: str | End, right: str | End, system=None, n_bays: int = 1) -> dict[str, End]:
+def model_ends(left: str | End, right: str | End, system=None, n_bays: int = 1,
+               track: Track | None = None) -> dict[str, End]:
     """The two ends of a model from what users write, with the rules that tie them to the system and bays.
 
     Parameters
@@ -306,6 +328,9 @@ def model_ends(left: str | End, right: str | End, system=None, n_bays: int = 1) 
     n_bays : int
         Bays of the model in all: with none, both ends must close the model alone (systems or
         end stiffnesses).
+    track : Track, optional
+        The model's track: each end checks that it belongs to it (:meth:`End.check_track`; a
+        boundary fitted to another track is refused).
 
     Returns
     -------
@@ -336,6 +361,8 @@ def model_ends(left: str | End, right: str | End, system=None, n_bays: int = 1) 
     if n_bays == 0 and not all(end.closes_alone for end in ends.values()):
         alone = ", ".join(repr(cls.name) for cls in _KINDS.values() if cls.closes_alone)
         raise InputError(f"a model with zero bays needs {alone} ends, got ends ({_name(left)!r}, {_name(right)!r})")
+    for end in ends.values() if track is not None else ():
+        end.check_track(track)
     return ends
 
 

@@ -159,6 +159,8 @@ class FETrack:
         self.track, self.right_track, self.transition = self.tracks[0], self._infinite.right, self._infinite.transition
         self._check_layout()
         self.end_models: dict[str, End] = model_ends(left, right, system, self.n_left + self.n_right)
+        for side, end in self.end_models.items():  # a boundary must belong to the track it closes
+            end.check_track(self.end_track(side))
         self.left, self.right = self.end_models["left"].name, self.end_models["right"].name
         self.f_max = DEFAULT_F_MAX if f_max is None else check_positive("f_max", f_max)
         self.elements_per_bay = self._check_elements(elements_per_bay)

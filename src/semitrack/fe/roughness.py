@@ -22,6 +22,7 @@ the contact filter (the averaging of short wavelengths over the contact patch).
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
 
@@ -31,7 +32,7 @@ from numpy.typing import ArrayLike
 from ..base.bands import HALF_BAND as _HALF_BAND
 from ..base.bands import third_octave_bands
 from ..base.checks import check_int_at_least, check_nonnegative, check_positive, check_real, check_work
-from ..base.errors import InputError
+from ..base.errors import InputError, InputTypeError
 
 __all__ = ["ISO3095_ROUGHNESS_LIMIT", "Roughness", "roughness_from_spectrum", "corrugation",
            "third_octave_bands", "MAX_LINES"]
@@ -203,6 +204,7 @@ class Roughness:
         True
         """
         dt, n = check_positive("dt", dt), check_int_at_least("n", n, 1)
+        self.warn_aliasing(dt)
         steps = self.period / dt
         N = int(round(steps))
         if N < 2 or abs(steps - N) > 1e-9 * steps:
@@ -220,6 +222,28 @@ class Roughness:
         np.add.at(spectrum, m, np.where(edge, weight * np.cos(phases), weight * np.exp(1j * phases)))
         period = np.fft.irfft(spectrum, N)
         return np.resize(period, n)
+
+    def warn_aliasing(self, dt: float, stacklevel: int = 3) -> None:
+        """Warn when lines lie above the Nyquist frequency ``1 / (2 dt)``: sampled at ``dt`` they alias.
+
+        A 40 kHz corrugation sampled at dt = 20 us (Nyquist 25 kHz) acts as a 10 kHz one; the
+        warning names the lines and where they land.
+
+        Parameters
+        ----------
+        dt : float
+            Time step (s).
+        stacklevel : int
+            Of the warning (the caller of the public function that samples).
+        """
+        nyquist = 0.5 / dt
+        above = self.frequencies[self.frequencies > nyquist]
+        if above.size:
+            alias = np.abs(above - np.round(above * dt) / dt)
+            warnings.warn(f"{above.size} roughness line(s) from {above[0]:.6g} to {above[-1]:.6g} Hz lie above the "
+                          f"Nyquist frequency {nyquist:.6g} Hz of dt={dt!r} s and alias (e.g. {above[0]:.6g} Hz acts "
+                          f"as {alias[0]:.6g} Hz): use dt < {0.5 / above[-1]:.3g} s or drop those wavelengths",
+                          RuntimeWarning, stacklevel=stacklevel)
 
     def __call__(self, t: ArrayLike) -> np.ndarray:
         """The roughness at times ``t`` (s): ``sum_k a_k cos(2 pi f_k t + phi_k)`` (m).
@@ -244,9 +268,20 @@ class Roughness:
         return out.reshape(t.shape)
 
 
+def _numbers(values: ArrayLike, name: str) -> np.ndarray:
+    """``values`` as a float array, or a one-line refusal naming ``name`` (text, None, ragged lists)."""
+    try:
+        raw = np.asarray(values)
+    except (TypeError, ValueError):
+        raw = np.asarray(None)
+    if raw.dtype.kind not in "iuf":
+        raise InputTypeError(f"{name} must be numbers, got {values!r:.60}")
+    return raw.astype(float)
+
+
 def _band_numbers(centres: ArrayLike, name: str = "centres") -> np.ndarray:
     """The integers n of base-10 one-third-octave centres 10^(n/10) (within 3 %), checked."""
-    c = np.atleast_1d(np.asarray(centres, dtype=float))
+    c = np.atleast_1d(_numbers(centres, name))
     if c.ndim != 1 or c.size == 0 or not np.all(np.isfinite(c) & (c > 0)):
         raise InputError(f"{name} must be a non-empty 1-D array of positive band-centre wavelengths (m), "
                          f"got {centres!r}")
@@ -261,7 +296,7 @@ def _band_numbers(centres: ArrayLike, name: str = "centres") -> np.ndarray:
 
 
 def roughness_from_spectrum(speed: float, wavelengths: ArrayLike | None = None, levels: ArrayLike | None = None,
-                            *, period: float = 0.1, seed: int = 0) -> Roughness:
+                            *, period: float = 0.1, seed: int = 0, dt: float | None = None) -> Roughness:
     """A broadband roughness with given one-third-octave band levels, random phases.
 
     Each band of wavelength, passed at ``speed``, covers a band of frequency; its mean square
@@ -283,6 +318,9 @@ def roughness_from_spectrum(speed: float, wavelengths: ArrayLike | None = None, 
         least one line.
     seed : int
         Seed of the random phases (>= 0).
+    dt : float, optional
+        The time step the roughness will be sampled at (s): lines above its Nyquist frequency
+        are warned about at once (:meth:`Roughness.warn_aliasing`), as sampling them warns.
 
     Returns
     -------
@@ -303,28 +341,38 @@ def roughness_from_spectrum(speed: float, wavelengths: ArrayLike | None = None, 
     elif wavelengths is None or levels is None:
         raise InputError("wavelengths and levels must be given together (or neither, for the ISO 3095 limit)")
     n = _band_numbers(wavelengths, "wavelengths")
-    levels = np.atleast_1d(np.asarray(levels, dtype=float))
+    levels = np.atleast_1d(_numbers(levels, "levels"))
     if levels.shape != n.shape or not np.all(np.isfinite(levels)):
         raise InputError(f"levels must be finite, one per wavelength ({n.size}), got {levels!r}")
     lines, amplitudes = [], []
     for k, level in zip(n, levels):
         lam_lo, lam_hi = 10.0 ** (k / 10 - _HALF_BAND), 10.0 ** (k / 10 + _HALF_BAND)
-        j = np.arange(np.ceil(speed / lam_hi * period), np.floor(speed / lam_lo * period) + 1)
+        first, last = np.ceil(speed / lam_hi * period), np.floor(speed / lam_lo * period)
+        count = len(lines) + max(last - first + 1, 0)
+        check_work(count, MAX_LINES, f"speed={speed!r} m/s and period={period!r} s give {count:.4g} lines",
+                   "use a lower speed, a shorter period or fewer bands")  # counted before any array exists
+        j = np.arange(first, last + 1)
         if j.size == 0:
             raise InputError(f"period={period!r} s leaves no line (spacing {1 / period:.4g} Hz) in the band of "
                              f"wavelength {10 ** (k / 10):.4g} m, {speed / lam_hi:.4g}-{speed / lam_lo:.4g} Hz at "
                              f"speed {speed:.4g} m/s; use a longer period")
-        check_work(len(lines) + j.size, MAX_LINES, f"period={period!r} s gives more than {MAX_LINES} lines",
-                   "use a shorter period or fewer bands")
         lines.extend(j / period)
         amplitudes.extend(np.full(j.size, REFERENCE_ROUGHNESS * 10 ** (level / 20) * np.sqrt(2.0 / j.size)))
     order = np.argsort(lines)
     phases = np.random.default_rng(seed).uniform(0.0, 2 * np.pi, len(lines))
-    return Roughness(np.asarray(lines)[order], np.asarray(amplitudes)[order], phases, speed, period,
-                     label=f"{n.size}-band spectrum at {speed:.4g} m/s, seed {seed}")
+    return _checked_for(dt, Roughness(np.asarray(lines)[order], np.asarray(amplitudes)[order], phases, speed, period,
+                                      label=f"{n.size}-band spectrum at {speed:.4g} m/s, seed {seed}"))
 
 
-def corrugation(speed: float, wavelength: float, amplitude: float, *, phase: float = 0.0) -> Roughness:
+def _checked_for(dt: float | None, roughness: Roughness) -> Roughness:
+    """``roughness``, warned about when it has lines that a step ``dt`` (if given) cannot resolve."""
+    if dt is not None:
+        roughness.warn_aliasing(check_positive("dt", dt), stacklevel=4)
+    return roughness
+
+
+def corrugation(speed: float, wavelength: float, amplitude: float, *, phase: float = 0.0,
+                dt: float | None = None) -> Roughness:
     """A single-wavelength roughness ``amplitude cos(2 pi speed t / wavelength + phase)``.
 
     Parameters
@@ -337,6 +385,9 @@ def corrugation(speed: float, wavelength: float, amplitude: float, *, phase: flo
         Amplitude (m), half the peak-to-trough depth; non-negative.
     phase : float
         Phase (rad) at t = 0.
+    dt : float, optional
+        The time step it will be sampled at (s): a line above its Nyquist frequency is warned
+        about at once (:meth:`Roughness.warn_aliasing`).
 
     Returns
     -------
@@ -351,5 +402,5 @@ def corrugation(speed: float, wavelength: float, amplitude: float, *, phase: flo
     speed, wavelength = check_positive("speed", speed), check_positive("wavelength", wavelength)
     amplitude, phase = check_nonnegative("amplitude", amplitude), check_real("phase", phase)
     f = speed / wavelength
-    return Roughness(np.array([f]), np.array([amplitude]), np.array([phase]), speed, 1.0 / f,
-                     label=f"corrugation {wavelength:.4g} m at {speed:.4g} m/s")
+    return _checked_for(dt, Roughness(np.array([f]), np.array([amplitude]), np.array([phase]), speed, 1.0 / f,
+                                      label=f"corrugation {wavelength:.4g} m at {speed:.4g} m/s"))

@@ -39,7 +39,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike
 
-from ..base.checks import check_int_at_least, check_positive, check_real, check_work
+from ..base.checks import check_int_at_least, check_positive, check_real, check_steps, check_work
 from ..base.errors import InputError, InputTypeError
 from ..dynamics.newmark import Newmark
 from ..dynamics.points import PointSet
@@ -152,8 +152,8 @@ def newmark(M: ArrayLike | sp.spmatrix, C: ArrayLike | sp.spmatrix, K: ArrayLike
         Constant time step (s).
     n_steps : int
         Number of steps; the histories hold ``n_steps + 1`` times including t = 0. ``n_steps``
-        times the number of DOFs may not exceed :data:`MAX_STEP_DOFS` (5e9), nor ``n_steps + 1``
-        times the number of outputs :data:`MAX_RECORDED` (2e8).
+        times (the number of DOFs + a fixed cost per step) may not exceed :data:`MAX_STEP_DOFS`
+        (5e9), nor ``n_steps + 1`` times the values held per step :data:`MAX_RECORDED` (5e7).
     outputs : None, sequence of int or matrix
         What to record: ``None`` all DOFs; DOF indices; or an ``(n_out, n)`` matrix (e.g.
         :meth:`FETrack.output_matrix`).
@@ -281,7 +281,8 @@ def pulse_response(model: FETrack, positions: ArrayLike = (0.0, 1.95), *, amplit
     amplitude = check_real("amplitude", amplitude)
     duration = 2.0 / check_positive("f_max", f_max)
     stepper = Newmark(check_positive("dt", dt))
-    n_steps = int(round(check_positive("t_end", t_end) / stepper.dt))
+    n_steps = check_steps(stepper.dt, t_end, ("dt", "t_end"))
+    check_limits(n_steps, model.n_dof, positions.size, 1, f"t_end={t_end!r} s / dt={dt!r} s")
     pulse = amplitude * hann_pulse(stepper.dt * np.arange(n_steps + 1), duration)
     res = simulate(model.time_domain_system(f_ref), stepper, n_steps,
                    loads=[(PointSet.on_dofs([model.dof(0.0, "w")]), pulse)],
@@ -334,8 +335,10 @@ def moving_load_response(model: FETrack, positions: ArrayLike = (0.0,), *, load:
             raise InputError(f"{name} must lie on the rail, {model.x[0]:.6g} <= x <= {model.x[-1]:.6g} m, got {x!r}")
     ramp = check_positive("ramp", ramp)
     stepper = Newmark(check_positive("dt", dt))
-    n_steps = int(np.ceil((x_end - x_start) / speed / stepper.dt))
+    n_steps = check_steps(stepper.dt, (x_end - x_start) / speed, ("dt", "(x_end - x_start) / speed"), ceil=True)
     positions = np.atleast_1d(np.asarray(positions, dtype=float))
+    check_limits(n_steps, model.n_dof, 1 + positions.size, 9,
+                 f"(x_end - x_start) / speed = {(x_end - x_start) / speed:.6g} s / dt={dt!r} s")
     t = stepper.dt * np.arange(n_steps + 1)
     path = model.points(np.minimum(x_start + speed * t, x_end), moving=True)
     probes = {"under": path, "fixed": model.points(positions, name="positions")}

@@ -19,12 +19,16 @@ from ..base.checks import MAX_FREQUENCIES, as_frequencies, check_band, check_cho
 from ..base.conventions import ELEMENTS
 from ..base.errors import InputError
 from ..base.paper_values import PAPER_GRID_BAND, PAPER_GRID_STEP
-from ..model.tracks import PeriodicCell, Track
-from .receptance import CentralResponse, Method, central_response, semi_infinite_receptance
+from ..model.tracks import PeriodicCell, Track, require_cell
+from .receptance import CentralResponse, Method, central_response, check_frequency_work, semi_infinite_receptance
 
 #: The curves of the paper's Fig. 4/10/5/11 in which peaks and dips are looked for: those of the
 #: complete track, then the distinct receptance elements of :data:`semitrack.base.conventions.ELEMENTS`.
 QUANTITIES = ("w1", "psi2", "Q2", "M1", "det", *ELEMENTS)
+#: Evaluations the refinement of the extrema may add to the grid's, counted in the work check of
+#: :func:`characteristic_frequencies` (Brent's method takes ~10-30 per extremum; a slab of many
+#: fasteners has hundreds of extrema).
+REFINEMENT_ALLOWANCE = 2_000
 
 
 def response_curves(track: Track | PeriodicCell, f: ArrayLike, method: Method = "transfer",
@@ -187,6 +191,9 @@ def characteristic_frequencies(track: Track | PeriodicCell, band: tuple[float, f
         As :func:`find_extrema`: ``quantity, kind, f_grid, f (refined, Hz), magnitude``.
     """
     f = search_grid(check_band(band), df)
+    check_frequency_work(require_cell(track), f.size + REFINEMENT_ALLOWANCE,
+                         f"band={tuple(map(float, band))} Hz with df={df!r} Hz (and up to {REFINEMENT_ALLOWANCE} "
+                         "refinements)")
 
     def evaluate(x: float) -> dict[str, complex]:
         return {k: v[0] for k, v in response_curves(track, np.array([x])).items()}

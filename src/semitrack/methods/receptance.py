@@ -20,7 +20,7 @@ from typing import Literal, get_args
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import as_frequencies, check_choice, check_real
+from ..base.checks import as_frequencies, check_choice, check_real, check_work
 from ..base.errors import InputError, InputTypeError
 from ..model.tracks import PeriodicCell, Track, require_cell
 from .transfer import end_stiffness, infinite_response, same_section, slab_cut_end_stiffness
@@ -114,6 +114,70 @@ def _settings(method: str, options: dict) -> WavenumberSettings | None:
     return WavenumberSettings(**options)
 
 
+#: Most frequencies x supports per period of one call: a flexible slab's S fasteners make each
+#: frequency far dearer (measured 0.05-0.5 s per frequency for S = 200 on a busy 2-core machine,
+#: 0.1 ms for one support: 3-3000 Hz at df = 0.015 Hz on 200 fasteners would take hours), so
+#: 200 fasteners take 1000 frequencies (about a minute), one support the 200 000 of
+#: :data:`~semitrack.base.checks.MAX_FREQUENCIES`.
+MAX_FREQUENCY_SUPPORTS = 200_000
+#: Memory of one block of frequencies evaluated at once (bytes); a frequency takes ~200 S^2 bytes
+#: at least (measured: 1.6 GiB for 200 frequencies of a 200-fastener slab in one block, 845 MiB
+#: for 37 at 3-300 Hz, 165 MiB in blocks of 12, this budget's).
+BLOCK_BYTES = 100_000_000
+
+
+def check_frequency_work(cell: PeriodicCell, n_frequencies: float, request: str = "f") -> int:
+    """Refuse evaluating the exact method at more frequencies x supports than :data:`MAX_FREQUENCY_SUPPORTS`.
+
+    Parameters
+    ----------
+    cell : PeriodicCell
+        The track's period.
+    n_frequencies : float
+        Frequencies to evaluate (with any refinements counted).
+    request : str
+        What asked for them, naming the parameters (e.g. ``"f"`` or ``"band and df"``).
+
+    Returns
+    -------
+    int
+        The supports per period.
+    """
+    s = len(cell.positions)
+    check_work(n_frequencies * s, MAX_FREQUENCY_SUPPORTS, f"{request} gives {n_frequencies:.0f} frequencies x {s} "
+               f"supports per period = {n_frequencies * s:.0f}", "use fewer frequencies (a larger df, a narrower "
+               "band) or a slab with fewer fasteners")
+    return s
+
+
+def frequency_blocks(cell: PeriodicCell, f: np.ndarray, name: str = "f") -> list[np.ndarray]:
+    """The frequencies of one call in blocks that bound its memory, after the check of its work.
+
+    Parameters
+    ----------
+    cell : PeriodicCell
+        The track's period (its supports set the cost of a frequency).
+    f : ndarray
+        The frequencies (Hz), checked.
+    name : str
+        What gave them, for the message (:func:`check_frequency_work`).
+
+    Returns
+    -------
+    list of ndarray
+        Consecutive blocks of ``f.ravel()``; one block unless the cell has many supports.
+
+    Raises
+    ------
+    InputError
+        When frequencies x supports exceed :data:`MAX_FREQUENCY_SUPPORTS`.
+    """
+    s = check_frequency_work(cell, f.size, name)
+    size = max(1, BLOCK_BYTES // (200 * s * s))
+    flat = f.ravel()
+    return [flat[i:i + size] for i in range(0, flat.size, size)]
+
+
 def central_response(track: Track | PeriodicCell, f: ArrayLike, method: Method = "transfer",
                      **settings) -> CentralResponse:
     """Central responses w1, psi2, Q2, M1 of the infinite track (paper Eq. 14-16).
@@ -147,6 +211,12 @@ def central_response(track: Track | PeriodicCell, f: ArrayLike, method: Method =
     """
     f = as_frequencies(f)
     cell = require_cell(track)
+    blocks = frequency_blocks(cell, f)
+    if len(blocks) > 1:
+        parts = [central_response(cell, block, method, **settings) for block in blocks]
+        joined = {name: np.concatenate([getattr(p, name) for p in parts]).reshape(f.shape)
+                  for name in ("w1", "psi2", "Q2", "M1")}
+        return CentralResponse(f=f, method=method, separable=parts[0].separable, **joined)
     ws = _settings(method, dict(settings))
     x0 = cell.central_section
     if not cell.is_symmetric_about(x0):
@@ -213,6 +283,10 @@ def semi_infinite_receptance(track: Track | PeriodicCell, f: ArrayLike, method: 
     """
     f = as_frequencies(f)
     cell = require_cell(track)
+    blocks = frequency_blocks(cell, f)
+    if len(blocks) > 1:
+        parts = [semi_infinite_receptance(cell, block, method, **settings) for block in blocks]
+        return np.concatenate(parts).reshape(f.shape + (2, 2))
     omega = 2 * np.pi * f.ravel()
     if _separable(cell, f):
         if method == "wavenumber":
@@ -269,4 +343,5 @@ def point_receptance(track: Track | PeriodicCell, f: ArrayLike, x: float = 0.0) 
         raise InputError(f"x must be finite and within 1e9 periods ({1e9 * cell.period:.3g} m) of the "
                          f"origin, got {x!r}: the track is periodic, give x modulo the period")
     x = x % cell.period
-    return infinite_response(cell, 2 * np.pi * f.ravel(), x)[0].reshape(f.shape + (2, 2))
+    parts = [infinite_response(cell, 2 * np.pi * block, x)[0] for block in frequency_blocks(cell, f)]
+    return np.concatenate(parts).reshape(f.shape + (2, 2))

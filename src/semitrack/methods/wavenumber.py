@@ -45,6 +45,9 @@ __all__ = ["PAPER_BETA_MAX", "PAPER_DBETA", "PAPER_DX", "PAPER_J_MAX", "Wavenumb
 MAX_TERMS_PER_FREQUENCY = 100_000_000
 #: Most terms per call, over all frequencies (~1.4e7 terms/s on one core: 1e10 ~ 12 min).
 MAX_TERMS = 10_000_000_000
+#: Most supports squared x terms per frequency: the method's arrays grow with both (measured at the
+#: paper's settings: 118 MiB for 10 fasteners per slab, 594 MiB for 40; 200 allocated GiBs).
+MAX_SUPPORT_TERMS = 700_000_000
 
 @dataclass(frozen=True)
 class WavenumberSettings:
@@ -136,6 +139,9 @@ def displacement_fields(cell: PeriodicCell, omega: ArrayLike, x_rel: ArrayLike,
                f"{settings.j_max!r} give {n_terms} terms per frequency", "use a larger dbeta or a smaller beta_max")
     check_work(n_terms * omega.size, MAX_TERMS, f"{omega.size} frequencies x {n_terms} terms give "
                f"{n_terms * omega.size} terms", "use fewer frequencies or coarser settings")
+    s = len(cell.positions)
+    check_work(s * s * n_terms, MAX_SUPPORT_TERMS, f"{s} supports per period (squared) x {n_terms} terms per "
+               f"frequency give {s * s * n_terms:.3g}", "use method='transfer' for a slab with many fasteners")
     grid = _Grid(cell, settings, x_rel, x0)
     # Three (J, N) component arrays of D(beta_j)^-1 per frequency, plus their temporaries: chunk
     # the frequencies, and where one frequency alone exceeds the budget, its wavenumbers.

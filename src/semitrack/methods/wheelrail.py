@@ -78,7 +78,10 @@ def wheel_rail_force(track: Track | PeriodicCell | InfiniteTrack, f: ArrayLike,
     f = as_frequencies(f)
     if isinstance(wheel, Wheel) and np.ndim(x) == 0 and not isinstance(track, InfiniteTrack):
         alpha_r = point_receptance(track, f, check_real("x", x))[..., 0, 0]
-        return -1.0 / (wheel.receptance(f) + 1.0 / wheel.contact_stiffness + alpha_r)
+        # -1 / (1/z_W + alpha_C + alpha_R) written with the wheel's dynamic stiffness z_W, which is 0
+        # (not its receptance infinite) at an undamped primary suspension's resonance: the force is 0 there
+        z_w = wheel.dynamic_stiffness(f)
+        return -z_w / (1.0 + z_w * (1.0 / wheel.contact_stiffness + alpha_r))
     vehicle = as_vehicle(wheel)
     infinite, xs = _rail_and_positions(track, vehicle, x)
     k = xs.size

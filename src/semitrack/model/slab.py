@@ -193,8 +193,8 @@ class Slab:
         f = np.atleast_1d(as_frequencies(f)).ravel()
         spacing = check_positive("spacing", spacing)
         self.check_spacing(spacing)
-        k = int(from_span)
-        if not 0 <= k < self.fasteners:
+        k = check_int_at_least("from_span", from_span, 0)  # 5.5, True and '1' are no span index
+        if not k < self.fasteners:
             raise InputError(f"from_span must be in 0..{self.fasteners - 1}, got {from_span!r}")
         omega = 2 * np.pi * f
         s = self.fasteners - k

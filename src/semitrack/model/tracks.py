@@ -94,6 +94,10 @@ FIELD_RULES: dict[str, Callable] = {
 }
 
 
+#: The only fields that may be None (together): a pad on a rigid foundation has no sleeper.
+OPTIONAL_FIELDS = ("sleeper_mass", "kb")
+
+
 def check_track_field(key: str, value: object) -> float | str:
     """Check one Track field against its rule in :data:`FIELD_RULES` and return it converted.
 
@@ -206,7 +210,9 @@ class Track:
             )
         for key in FIELD_RULES:
             value = getattr(self, key)
-            if value is not None and not isinstance(value, FrequencyCurve):  # None: sleeper_mass, kb (above)
+            if value is None and key in OPTIONAL_FIELDS:  # a rigid foundation: both None (above)
+                continue
+            if not isinstance(value, FrequencyCurve):  # None is refused by the field's rule, naming it
                 object.__setattr__(self, key, check_track_field(key, value))
         if self.slab is not None:
             self._check_slab()

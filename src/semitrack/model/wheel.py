@@ -18,11 +18,18 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import as_frequencies, check_nonnegative, check_positive
+from ..base.checks import as_frequencies, check_in_range, check_nonnegative, check_positive
 from ..base.errors import InputError
 
 #: A Hertz constant typical of a 0.46 m wheel on a 0.3 m rail head (N/m^1.5), the Wheel default.
 DEFAULT_HERTZ_CONSTANT = 9.3e10
+
+
+#: The masses a Wheel may have (kg): from 1e-9 kg, a massless wheel (the limit case of the linear
+#: theory), to 1e15 kg, an immovable one, around every real unsprung mass (~300-1500 kg). Beyond,
+#: the wheel's omega^2 m and a time step's M / dt^2 over- or underflow beside the contact stiffness
+#: (at 1e300 or 1e-300 kg the contact forces were NaN).
+MASS_RANGE = (1e-9, 1e15)
 
 
 @dataclass(frozen=True)
@@ -32,7 +39,7 @@ class Wheel:
     Parameters
     ----------
     mass : float
-        Unsprung mass of the wheel (half a wheelset) (kg).
+        Unsprung mass of the wheel (half a wheelset) (kg), within :data:`MASS_RANGE`.
     preload : float
         Static wheel load P0 (N), pressing the wheel onto the rail.
     hertz_constant : float
@@ -60,6 +67,8 @@ class Wheel:
     def __post_init__(self):
         for key in ("mass", "preload", "hertz_constant"):
             object.__setattr__(self, key, check_positive(key, getattr(self, key)))
+        check_in_range("mass", self.mass, MASS_RANGE, "kg, from the massless limit to the immovable one; "
+                       "beyond, omega^2 m over- or underflows beside the contact stiffness")
         for key in ("primary_stiffness", "primary_damping"):
             object.__setattr__(self, key, check_nonnegative(key, getattr(self, key)))
 
@@ -137,5 +146,22 @@ class Wheel:
         -------
         ndarray of complex, the shape of ``f``
         """
+        return 1.0 / self.dynamic_stiffness(f)
+
+    def dynamic_stiffness(self, f: ArrayLike) -> np.ndarray:
+        """Vertical dynamic stiffness of the wheel, ``k_1 + i omega c_1 - omega^2 m`` (N/m).
+
+        The inverse of :meth:`receptance`, finite everywhere: it is 0 at the resonance of an
+        undamped primary suspension, where the receptance is infinite.
+
+        Parameters
+        ----------
+        f : array_like
+            Frequencies (Hz), positive and finite.
+
+        Returns
+        -------
+        ndarray of complex, the shape of ``f``
+        """
         omega = 2 * np.pi * as_frequencies(f)
-        return 1.0 / (self.primary_stiffness + 1j * omega * self.primary_damping - omega**2 * self.mass)
+        return self.primary_stiffness + 1j * omega * self.primary_damping - omega**2 * self.mass

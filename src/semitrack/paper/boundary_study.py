@@ -626,7 +626,7 @@ def mck_summary(boundaries: Mapping[str, BroadbandBoundary], f: ArrayLike | None
                        "conversion (s)": wall, "largest error against the state space": float(
                            np.max(np.abs(mck.receptance(f) / bnd.receptance(f) - 1))),
                        "smallest relative eigenvalue of M, C, K": float(eig)}
-    return pd.DataFrame.from_dict(rows, orient="index").rename_axis("boundary")
+    return pd.DataFrame.from_dict(rows, orient="index").rename_axis("broadband end")
 
 
 def mck_pulse_study(track: Track, boundary: BroadbandBoundary, system: EquivalentSystem, n_bays: int = 10,
