@@ -185,7 +185,7 @@ def _contact_vectors(unit, dinv, wheels, dofs, weights, P, support, count, G, p,
 
 
 @_jit
-def _step_contacts(k, y, c_wheels, c_dofs, c_w, c_h, c_r, c_g, unit, dinv, P, support, count, G, a_c, force,
+def _step_contacts(k, y, c_wheels, c_dofs, c_w, c_h, c_r, c_g, c_lin, unit, dinv, P, support, count, G, a_c, force,
                    hertz_work, p, dense):
     """The contact forces of step ``k`` from the forward-swept load ``y = L^-1 rhs``, added to it.
 
@@ -204,7 +204,7 @@ def _step_contacts(k, y, c_wheels, c_dofs, c_w, c_h, c_r, c_g, unit, dinv, P, su
             l = support[i, m]
             s += P[i, m] * dinv[l] * y[l]
         a_c[i] = -s - c_r[k, i]
-    if _hertz(c_h, a_c, G, force, hertz_work) > MAX_NEWTON:
+    if _hertz(c_h, a_c, G, force, hertz_work, c_lin) > MAX_NEWTON:
         raise RuntimeError("the contact forces did not converge")
     for i in range(c_wheels.size):
         if force[i] > 0.0:
@@ -234,7 +234,7 @@ def _run(n_steps, coef, dt, gamma, mc, ldl, offset, u, v, a, lf, lm, st, ct, pr,
     a0, a1, a2, a3, a4, a5 = coef
     n = u.size
     s_dofs, e_p, e_i, e_d, f_p, f_i, f_d, h_p, h_i, h_d, block = st
-    c_wheels, c_dofs, c_w, c_h, c_r, c_g = ct
+    c_wheels, c_dofs, c_w, c_h, c_r, c_g, c_lin = ct
     pf_dofs, pf_w, pm_dofs, pm_w = pr
     out_rec, out_pf, out_pm, out_f, out_ww, out_wr = out
     nb, k_c = s_dofs.size, c_wheels.size
@@ -270,8 +270,8 @@ def _run(n_steps, coef, dt, gamma, mc, ldl, offset, u, v, a, lf, lm, st, ct, pr,
                 rhs[s_dofs[i]] -= s
         _forward(ldl[0], rhs, 0)
         if k_c:
-            _step_contacts(k, rhs, c_wheels, c_dofs, c_w, c_h, c_r, c_g, ldl[0], ldl[1], P, support, count, G,
-                           a_c, force, hertz_work, p_work, dense)
+            _step_contacts(k, rhs, c_wheels, c_dofs, c_w, c_h, c_r, c_g, c_lin, ldl[0], ldl[1], P, support, count,
+                           G, a_c, force, hertz_work, p_work, dense)
         _backward(ldl[0], ldl[1], rhs)
         for i in range(n):
             u_new[i] = rhs[i]

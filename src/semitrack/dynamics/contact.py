@@ -41,9 +41,12 @@ __all__ = ["MAX_NEWTON", "HertzContacts", "solve_hertz"]
 MAX_NEWTON = 100
 
 
-def solve_hertz(c_h: np.ndarray, a: np.ndarray, G: np.ndarray, force: np.ndarray,  # noqa: C901, PLR0915
-                work: np.ndarray) -> int:
-    """Solve ``F = c_h max(a - G F, 0)^(3/2)`` for the contact forces of one step, in place.
+def solve_hertz(c_h: np.ndarray, a: np.ndarray, G: np.ndarray, force: np.ndarray,  # noqa: C901, PLR0912, PLR0915
+                work: np.ndarray, linear: np.ndarray | None = None) -> int:
+    """Solve ``F = c_h max(a - G F, 0)^p`` for the contact forces of one step, in place.
+
+    ``p = 3/2`` for a Hertzian contact; ``p = 1`` where ``linear`` is true: a unilateral linear
+    spring (a sleeper on ballast that can lift off, :mod:`semitrack.fe.gaps`).
 
     Long by design: the elimination and the step halving are written out, on a workspace the
     caller owns, so that the one source compiles as it stands (numba resolves the helpers a
@@ -62,6 +65,8 @@ def solve_hertz(c_h: np.ndarray, a: np.ndarray, G: np.ndarray, force: np.ndarray
         Receives the forces (N), >= 0.
     work : ndarray, shape (k, k + 5)
         Workspace.
+    linear : ndarray of bool, shape (k,), optional
+        Contacts that are unilateral linear springs (``c_h`` then in N/m); default none.
 
     Returns
     -------
@@ -84,7 +89,12 @@ def solve_hertz(c_h: np.ndarray, a: np.ndarray, G: np.ndarray, force: np.ndarray
             scale = a[i]
     if scale <= 0.0:
         return 0
-    if k == 1:  # the same iteration on floats: plain Python ran it ~5x faster than on arrays, measured
+    lin = False  # any unilateral linear spring among the contacts
+    if linear is not None:
+        for i in range(k):
+            if linear[i]:
+                lin = True
+    if k == 1 and not lin:  # the same iteration on floats: plain Python ran it ~5x faster than on arrays, measured
         c, g, a0 = c_h[0], G[0, 0], a[0]
         d = a0
         for iteration in range(1, MAX_NEWTON + 1):
@@ -102,6 +112,10 @@ def solve_hertz(c_h: np.ndarray, a: np.ndarray, G: np.ndarray, force: np.ndarray
     norm = math.inf
     for iteration in range(1, MAX_NEWTON + 1):
         for j in range(k):
+            if lin and linear[j]:
+                h[j] = c_h[j] * delta[j] if delta[j] > 0.0 else 0.0
+                hp[j] = c_h[j] if delta[j] > 0.0 else 0.0
+                continue
             root = math.sqrt(delta[j]) if delta[j] > 0.0 else 0.0
             h[j] = c_h[j] * delta[j] * root
             hp[j] = 1.5 * c_h[j] * root
@@ -155,7 +169,12 @@ def solve_hertz(c_h: np.ndarray, a: np.ndarray, G: np.ndarray, force: np.ndarray
                 done = False
         if done:
             for i in range(k):
-                force[i] = c_h[i] * delta[i] * math.sqrt(delta[i]) if delta[i] > 0.0 else 0.0
+                if delta[i] <= 0.0:
+                    force[i] = 0.0
+                elif lin and linear[i]:
+                    force[i] = c_h[i] * delta[i]
+                else:
+                    force[i] = c_h[i] * delta[i] * math.sqrt(delta[i])
             return iteration
     return MAX_NEWTON + 1
 
@@ -177,6 +196,10 @@ class HertzContacts:
         roughness, a dip or a joint; the approach is ``w_wheel - w_rail - irregularity``.
     labels : tuple of str
         A label per wheel.
+    linear : array_like of bool, shape (k,), optional
+        Contacts that are unilateral linear springs, ``F = c max(delta, 0)`` with ``c`` in N/m
+        (``hertz_constants``' place): a sleeper on ballast that can lift off, the "wheel" DOF the
+        sleeper's, its point a weight-0 point (the ground). Default none.
     compliance : ndarray, optional
         A local compliance in series with each contact (m/N), ``(1, k)`` for fixed points or
         ``(n_steps + 1, k)`` per step for moving ones: what the structure's interpolation misses
@@ -191,6 +214,7 @@ class HertzContacts:
     irregularity: np.ndarray
     labels: tuple = ()
     compliance: np.ndarray | None = None
+    linear: np.ndarray | None = None
 
     def __post_init__(self):
         wheels = np.asarray(self.wheel_dofs, dtype=np.int64).ravel()
@@ -211,6 +235,10 @@ class HertzContacts:
         object.__setattr__(self, "irregularity", np.ascontiguousarray(r))
         object.__setattr__(self, "labels", tuple(self.labels) or tuple(f"wheel {i}" for i in range(k)))
         object.__setattr__(self, "compliance", np.ascontiguousarray(g))
+        lin = np.zeros(k, dtype=bool) if self.linear is None else np.asarray(self.linear, dtype=bool).ravel()
+        if lin.shape != (k,):
+            raise InputError(f"linear must give one flag per contact ({k}), got shape {lin.shape}")
+        object.__setattr__(self, "linear", lin)
 
     @property
     def n_contacts(self) -> int:
@@ -231,7 +259,7 @@ class HertzContacts:
         local compliance g alone (no step compliance)."""
         force = np.zeros(self.n_contacts)
         if solve_hertz(self.hertz_constants, self.approach(u, k), np.diag(self.local_compliance(k)), force,
-                       np.zeros((self.n_contacts, self.n_contacts + 5))) > MAX_NEWTON:
+                       np.zeros((self.n_contacts, self.n_contacts + 5)), self.linear) > MAX_NEWTON:
             raise RuntimeError(f"the contact forces did not converge in {MAX_NEWTON} Newton steps")
         return force
 
@@ -244,4 +272,4 @@ class HertzContacts:
     def renumbered(self, where: np.ndarray) -> HertzContacts:
         """The same contacts on DOFs renamed ``where[i]``."""
         return HertzContacts(where[self.wheel_dofs], self.points.renumbered(where), self.hertz_constants,
-                             self.irregularity, self.labels, self.compliance)
+                             self.irregularity, self.labels, self.compliance, self.linear)

@@ -126,7 +126,7 @@ class _ContactStep:
             if not np.all(np.diagonal(self.G) > 0):
                 raise RuntimeError(f"the contacts' step compliance must be positive, got {np.diagonal(self.G)} m/N")
         a = c.approach(u_free, k)
-        if solve_hertz(c.hertz_constants, a, self.G, self.force, self.work) > MAX_NEWTON:
+        if solve_hertz(c.hertz_constants, a, self.G, self.force, self.work, c.linear) > MAX_NEWTON:
             raise RuntimeError(f"the contact forces did not converge in {MAX_NEWTON} Newton steps at step {k}")
         return u_free + self.g @ self.force if np.any(self.force > 0) else u_free
 

@@ -414,7 +414,7 @@ def _state_arrays(states: TrapezoidalStates | None, where):
 def _contact_arrays(contacts: HertzContacts | None, where):
     if contacts is None:
         return (np.zeros(0, np.uint64), np.zeros((1, 0, 1), np.uint64), np.zeros((1, 0, 1)), np.zeros(0),
-                np.zeros((1, 0)), np.zeros((1, 0)))
+                np.zeros((1, 0)), np.zeros((1, 0)), np.zeros(0, dtype=np.bool_))
     c = contacts.renumbered(where)
     return (c.wheel_dofs.astype(np.uint64), c.points.dofs.astype(np.uint64), c.points.weights, c.hertz_constants,
-            c.irregularity, c.compliance)
+            c.irregularity, c.compliance, c.linear)

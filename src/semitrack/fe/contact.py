@@ -40,7 +40,7 @@ linear frequency-domain theory ``-1 / (alpha_W + alpha_C + alpha_R)``.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -60,6 +60,7 @@ from ..model.irregularity import Irregularity
 from ..model.tracks import Track
 from ..model.vehicle import Vehicle, as_vehicle
 from ..model.wheel import Wheel
+from .gaps import GapResponse, SleeperGaps, sleeper_gaps, static_with_gaps
 from .models import FETrack, require_model
 from .roughness import Roughness, third_octave_bands
 from .timedomain import sin2_ramp
@@ -142,6 +143,9 @@ class ContactResponse:
     track_forces : TrackForces or None
         Rail-seat and ballast forces at the watched supports and the rail's bending moment
         (``watch_supports``, ``bending_at``); None when none were asked for.
+    gaps : GapResponse or None
+        The hanging sleepers' ballast forces, gap openings and times in contact
+        (``ballast_gaps``); None without.
     """
 
     t: np.ndarray
@@ -161,6 +165,7 @@ class ContactResponse:
     vehicle: Vehicle | None = None
     infinite: InfiniteTrack | None = None
     track_forces: TrackForces | None = None
+    gaps: GapResponse | None = None
 
     @property
     def dt(self) -> float:
@@ -248,20 +253,44 @@ def _check_inputs(model, vehicle, roughness, x_contact, speed, dt, duration, ram
 
 
 def _static_start(model: FETrack, vehicle: Vehicle, K: sp.csc_matrix, contacts: PointSet,
-                  flexibility: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+                  flexibility: np.ndarray, gaps: SleeperGaps | None) -> tuple[np.ndarray, np.ndarray]:
     """The static equilibrium under the preloads with the contacts at their first positions.
 
-    ``flexibility`` is the rail elements' own deflection under each contact at the start (m/N).
+    ``flexibility`` is the rail elements' own deflection under each contact at the start (m/N);
+    hanging sleepers rest on their ballast where the preloads close their gaps.
     Returns the state ``u0`` (model DOFs, then the vehicle's) and the constant loads on the
     vehicle's DOFs (:meth:`semitrack.model.vehicle.Vehicle.static_loads`: each contact at its
     wheel's preload, a suspension to a still bogie carrying none of it).
     """
     n, wheels = model.n_dof, vehicle.wheels
     preload = np.array([w.preload for w in wheels])
-    u_track = factorise(K).solve(contacts.matrix(n, 0).T @ preload)
+    load = contacts.matrix(n, 0).T @ preload
+    u_track = factorise(K).solve(load) if gaps is None else static_with_gaps(K, load, gaps)
     w0 = contacts.values(u_track, 0) + flexibility * preload + np.array([w.static_approach for w in wheels])
     u_vehicle = vehicle.static_state(w0)
     return np.concatenate([u_track, u_vehicle]), vehicle.static_loads(u_vehicle)
+
+
+def _all_contacts(wheel_dofs: np.ndarray, points: PointSet, wheels: tuple[Wheel, ...], r: np.ndarray,
+                  flexibility: np.ndarray, gaps: SleeperGaps | None) -> HertzContacts:
+    """The wheels' Hertzian contacts, then each hanging sleeper's unilateral ballast (:mod:`.gaps`)."""
+    c_h = [w.hertz_constant for w in wheels]
+    if gaps is None:
+        return HertzContacts(wheel_dofs, points, c_h, r, compliance=flexibility)
+    rows = points.dofs.shape[0]
+    return HertzContacts(np.concatenate([wheel_dofs, gaps.dofs]), PointSet.stacked([points, gaps.points(rows)]),
+                         np.concatenate([c_h, gaps.stiffness]), np.hstack([r, np.tile(gaps.gaps, (r.shape[0], 1))]),
+                         labels=tuple(f"wheel {i}" for i in range(len(wheels))) + tuple(
+                             f"ballast under support {k}" for k in gaps.supports),
+                         compliance=np.hstack([flexibility, np.zeros((rows, gaps.n))]),
+                         linear=np.r_[np.zeros(len(wheels), bool), np.ones(gaps.n, bool)])
+
+
+def _gap_response(res, gaps: SleeperGaps, k: int, dt: float) -> GapResponse:
+    """The hanging sleepers' columns of a run's contact channels (after the k wheels')."""
+    force, w = res["contact force"][:, k:], res["wheel"][:, k:]
+    return GapResponse(supports=gaps.supports, gaps=gaps.gaps, force=force, opening=gaps.gaps - w,
+                       contact_time=dt * np.count_nonzero(force > 0, axis=0))
 
 
 def _profile_along(profile: Irregularity, x: np.ndarray) -> np.ndarray:
@@ -288,7 +317,8 @@ def wheel_rail_response(model: FETrack, wheel: Wheel | Sequence[Wheel], roughnes
                         duration: float = 0.1, ramp: float = 0.02, f_ref: float | dict | None = None,
                         compiled: bool | None = None, element_flexibility: bool = True,
                         profile: Irregularity | None = None, watch_supports: Sequence[int] = (),
-                        bending_at: Sequence[float] = ()) -> ContactResponse:
+                        bending_at: Sequence[float] = (), ballast_gaps: Mapping[int, float] | None = None
+                        ) -> ContactResponse:
     """Wheels on an FE track in time: nonlinear Hertzian contacts driven by roughness or by rolling.
 
     Parameters
@@ -327,6 +357,10 @@ def wheel_rail_response(model: FETrack, wheel: Wheel | Sequence[Wheel], roughnes
         A geometric irregularity fixed on the rail (:class:`semitrack.DippedWeld`,
         :class:`semitrack.RailProfile`), met by each wheel where it is, ``r(x_i(t))``, on top of
         the roughness (not faded in: the wheels must start off it).
+    ballast_gaps : mapping of int to float, optional
+        ``{k: g}``: support k's sleeper hangs over a gap of g m and rests on the track's ballast
+        only once it has closed it (:mod:`semitrack.fe.gaps`; build the model with
+        ``changes={k: {"kb": 0.0}}``). What the sleepers did is :attr:`ContactResponse.gaps`.
     watch_supports : sequence of int
         Supports (indices k) whose rail-seat and ballast forces are recorded
         (:attr:`ContactResponse.track_forces`, :mod:`semitrack.fe.trackforces`).
@@ -364,7 +398,8 @@ def wheel_rail_response(model: FETrack, wheel: Wheel | Sequence[Wheel], roughnes
     t = dt * np.arange(n_steps + 1)
     points = _contact_points(model, x, speed > 0)
     flexibility = model.local_flexibility(x if speed > 0 else x[:1], name="x_contact") * bool(element_flexibility)
-    u0, vehicle_loads = _static_start(model, vehicle, track.K, points, flexibility[0])
+    gaps = sleeper_gaps(model, ballast_gaps) if ballast_gaps else None
+    u0, vehicle_loads = _static_start(model, vehicle, track.K, points, flexibility[0], gaps)
     fade = sin2_ramp(t, ramp)
     r = np.zeros((t.size, k)) if roughness is None else np.column_stack(
         [roughness.shifted(x[0, i] - x[0, 0]).sampled(dt, t.size) * fade for i in range(k)])
@@ -372,18 +407,18 @@ def wheel_rail_response(model: FETrack, wheel: Wheel | Sequence[Wheel], roughnes
         r = r + _profile_along(profile, x)
     watch = watched_dofs(model, watch_supports, bending_at)
     vehicle_dofs = model.n_dof + np.arange(vehicle_loads.size)
-    contacts = HertzContacts(vehicle_dofs[:k], points, [w.hertz_constant for w in wheels], r,
-                             compliance=flexibility)
+    contacts = _all_contacts(vehicle_dofs[:k], points, wheels, r, flexibility, gaps)
     loads = [(PointSet.on_dofs(vehicle_dofs), np.tile(vehicle_loads, (t.size, 1)))]
     res = simulate(system, Newmark(dt), n_steps, loads=loads, contacts=contacts, u0=u0, compiled=compiled,
                    record=watch.dofs)
     forces = track_forces(model, watch, res["dofs"], dt, f_ref) if watch.dofs.size else None
-    one = (lambda a: a[:, 0]) if k == 1 else (lambda a: a)
+    one = (lambda a: a[:, 0]) if k == 1 else (lambda a: a[:, :k])
     return ContactResponse(t=t, force=one(res["contact force"]), w_wheel=one(res["wheel"]), w_rail=one(res["rail"]),
                            roughness=one(r), x=one(x), track=model.track, wheel=wheels[0], speed=float(speed),
                            ramp=ramp, period=None if roughness is None else roughness.period,
                            n_dof=model.n_dof + vehicle_loads.size, elapsed=res.elapsed, wheels=wheels,
-                           vehicle=vehicle, infinite=model.infinite_track(), track_forces=forces)
+                           vehicle=vehicle, infinite=model.infinite_track(), track_forces=forces,
+                           gaps=None if gaps is None else _gap_response(res, gaps, k, dt))
 
 
 @dataclass(frozen=True, eq=False)
