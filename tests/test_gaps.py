@@ -98,3 +98,14 @@ def test_an_undamped_sleeper_on_its_gap_keeps_its_energy(compiled):
         assert np.count_nonzero(res["contact force"] > 0) > 100 and np.all(res["contact force"] >= 0)
         growth.append((energy.max() - energy[0]) / energy[0])
     assert growth[0] < 2e-4 and growth[1] < 0.6 * growth[0]
+
+
+def test_compiled_and_numpy_loops_agree_with_a_gap():
+    """The gap's contact has no rail part (a weight-0 point), which the compiled contact solve allows."""
+    model = st.TruncatedTrack(st.ballasted_track(damping="viscous"), 6, "pinned", changes={0: {"kb": 0.0}},
+                              elements_per_bay=12)
+    runs = [st.wheel_rail_response(model, st.Wheel(), x_contact=-2.0, speed=V, dt=2e-5, duration=3.0 / V,
+                                   ballast_gaps={0: 3e-4}, compiled=compiled) for compiled in (True, False)]
+    assert runs[1].gaps.force.max() > 1e4  # the gap closes
+    np.testing.assert_allclose(runs[0].force, runs[1].force, rtol=1e-10)
+    np.testing.assert_allclose(runs[0].gaps.force, runs[1].gaps.force, rtol=0, atol=1e-9 * runs[1].gaps.force.max())

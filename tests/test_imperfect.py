@@ -109,3 +109,23 @@ def test_a_profile_must_start_off_the_wheels():
         st.wheel_rail_response(model, st.Wheel(), profile=WELD, x_contact=0.05, speed=10.0, dt=1e-4, duration=0.05)
     with pytest.raises(TypeError, match="profile must be an Irregularity"):
         st.wheel_rail_response(model, st.Wheel(), profile=lambda x: 0 * x, speed=10.0, dt=1e-4, duration=0.05)
+
+
+def test_gap_runs_and_the_chapter_figures_draw():
+    """The chapter's study calls and figures on a short path (what the notebook runs, smaller)."""
+    from semitrack import plotting
+    from semitrack.paper import imperfect_study as study
+
+    track = st.ballasted_track(damping="viscous")
+    boundary = st.fit_boundary(track, n_poles=24)
+    runs = study.gap_runs(track, boundary, (1.0, 5e-4), start=-1.0, stop=1.5)
+    assert runs[1.0].gaps.contact_time[0] == 0 < runs[5e-4].gaps.contact_time[0]
+    fig, axes = plotting.gap_figure(runs)
+    assert len(axes) == 3 and axes[1].lines
+    weld_runs = study.weld_runs(track, boundary, (200,), WELD, WHEEL, start=-1.0, stop=1.0, pinned_bays=20)
+    fig, axes = plotting.weld_force_figure(weld_runs)
+    assert len(axes) == 1 and len(axes[0].lines) == 2
+    fig, axes = plotting.track_force_figure(weld_runs[200, "broadband ends"].response)
+    assert len(axes) == 3
+    table = study.weld_table(weld_runs, WELD, track, WHEEL)
+    assert table.shape[0] == 1 and table.loc[200, "P1 (kN)"] > 100

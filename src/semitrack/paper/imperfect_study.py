@@ -15,6 +15,8 @@ each returns a table (:class:`pandas.DataFrame`) or runs that the chapter shows 
   (:func:`reflection_free_bays`, from the track decay rate), the P1 and P2 forces beside
   Jenkins' closed-form P2 (:func:`semitrack.methods.impact.jenkins_p2`), rail-seat and ballast
   forces around the weld and the rail's bending at it.
+* A hanging sleeper over a gap (:func:`gap_runs`): the gap closing under the wheel and opening
+  behind it, the ballast force, the wheel's force.
 
 Errors are relative (``|approx - reference| / |reference|``); tables give them in per cent.
 """
@@ -43,7 +45,7 @@ from ..model.vehicle import Vehicle
 from ..model.wheel import Wheel
 
 __all__ = ["CASE_BAYS", "imperfect_cases", "imperfect_receptance_table", "several_wheel_table",
-           "reflection_free_bays", "WeldRun", "weld_runs", "p1_p2", "weld_table", "weld_convergence"]
+           "reflection_free_bays", "WeldRun", "weld_runs", "p1_p2", "weld_table", "weld_convergence", "gap_runs"]
 
 #: Bays each side of the centre of the short models.
 CASE_BAYS = 10
@@ -343,3 +345,37 @@ def weld_convergence(track: Track, boundary: BroadbandBoundary, speed: float, we
             p1, p2 = p1_p2(res, weld)
             rows[model.elements_per_bay, dt * 1e6] = {"P1 (kN)": p1 / 1e3, "P2 (kN)": p2 / 1e3}
     return pd.DataFrame.from_dict(rows, orient="index").rename_axis(["elements per bay", "dt (us)"])
+
+
+def gap_runs(track: Track, boundary: BroadbandBoundary, gaps: Sequence[float], kmh: float = 200.0,
+             support: int = 0, start: float = -3.0, stop: float = 3.0, dt: float = 2e-5
+             ) -> dict[float, ContactResponse]:
+    """A wheel rolled over a hanging sleeper with each gap (m), on the 10-bay broadband-ended model.
+
+    Parameters
+    ----------
+    track : Track
+        A ballasted track (viscous damping).
+    boundary : BroadbandBoundary
+        Its broadband end.
+    gaps : sequence of float
+        The gaps (m); a gap larger than the sleeper moves is the linear ``kb = 0`` sleeper.
+    kmh : float
+        Speed (km/h).
+    support : int
+        The hanging sleeper's support.
+    start, stop : float
+        The wheel's path (m).
+    dt : float
+        Time step (s).
+
+    Returns
+    -------
+    dict
+        ``{gap: ContactResponse}``, each with its ``gaps`` (:class:`semitrack.fe.gaps.GapResponse`).
+    """
+    model = TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name, system=boundary, changes={support: {"kb": 0.0}})
+    v = kmh / 3.6
+    return {g: wheel_rail_response(model, Wheel(primary_stiffness=1.2e6, primary_damping=1.5e4), x_contact=start,
+                                   speed=v, dt=dt, duration=(stop - start) / v, ballast_gaps={support: g})
+            for g in gaps}

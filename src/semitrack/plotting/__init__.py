@@ -29,7 +29,7 @@ from .contact import (  # noqa: F401
     rolling_figure,
 )
 from .decay import decay_rate_figure, local_change_figure  # noqa: F401
-from .imperfect import track_force_figure, weld_force_figure  # noqa: F401
+from .imperfect import gap_figure, track_force_figure, weld_force_figure  # noqa: F401
 from .receptance import (  # noqa: F401
     central_response_figure,
     convergence_figure,

@@ -84,3 +84,38 @@ def track_force_figure(response, title: str = ""):
     if title:
         fig.suptitle(title)
     return fig, axes
+
+
+@house_figure
+def gap_figure(runs: Mapping[float, object], title: str = ""):
+    """A hanging sleeper under a passing wheel, a line per gap: its displacement, the ballast force, the wheel's force.
+
+    Parameters
+    ----------
+    runs : mapping of float to ContactResponse
+        :func:`semitrack.paper.imperfect_study.gap_runs`: ``{gap (m): run}``.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    fig, axes
+    """
+    fig, axes = panels(3, figsize=(13.8, 3.6))
+    for (gap, res), colour in zip(runs.items(), itertools.cycle(("k", "tab:red", "tab:blue", "tab:green"))):
+        label = "no contact (linear kb = 0)" if res.gaps.contact_time[0] == 0 else f"gap {gap * 1e3:g} mm"
+        sleeper = res.gaps.gaps[0] - res.gaps.opening[:, 0]  # its downward displacement
+        axes[0].plot(res.x, sleeper * 1e3, color=colour, lw=1.1, label=label)
+        if res.gaps.contact_time[0] > 0:
+            axes[0].axhline(gap * 1e3, color=colour, lw=0.8, ls="--")  # the ballast's surface
+        axes[1].plot(res.x, res.gaps.force[:, 0] / 1e3, color=colour, lw=1.1)
+        axes[2].plot(res.x, res.force / 1e3, color=colour, lw=1.1)
+    for ax, (name, unit) in zip(axes, (("Sleeper (dashed: its gap)", "mm, downward"), ("Ballast force", "kN"),
+                                       ("Contact force", "kN"))):
+        ax.set_title(name)
+        ax.set_ylabel(unit)
+        ax.set_xlabel("Wheel position (m)")
+    legend_below(fig, axes[0], fontsize=8)
+    if title:
+        fig.suptitle(title)
+    return fig, axes
