@@ -50,6 +50,7 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "WavenumberSettings": ("methods.wavenumber", "WavenumberSettings"),
     "Wheel": ("model.wheel", "Wheel"),
     "Bogie": ("model.vehicle", "Bogie"),
+    "convolution_response": ("fe.convolution", "convolution_response"),
     "DippedWeld": ("model.irregularity", "DippedWeld"),
     "RailProfile": ("model.irregularity", "RailProfile"),
     "WheelGroup": ("model.vehicle", "WheelGroup"),

@@ -1,0 +1,184 @@
+"""Stationary wheels on the exact infinite track in time: nothing truncated, the rail by convolution.
+
+The reference of the stationary time-domain cases: the rail's displacement under the contacts is
+the convolution of the contact forces with the rail's impulse responses between the contact
+points, computed from the exact infinite track (:class:`semitrack.InfiniteTrack`, local changes
+included), so no model is truncated and no mesh is involved:
+
+    w_i(t) = w_i,static + sum_j integral h_ij(tau) (F_j(t - tau) - P0_j) dtau
+
+The forces are piecewise linear between the steps, so the kernel is the rail's response to a hat
+function of force, ``h = irfft(H sinc^2(f dt)) / dt`` on the grid of the run's step and memory
+(``memory`` long: the rail's response must have died away within it; the wrap-around of the
+discrete transform, the response left at the memory's end, is reported), and
+``w_n = w_static + dt sum_m h_m (F_(n-m) - P0)``. The vehicle (:class:`semitrack.Bogie`, or wheels
+on their suspensions) is integrated by Newmark's average acceleration, and each step's Hertzian
+contacts are solved with the step's compliance of the vehicle and the current step's share of
+the convolution (:func:`semitrack.dynamics.contact.solve_hertz`). The start is the static one of
+:func:`semitrack.wheel_rail_response`, the roughness faded in the same way, so that
+:func:`semitrack.contact_transfer` takes the result as it takes an FE run's.
+
+Limits: stationary wheels only (a rolling wheel's kernel changes with its position: the moving
+Green's functions of a periodic track); the cost per step grows with the memory (a dot product
+over it per wheel pair).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+
+import numpy as np
+
+from ..base.checks import check_positive, check_steps
+from ..base.errors import InputError, InputTypeError
+from ..dynamics.contact import MAX_NEWTON, solve_hertz
+from ..dynamics.newmark import Newmark
+from ..methods.infinite import InfiniteTrack
+from ..model.tracks import Track
+from ..model.vehicle import Vehicle, as_vehicle
+from ..model.wheel import Wheel
+from .contact import ContactResponse
+from .roughness import Roughness
+from .timedomain import sin2_ramp
+
+__all__ = ["rail_impulse_responses", "convolution_response"]
+
+
+def rail_impulse_responses(infinite: InfiniteTrack, x: np.ndarray, dt: float, memory: float
+                           ) -> tuple[np.ndarray, np.ndarray, float]:
+    """The rail's impulse responses between the contact points, and its static receptance.
+
+    Parameters
+    ----------
+    infinite : InfiniteTrack
+        The exact infinite track.
+    x : ndarray, shape (k,)
+        Contact positions (m, its coordinates).
+    dt : float
+        Time step (s).
+    memory : float
+        Length of the responses kept (s).
+
+    Returns
+    -------
+    h : ndarray, shape (n_memory, k, k)
+        ``h[m, i, j]``: w at contact i after m steps per unit force at contact j, the force a hat
+        function of one step's half-width (m/(N s)): ``w_n = dt sum_m h[m] F_(n-m)``.
+    static : ndarray, shape (k, k)
+        The static receptance (m/N).
+    wrap : float
+        The largest |h| over the second half of the memory (but its last tenth, the ringing before
+        t = 0 of the band-limited kernel) over the largest |h|: what is left to cut off.
+    """
+    n = 2 * int(np.ceil(0.5 * memory / dt))
+    f = np.fft.rfftfreq(n, dt)
+    f[0] = 1e-3 * f[1]  # quasi-static: the receptance's limit at 0 Hz
+    k = x.size
+    H = np.empty((f.size, k, k), dtype=complex)
+    for j in range(k):
+        H[:, :, j] = infinite.receptance(f, x[j], x)[:, :, 0, 0]
+    # the force piecewise linear between the steps (hat functions, spectrum dt sinc^2(f dt)): the
+    # kernel of that force is causal, and the taper removes the ringing of the spectrum cut at Nyquist
+    h = np.fft.irfft(H * (np.sinc(f * dt) ** 2)[:, None, None], n=n, axis=0) / dt
+    # what is left after half the memory (the last samples are the band-limited kernel's ringing
+    # before t = 0, which the causal convolution leaves out)
+    tail = np.abs(h[n // 2:int(0.9 * n)]).max() / np.abs(h).max()
+    return h, H[0].real, float(tail)
+
+
+def _vehicle_step(vehicle: Vehicle, stepper: Newmark) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The vehicle's matrices and its effective stiffness's inverse; the wheels' step compliance."""
+    M, C, K = vehicle.matrices()
+    a0, a1 = stepper.coefficients[:2]
+    inverse = np.linalg.inv(K + a1 * C + a0 * M)
+    k = len(vehicle.wheels)
+    return M, C, inverse, inverse[:k, :k]
+
+
+def convolution_response(track: Track | InfiniteTrack, wheel: Wheel | Vehicle | Sequence[Wheel],
+                         roughness: Roughness | None = None, *, x_contact: float | Sequence[float] = 0.0,
+                         dt: float = 2e-5, duration: float = 0.1, ramp: float = 0.02,
+                         memory: float = 0.4) -> ContactResponse:
+    """Stationary wheels or a vehicle on the exact infinite track, in time (see the module docstring).
+
+    Parameters
+    ----------
+    track : Track or InfiniteTrack
+        The track (its coordinates: m from the central mid-span; support k at ``(k + 1/2) d``).
+    wheel : Wheel, sequence of Wheel, or Vehicle
+        As :func:`semitrack.wheel_rail_response` takes it.
+    roughness : Roughness, optional
+        The roughness passing under the first wheel (faded in over ``ramp``); None: a smooth rail.
+    x_contact : float or sequence of float
+        The contact positions (m), one per wheel (or a vehicle's first wheel's).
+    dt, duration, ramp : float
+        Time step, duration and fade-in (s).
+    memory : float
+        How long the rail's impulse responses are kept (s): longer than they take to die away.
+
+    Returns
+    -------
+    ContactResponse
+        As an FE run's (``speed = 0``); ``n_dof`` the vehicle's DOFs.
+    """
+    infinite = track if isinstance(track, InfiniteTrack) else InfiniteTrack(track)
+    vehicle = as_vehicle(wheel)
+    if roughness is not None and not isinstance(roughness, Roughness):
+        raise InputTypeError(f"roughness must be None or a Roughness, got {type(roughness).__name__}")
+    x = vehicle.positions(x_contact, "x_contact")
+    dt, ramp, memory = check_positive("dt", dt), check_positive("ramp", ramp), check_positive("memory", memory)
+    n_steps = check_steps(dt, duration)
+    if not duration > ramp:
+        raise InputError(f"duration must exceed ramp = {ramp!r} s, got {duration!r}")
+    h, static, wrap = rail_impulse_responses(infinite, x, dt, memory)
+    t = dt * np.arange(n_steps + 1)
+    k = x.size
+    r = np.zeros((t.size, k)) if roughness is None else np.column_stack(
+        [roughness.shifted(x[i] - x[0]).sampled(dt, t.size) * sin2_ramp(t, ramp) for i in range(k)])
+    start = time.perf_counter()
+    force, w_wheel, w_rail = _integrate(vehicle, h, static, r, dt)
+    one = (lambda a: a[:, 0]) if k == 1 else (lambda a: a)
+    return ContactResponse(t=t, force=one(force), w_wheel=one(w_wheel), w_rail=one(w_rail), roughness=one(r),
+                           x=one(np.tile(x, (t.size, 1))), track=infinite.track, wheel=vehicle.wheels[0], speed=0.0,
+                           ramp=ramp, period=None if roughness is None else roughness.period,
+                           n_dof=vehicle.matrices()[0].shape[0], elapsed=time.perf_counter() - start,
+                           wheels=vehicle.wheels, vehicle=vehicle, infinite=infinite)
+
+
+def _integrate(vehicle: Vehicle, h: np.ndarray, static: np.ndarray, r: np.ndarray, dt: float
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The step loop: the vehicle by Newmark, the rail by the convolution, the contacts solved."""
+    stepper = Newmark(dt)
+    a0, a1, a2, a3, a4, a5 = stepper.coefficients
+    M, C, inverse, G_wheels = _vehicle_step(vehicle, stepper)
+    wheels = vehicle.wheels
+    k, rows = len(wheels), r.shape[0]
+    c_h = np.array([w.hertz_constant for w in wheels])
+    preload = np.array([w.preload for w in wheels])
+    w_rail0 = static @ preload
+    u = vehicle.static_state(w_rail0 + np.array([w.static_approach for w in wheels]))
+    loads = vehicle.static_loads(u)
+    v, a = np.zeros_like(u), np.zeros_like(u)
+    G = G_wheels + dt * h[0]  # the current step's share of the convolution
+    dF = np.zeros((rows, k))  # F - P0: zero before the start
+    force, w_wheel, w_rail = np.tile(preload, (rows, 1)), np.empty((rows, k)), np.empty((rows, k))
+    w_wheel[0], w_rail[0] = u[:k], w_rail0
+    work, f_now = np.zeros((k, k + 5)), np.zeros(k)
+    memory = h.shape[0]
+    for n in range(1, rows):
+        lo = max(0, n - memory + 1)
+        past = dF[lo:n][::-1]  # F(t_n - m dt) - P0 for m = 1 ...
+        history = dt * np.einsum("mij,mj->i", h[1:n - lo + 1], past)
+        rhs = loads + M @ (a0 * u + a2 * v + a3 * a) + C @ (a1 * u + a4 * v + a5 * a)
+        free = inverse @ rhs
+        approach = free[:k] - (w_rail0 + history - dt * h[0] @ preload) - r[n]
+        if solve_hertz(c_h, approach, G, f_now, work) > MAX_NEWTON:
+            raise RuntimeError(f"the contact forces did not converge at step {n}")
+        u_new = free - inverse[:, :k] @ f_now
+        v, a = stepper.correct(u, v, a, u_new)
+        u = u_new
+        dF[n] = f_now - preload
+        force[n], w_wheel[n] = f_now, u[:k]
+        w_rail[n] = w_rail0 + history + dt * h[0] @ dF[n]
+    return force, w_wheel, w_rail
