@@ -22,6 +22,8 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+import numpy as np
+
 from ..base.checks import check_positive
 from ..base.errors import InputError
 from ..model.tracks import Track, require_track
@@ -37,14 +39,15 @@ def reference_frequencies(track: Track, f_ref: float | Mapping[str, float] | Non
     track : Track
         The track.
     f_ref : None, float or dict
-        ``None``: the track's own (:meth:`semitrack.Track.reference_frequencies`); a float: the same for all three
-        families; a dict: overrides (Hz) for some of the keys "rail", "pad", "ballast".
+        ``None``: the track's own (:meth:`semitrack.Track.reference_frequencies`); a float: the same for all
+        families; a dict: overrides (Hz) for some of the keys "rail", "pad", "ballast", "slab", "layer".
 
     Returns
     -------
     dict
-        ``{"rail": ..., "pad": ..., "ballast": ...}`` (Hz), all finite: "ballast" is 1 Hz on a
-        slab track, where no ballast spring uses it.
+        ``{"rail": ..., "pad": ..., "ballast": ..., "slab": ..., "layer": ...}`` (Hz), all finite:
+        "ballast" is 1 Hz on a slab track, "slab" and "layer" without a flexible slab, where no
+        spring uses them.
 
     Examples
     --------
@@ -54,8 +57,9 @@ def reference_frequencies(track: Track, f_ref: float | Mapping[str, float] | Non
     (1000.0, 1.0)
     """
     fr = require_track(track).reference_frequencies()
-    if not track.is_ballasted:
-        fr["ballast"] = 1.0  # unused: no ballast springs
+    for family, value in fr.items():
+        if not np.isfinite(value):
+            fr[family] = 1.0  # unused: no such springs (no ballast, no flexible slab)
     if f_ref is None:
         return fr
     if isinstance(f_ref, Mapping):
