@@ -72,6 +72,9 @@ def test_damping_model_round_trips_and_is_checked(tmp_path):
     path.write_text(track_to_toml(viscous))
     assert load_track_toml(path) == viscous
     assert "damping" not in track_to_toml(st.ballasted_track())  # the paper's files stay as they are
+    floating = st.example_track("floating-slab").replace(damping="viscous")  # the slab's families take it too
+    path.write_text(track_to_toml(floating))
+    assert load_track_toml(path) == floating
     path.write_text(track_to_toml(viscous).replace('"viscous"', '"coulomb"'))
     with pytest.raises(TrackFileError, match=r"line 3.*damping must be one of \('hysteretic', 'viscous'\)"):
         load_track_toml(path)

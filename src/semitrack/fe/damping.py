@@ -10,7 +10,9 @@ response (:meth:`semitrack.Track.reference_frequencies`): the pads at the rail-o
 ``sqrt(kv / (rho A d)) / 2 pi`` (slab 187 Hz, ballasted 495 Hz), the ballast at the
 sleeper-on-ballast resonance ``sqrt(kb / (m_s + rho A d)) / 2 pi`` (117 Hz, the paper's f_n1),
 the rail at the Euler estimate of the pinned-pinned frequency ``(pi / d)^2 sqrt(EI / rho A) /
-2 pi`` (1.2-1.4 kHz), where only the rail damps. On the paper's tracks (long FE tracks,
+2 pi`` (1.2-1.4 kHz), where only the rail damps; a flexible slab's bending at the free slab's
+first bending mode on its layer and its layer at the slab's bounce on it (the floating slab of
+the examples: 38 Hz and 25 Hz). On the paper's tracks (long FE tracks,
 3-1500 Hz) the viscous w1 then deviates from the hysteretic one by a median 3 % (slab) and 7 %
 (ballasted) and 7 % / 35 % at most below 750 Hz; a single 250 Hz for all families gives 3 % /
 17 % median and 24 % / 66 % max. Below the reference frequency a viscous damper damps less,
