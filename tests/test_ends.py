@@ -7,6 +7,7 @@ dispatches on an end's name.
 """
 
 import ast
+import dataclasses
 import pathlib
 
 import numpy as np
@@ -25,7 +26,7 @@ from semitrack.fe.ends import (
     mirrored,
     model_ends,
 )
-from semitrack.fe.supports import RigidFoundation, SleepersOnBallast, foundation_of
+from semitrack.fe.supports import FlexibleSlabs, RigidFoundation, SleepersOnBallast, foundation_of
 
 PACKAGE = pathlib.Path(st.__file__).parent
 
@@ -74,8 +75,10 @@ def test_foundations():
     assert isinstance(foundation_of(st.slab_track()), RigidFoundation)
     assert isinstance(foundation_of(st.ballasted_track()), SleepersOnBallast)
     assert SleepersOnBallast().n_dofs(7) == 7 and RigidFoundation().n_dofs(7) == 0
-    with pytest.raises(NotImplementedError, match="a flexible slab"):
-        foundation_of(st.example_track("floating-slab"))
+    floating = st.example_track("floating-slab")
+    assert isinstance(foundation_of(floating), FlexibleSlabs)
+    with pytest.raises(ValueError, match="at slab joints"):
+        foundation_of(floating.replace(slab=dataclasses.replace(floating.slab, cut="centre")))
 
 
 def _string_constants(path: pathlib.Path):

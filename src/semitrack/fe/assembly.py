@@ -9,6 +9,9 @@ The model's matrices are kept apart by *family*, because each family carries its
     ``eta_pad``;
 ``K_ballast``
     the ballast springs ``kb`` from each sleeper to the ground (loss factor ``eta_ballast``);
+``K_slab``, ``K_layer``
+    a flexible slab's beam elements (loss factor ``eta_slab``) and its resilient layer's
+    consistent Winkler stiffness (``eta_support``, :class:`semitrack.fe.supports.FlexibleSlabs`);
 ``M``
     the rail's consistent mass, the foundation's masses and the ends' mass;
 ``K_end``, ``C_end``
@@ -17,7 +20,8 @@ The model's matrices are kept apart by *family*, because each family carries its
     the rotational springs of rail joints (undamped).
 
 Past a transition the rail, pads and ballast are the second track's, with its loss factors:
-:attr:`TrackMatrices.by_track` keeps the three damped families of each track apart.
+:attr:`TrackMatrices.by_track` keeps the damped families of each track apart (:data:`DAMPED`;
+each named ``"K_" + family`` of :meth:`semitrack.Track.loss_factor`).
 
 An end (:mod:`semitrack.fe.ends`) that is a system enters with its ``M, C, K``, mirrored at the
 left end; its first two DOFs are the rail's ``(w, psi)`` at the end node, the others are DOFs of
@@ -54,9 +58,10 @@ from .supports import Foundation
 __all__ = ["FAMILIES", "DAMPED", "Pattern", "TrackMatrices", "assemble"]
 
 #: The matrix families of a track model, see the module docstring.
-FAMILIES = ("K_rail", "K_pad", "K_ballast", "K_end", "C_end", "K_joint", "M")
-#: The families that carry their track's loss factor, kept per track.
-DAMPED = ("K_rail", "K_pad", "K_ballast")
+FAMILIES = ("K_rail", "K_pad", "K_ballast", "K_slab", "K_layer", "K_end", "C_end", "K_joint", "M")
+#: The families that carry their track's loss factor, kept per track: ``"K_" + family`` of
+#: :meth:`semitrack.Track.loss_factor`.
+DAMPED = ("K_rail", "K_pad", "K_ballast", "K_slab", "K_layer")
 
 
 class _Triplets:

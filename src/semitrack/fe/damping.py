@@ -10,7 +10,9 @@ response (:meth:`semitrack.Track.reference_frequencies`): the pads at the rail-o
 ``sqrt(kv / (rho A d)) / 2 pi`` (slab 187 Hz, ballasted 495 Hz), the ballast at the
 sleeper-on-ballast resonance ``sqrt(kb / (m_s + rho A d)) / 2 pi`` (117 Hz, the paper's f_n1),
 the rail at the Euler estimate of the pinned-pinned frequency ``(pi / d)^2 sqrt(EI / rho A) /
-2 pi`` (1.2-1.4 kHz), where only the rail damps. On the paper's tracks (long FE tracks,
+2 pi`` (1.2-1.4 kHz), where only the rail damps; a flexible slab's bending at the free slab's
+first bending mode on its layer and its layer at the slab's bounce on it (the floating slab of
+the examples: 38 Hz and 25 Hz). On the paper's tracks (long FE tracks,
 3-1500 Hz) the viscous w1 then deviates from the hysteretic one by a median 3 % (slab) and 7 %
 (ballasted) and 7 % / 35 % at most below 750 Hz; a single 250 Hz for all families gives 3 % /
 17 % median and 24 % / 66 % max. Below the reference frequency a viscous damper damps less,
@@ -21,6 +23,8 @@ are, although the paper fitted them to the hysteretic track.
 from __future__ import annotations
 
 from collections.abc import Mapping
+
+import numpy as np
 
 from ..base.checks import check_positive
 from ..base.errors import InputError
@@ -37,14 +41,15 @@ def reference_frequencies(track: Track, f_ref: float | Mapping[str, float] | Non
     track : Track
         The track.
     f_ref : None, float or dict
-        ``None``: the track's own (:meth:`semitrack.Track.reference_frequencies`); a float: the same for all three
-        families; a dict: overrides (Hz) for some of the keys "rail", "pad", "ballast".
+        ``None``: the track's own (:meth:`semitrack.Track.reference_frequencies`); a float: the same for all
+        families; a dict: overrides (Hz) for some of the keys "rail", "pad", "ballast", "slab", "layer".
 
     Returns
     -------
     dict
-        ``{"rail": ..., "pad": ..., "ballast": ...}`` (Hz), all finite: "ballast" is 1 Hz on a
-        slab track, where no ballast spring uses it.
+        ``{"rail": ..., "pad": ..., "ballast": ..., "slab": ..., "layer": ...}`` (Hz), all finite:
+        "ballast" is 1 Hz on a slab track, "slab" and "layer" without a flexible slab, where no
+        spring uses them.
 
     Examples
     --------
@@ -54,8 +59,9 @@ def reference_frequencies(track: Track, f_ref: float | Mapping[str, float] | Non
     (1000.0, 1.0)
     """
     fr = require_track(track).reference_frequencies()
-    if not track.is_ballasted:
-        fr["ballast"] = 1.0  # unused: no ballast springs
+    for family, value in fr.items():
+        if not np.isfinite(value):
+            fr[family] = 1.0  # unused: no such springs (no ballast, no flexible slab)
     if f_ref is None:
         return fr
     if isinstance(f_ref, Mapping):

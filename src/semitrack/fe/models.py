@@ -151,12 +151,13 @@ class FETrack:
                  if t is not None or name == "track"]
         for name, t in given:
             t.require_constant(f"the finite-element track ({name})", CONSTANT_SUPPORTS_ONLY)
-        self.foundations: tuple[Foundation, ...] = tuple(foundation_of(t) for _, t in given)
-        self.foundation: Foundation = self.foundations[0]
+        foundations = tuple(foundation_of(t) for _, t in given)
         # The exact infinite track with the same changes holds their rules (one place for both)
-        self._infinite = InfiniteTrack(track, changes, right=right_track, transition=transition, joints=joints)
+        self._infinite = _infinite_of(track, changes, right_track, transition, joints)
         self.tracks: tuple[Track, ...] = tuple(t for _, t in given)
-        self.track, self.right_track, self.transition = self.tracks[0], self._infinite.right, self._infinite.transition
+        self.track = self.tracks[0]
+        self.right_track = None if self._infinite is None else self._infinite.right
+        self.transition = None if self._infinite is None else self._infinite.transition
         self._check_layout()
         self.end_models: dict[str, End] = model_ends(left, right, system, self.n_left + self.n_right)
         for side, end in self.end_models.items():  # a boundary must belong to the track it closes
@@ -167,10 +168,13 @@ class FETrack:
         # Up to where the mesh's own error is known to be within MESH_TOLERANCE (Hz; grown as asked)
         self._mesh_checked = self.f_max if elements_per_bay is None else 0.0
         self.system = system
-        self.changes, self.joints = self._infinite.changes, self._infinite.joints
+        self.changes, self.joints = ({}, {}) if self._infinite is None else (self._infinite.changes,
+                                                                             self._infinite.joints)
         self.mesh: Mesh = bay_mesh(self.track.spacing, self.n_left, self.n_right, self.elements_per_bay,
                                    right_spacing=self.tracks[-1].spacing, transition=self.transition,
                                    joints=list(self.joints))
+        self.foundations: tuple[Foundation, ...] = tuple(f.placed(self.mesh) for f in foundations)
+        self.foundation: Foundation = self.foundations[0]
         self.dofs: DofMap = dof_map(self.mesh, self._foundation_nodes(),
                                     {side: end.internal_dofs for side, end in self.end_models.items()},
                                     [side for side, end in self.end_models.items() if end.removes_w])
@@ -191,7 +195,7 @@ class FETrack:
         d = self.track.spacing
         x_right = (self.n_right * d if self.transition is None else
                    self.transition * d + (self.n_right - self.transition) * self.right_track.spacing)
-        for x in self._infinite.joints:
+        for x in (() if self._infinite is None else self._infinite.joints):
             if not -self.n_left * d < x < x_right:
                 raise InputError(f"joints must lie inside the model, {-self.n_left * d:.6g} < x < {x_right:.6g} m, "
                                  f"got {x!r}")
@@ -211,16 +215,18 @@ class FETrack:
     def _foundation_nodes(self) -> np.ndarray:
         """The rail node of each foundation DOF, track by track (see :func:`~.assembly.assemble`)."""
         nodes = [self.mesh.support_nodes[self.mesh.support_part == p] for p in range(len(self.tracks))]
-        return np.concatenate([n[:f.n_dofs(n.size)] for n, f in zip(nodes, self.foundations)]).astype(np.int64)
+        return np.concatenate([f.dof_nodes(n) for n, f in zip(nodes, self.foundations)]).astype(np.int64)
 
     def infinite_track(self) -> InfiniteTrack:
         """The exact infinite track with this model's changes, transition and joints: its reference.
 
         Returns
         -------
-        InfiniteTrack
+        InfiniteTrack or None
             Nothing truncated, no mesh (:class:`semitrack.InfiniteTrack`); the same positions and
-            support numbering as the model.
+            support numbering as the model. None for a flexible-slab track, which InfiniteTrack
+            does not hold: the model is then the periodic track, whose exact reference is
+            ``st.point_receptance(track, f, x - d / 2)`` (x from a support there; x = 0 a joint).
         """
         return self._infinite
 
@@ -272,7 +278,8 @@ class FETrack:
 
     @property
     def sleeper_dofs(self) -> np.ndarray:
-        """Indices of the foundation's DOFs: the sleepers of a ballasted track (empty otherwise)."""
+        """Indices of the foundation's DOFs: the sleepers of a ballasted track, the slab nodes' (w, psi) of a
+        flexible-slab track (empty on a rigid foundation)."""
         return self.dofs.index[self.dofs.foundation]
 
     def _csc(self, data: np.ndarray) -> sp.csc_matrix:
@@ -446,6 +453,7 @@ class FETrack:
         """Complex stiffness (N/m...): the damping of each family as a complex modulus.
 
         ``(1 + i eta_rail) K_rail + (1 + i eta_pad) K_pad + (1 + i eta_ballast) K_ballast + K_end``
+        (and a flexible slab's ``(1 + i eta_slab) K_slab + (1 + i eta_support) K_layer``)
         where ``K_end`` holds the springs of attached equivalent systems (their dampers are
         viscous and enter as ``i omega C`` in :meth:`dynamic_stiffness`). The loss factors are
         the track's at ``f`` (:meth:`semitrack.Track.loss_factor`): constant for hysteretic
@@ -602,12 +610,14 @@ class FETrack:
         Parameters
         ----------
         f_ref : None, float or dict
-            Reference frequencies (Hz) at which the viscous damping of the rail, the pads and
-            the ballast equals their loss factors: ``C = eta_rail K_rail / (2 pi f_rail) +
-            eta_pad K_pad / (2 pi f_pad) + eta_ballast K_ballast / (2 pi f_ballast) + C_end``.
-            ``None``: the track's own (:meth:`semitrack.Track.reference_frequencies`, the same
-            as a ``damping="viscous"`` track uses in the frequency domain); a float: the same
-            for all three; a dict: overrides for some of the keys "rail", "pad", "ballast".
+            Reference frequencies (Hz) at which the viscous damping of each family (rail, pads,
+            ballast, a flexible slab and its layer) equals its loss factor: ``C = eta_rail K_rail
+            / (2 pi f_rail) + eta_pad K_pad / (2 pi f_pad) + eta_ballast K_ballast / (2 pi
+            f_ballast) + eta_slab K_slab / (2 pi f_slab) + eta_support K_layer / (2 pi f_layer)
+            + C_end``. ``None``: the track's own (:meth:`semitrack.Track.reference_frequencies`,
+            the same as a ``damping="viscous"`` track uses in the frequency domain); a float: the
+            same for all; a dict: overrides for some of the keys "rail", "pad", "ballast",
+            "slab", "layer".
 
         Returns
         -------
@@ -618,13 +628,13 @@ class FETrack:
         """
         time = {side: end.time_matrices(side) for side, end in self.end_models.items()}
         d = self._parts.data
-        K = d["K_rail"] + d["K_pad"] + d["K_ballast"] + d["K_end"] + d["K_joint"]
+        K = sum(d[family] for family in DAMPED) + d["K_end"] + d["K_joint"]
         C = d["C_end"].copy()
         for tr, parts in zip(self.tracks, self._parts.by_track):
-            fr = reference_frequencies(tr, f_ref)
+            fr, eta = reference_frequencies(tr, f_ref), tr.loss_factors()
             for family in DAMPED:
                 name = family[2:]
-                C = C + getattr(tr, f"eta_{name}") * parts[family] / (2 * np.pi * fr[name])
+                C = C + eta[name] * parts[family] / (2 * np.pi * fr[name])
         for side, parts in time.items():
             if parts is not None:
                 np.add.at(K, self._parts.exact[side], parts[0].ravel())
@@ -667,6 +677,36 @@ class FETrack:
                 f"({self.left!r}, {self.right!r}), elements_per_bay={self.elements_per_bay}, n_dof={self.n_dof})")
 
 
+def _infinite_of(track: Track, changes: Mapping | None, right: Track | None, transition: int | None,
+                 joints: Mapping | None) -> InfiniteTrack | None:
+    """The exact infinite track that holds the model's rules for changes, a transition and joints.
+
+    None for a flexible-slab track (which InfiniteTrack does not hold), whose FE model takes
+    none of them: a changed support, a transition or a joint there is refused by name.
+    """
+    slab = require_track(track).has_flexible_slab or (right is not None and require_track(right, "right")
+                                                      .has_flexible_slab)
+    if not slab:
+        return InfiniteTrack(track, changes, right=right, transition=transition, joints=joints)
+    asked = [name for name, value in (("changes", changes), ("right", right), ("transition", transition),
+                                      ("joints", joints)) if value]
+    if asked or transition is not None:
+        what = ", ".join(asked) or "transition"
+        raise InputError(f"a flexible-slab FE model is the periodic floating-slab track only, got {what}: a changed "
+                         "support, a transition or a rail joint is not held by the slab model (whole slabs, free at "
+                         "their joints) yet; model those on a rigid slab or on sleepers")
+    return None
+
+
+def _rail_only(track: Track) -> Track:
+    """The track whose mesh error stands for the model's: a flexible slab's rail on its pads, the slab rigid.
+
+    The rail sets the mesh's error (the slab's own elements are no longer than the rail's, and
+    bend far less); InfiniteTrack, the probe's reference, holds no flexible slab.
+    """
+    return track.replace(slab=None) if track.has_flexible_slab else track
+
+
 @lru_cache(maxsize=32)
 def _probe(track: Track, top: float) -> MeshProbe:
     f = probe_grid(top)
@@ -690,7 +730,8 @@ def mesh_probe(track: Track, f_max: float) -> MeshProbe:
     Three bays each side of a mid-span at :data:`~semitrack.fe.meshsize.PROBE_ELEMENTS` elements
     per bay, closed by the exact ends (the mesh the only approximation), against
     :class:`semitrack.InfiniteTrack`: w/F at a mid-span and at a support. Cached per track and
-    range for the process (about a second each).
+    range for the process (about a second each). For a flexible-slab track, the same rail on its
+    pads on a rigid slab (the rail sets the error; the slab's elements are no longer than the rail's).
 
     Parameters
     ----------
@@ -710,7 +751,7 @@ def mesh_probe(track: Track, f_max: float) -> MeshProbe:
     >>> p.error_at(48, 1000.0) < p.error_at(12, 1000.0)
     True
     """
-    return _probe(require_track(track), float(probe_grid(f_max)[-1]))
+    return _probe(_rail_only(require_track(track)), float(probe_grid(f_max)[-1]))
 
 
 def require_model(model: object) -> FETrack:

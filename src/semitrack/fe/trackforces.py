@@ -100,7 +100,9 @@ def watched_dofs(model: FETrack, supports: Sequence[int] = (), bending_at: Array
     rail = model.dofs.index[2 * nodes]
     sleeper = np.full(ks.size, -1, np.int64)
     if model.sleeper_dofs.size:
-        order = {int(n): j for j, n in enumerate(model.dofs.foundation_nodes)}
+        order = {}
+        for j, n in enumerate(model.dofs.foundation_nodes):  # the first DOF at a node: a slab node's w
+            order.setdefault(int(n), j)
         sleeper = np.array([model.dofs.index[model.dofs.foundation[order[int(n)]]] if int(n) in order else -1
                             for n in nodes], dtype=np.int64)
     xs = np.atleast_1d(np.asarray(bending_at, dtype=float)).ravel()
@@ -181,11 +183,10 @@ def track_forces(model: FETrack, watch: Watch, history: np.ndarray, dt: float,
     c_bal = np.array([t.eta_ballast / (2 * np.pi * r["ballast"]) for t, r in zip(tracks, fr)]) * kb
     dw, dv = (value(watch.rail, X) - value(watch.sleeper, X) for X in (history, velocity))
     ballast = None
-    if model.sleeper_dofs.size:
+    if any(t.is_ballasted for t in model.tracks):  # a flexible slab's DOFs are no sleepers on ballast
         ballast = kb * value(watch.sleeper, history) + c_bal * value(watch.sleeper, velocity)
     bending = np.einsum("tpj,pj->tp", value(watch.element_rows.ravel(), history).reshape(
         history.shape[0], *watch.element_rows.shape), watch.weights) if watch.x_bending.size else \
         np.zeros((history.shape[0], 0))
-    return TrackForces(supports=watch.supports, x_supports=np.array([model.infinite_track().support_position(int(k))
-                                                                     for k in watch.supports]),
+    return TrackForces(supports=watch.supports, x_supports=model.x[model.support_nodes[at]],
                        rail_seat=kv * dw + c_pad * dv, ballast=ballast, x_bending=watch.x_bending, bending=bending)

@@ -293,7 +293,7 @@ def slab_cut_end_stiffness(cell: PeriodicCell, omega: np.ndarray) -> np.ndarray:
     omega = np.atleast_1d(omega)
     k_next, _ = end_stiffness(cell, omega, cell.joint)  # the track beyond the cut slab's far joint
     rest = PeriodicCell(track, n_right * d, tuple(d * (np.arange(n_right) + 0.5)),
-                        foundation=functools.partial(slab.receptance, spacing=d, from_span=k))
+                        foundation=functools.partial(track.slab_receptance, from_span=k))
     extra_loss = vanishing_damping(track)
     with np.errstate(all="ignore"):
         try:

@@ -171,7 +171,8 @@ class Slab:
         omega2 = (self.support_stiffness + self.E * self.I * beta**4) / self.mass_per_length
         return np.sqrt(omega2) / (2 * np.pi)
 
-    def receptance(self, f: ArrayLike, spacing: float, from_span: int = 0) -> np.ndarray:
+    def receptance(self, f: ArrayLike, spacing: float, from_span: int = 0, *, eta_slab: ArrayLike | None = None,
+                   eta_support: ArrayLike | None = None) -> np.ndarray:
         """Vertical receptance G_rs of the slab between its fasteners (paper Eq. 3), exact.
 
         Parameters
@@ -183,6 +184,10 @@ class Slab:
         from_span : int
             0 (default): the whole slab. k >= 1: the part of the slab right of its k-th mid-span,
             cut there with a free end, carrying the last S - k fasteners.
+        eta_slab, eta_support : array_like, optional
+            Loss factors (-) of the slab and of its layer at each frequency, in place of the
+            slab's own constant ones: the track's viscous law ``eta f / f_ref``
+            (:meth:`semitrack.Track.slab_receptance` gives them).
 
         Returns
         -------
@@ -198,10 +203,12 @@ class Slab:
             raise InputError(f"from_span must be in 0..{self.fasteners - 1}, got {from_span!r}")
         omega = 2 * np.pi * f
         s = self.fasteners - k
-        ei = self.E * self.I * (1 + 1j * self.eta_slab)
-        compliance = 0.0 if self.shear_stiffness is None else 1.0 / (self.shear_stiffness * (1 + 1j * self.eta_slab))
+        c_slab = 1 + 1j * np.broadcast_to(self.eta_slab if eta_slab is None else np.ravel(eta_slab), f.shape)
+        c_layer = 1 + 1j * np.broadcast_to(self.eta_support if eta_support is None else np.ravel(eta_support), f.shape)
+        ei = self.E * self.I * c_slab
+        compliance = 0.0 if self.shear_stiffness is None else 1.0 / (self.shear_stiffness * c_slab)
         a = beam_state_matrix(omega, ei, compliance, self.mass_per_length, self.rotary_inertia,
-                              self.support_stiffness * (1 + 1j * self.eta_support))
+                              self.support_stiffness * c_layer)
         overhang = 0.5 * (self.length - (self.fasteners - 1) * spacing)
         lengths = np.r_[0.5 * spacing if k else overhang, np.full(s - 1, spacing), overhang]  # left end to right
         unique, which = np.unique(lengths, return_inverse=True)

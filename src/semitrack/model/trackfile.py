@@ -284,7 +284,7 @@ def _check_track_values(values: dict[str, tuple[str | None, object]], where: _Lo
 
     A ``[slab]`` table becomes a :class:`Slab` by the Slab's own rules (:func:`_check_slab_values`);
     the rules between slab and track (the slab must carry its fasteners at the track's spacing,
-    hysteretic damping) are the Track's, located at the ``[slab]`` header.
+    no sleepers beside it) are the Track's, located at the ``[slab]`` header.
     """
     values = dict(values)
     _, slab_table = values.pop("slab", (None, None))

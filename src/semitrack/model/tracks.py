@@ -30,7 +30,6 @@ check of the general formulation.
 from __future__ import annotations
 
 import dataclasses
-import functools
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
@@ -169,7 +168,8 @@ class Track:
     slab : Slab or None
         A flexible slab under the pads (:class:`semitrack.Slab`), coupling the ``slab.fasteners``
         supports it carries; one slab is then one period of the track. ``None`` (default): each
-        pad rests on its own rigid foundation or sleeper. Hysteretic damping only.
+        pad rests on its own rigid foundation or sleeper. With ``damping="viscous"`` the slab's
+        bending and its layer are the families "slab" and "layer" (:meth:`loss_factor`).
     foundation : FrequencyCurve or callable or None
         The vertical receptance under each pad (m/N), a curve of kind ``"receptance"`` (a
         measured sleeper's or slab's; a callable ``G(f)`` is wrapped as one): the paper's G(omega)
@@ -237,8 +237,6 @@ class Track:
         if self.is_ballasted:
             raise InputError("a track has either a flexible slab or sleepers on ballast under its pads, not both: "
                              "give slab or sleeper_mass/kb")
-        if self.damping != "hysteretic":
-            raise InputError("a flexible slab takes hysteretic damping (loss factors) only, got damping='viscous'")
         self.slab.check_spacing(self.spacing)
 
     # ----------------------------------------------------------------------------------------
@@ -310,28 +308,49 @@ class Track:
         -------
         dict
             ``{"rail": (pi / d)^2 sqrt(EI / rho A) / 2 pi, "pad": sqrt(kv / (rho A d)) / 2 pi,
-            "ballast": sqrt(kb / (m_s + rho A d)) / 2 pi}`` with real moduli: the Euler
-            pinned-pinned frequency, the rail-on-pad resonance and the sleeper-on-ballast
-            resonance, near which each family's damping controls the response. "ballast" is NaN
-            for a slab track.
+            "ballast": sqrt(kb / (m_s + rho A d)) / 2 pi, "slab": f_2, "layer": sqrt(k_L / (m_L
+            + rho A / 1 m)) / 2 pi}`` with real moduli: the Euler pinned-pinned frequency, the
+            rail-on-pad resonance, the sleeper-on-ballast resonance, the free slab's first bending
+            mode on its layer (:meth:`semitrack.Slab.natural_frequencies`) and the slab's bounce on
+            its layer with the rail on it (k_L, m_L per unit length), near which each family's
+            damping controls the response. "ballast" is NaN without sleepers, "slab" and "layer"
+            without a flexible slab.
         """
         self.require_constant("the reference frequencies of viscous damping",
                               "a curve carries its own damping (only a hysteretic track takes curves)")
-        d, ra = self.spacing, self.mass_per_length
+        d, ra, nan = self.spacing, self.mass_per_length, float("nan")
+        slab = self.slab
         return {
             "rail": float((np.pi / d) ** 2 * np.sqrt(self.E * self.I / ra) / (2 * np.pi)),
             "pad": float(np.sqrt(self.kv / (ra * d)) / (2 * np.pi)),
             "ballast": (float(np.sqrt(self.kb / (self.sleeper_mass + ra * d)) / (2 * np.pi))
-                        if self.is_ballasted else float("nan")),
+                        if self.is_ballasted else nan),
+            "slab": nan if slab is None else float(slab.natural_frequencies(3)[2]),
+            "layer": (nan if slab is None else
+                      float(np.sqrt(slab.support_stiffness / (slab.mass_per_length + ra)) / (2 * np.pi))),
         }
 
+    def loss_factors(self) -> dict[str, float]:
+        """The loss factor (-) of each damped family, as given: ``{"rail", "pad", "ballast", "slab", "layer"}``.
+
+        Returns
+        -------
+        dict
+            ``eta_rail``, ``eta_pad``, ``eta_ballast``, and the slab's ``eta_slab`` and
+            ``eta_support`` (0 without a flexible slab).
+        """
+        slab = self.slab
+        return {"rail": self.eta_rail, "pad": self.eta_pad, "ballast": self.eta_ballast,
+                "slab": 0.0 if slab is None else slab.eta_slab, "layer": 0.0 if slab is None else slab.eta_support}
+
     def loss_factor(self, family: str, f: ArrayLike, eta: float | None = None) -> np.ndarray:
-        """Loss factor of a family ("rail", "pad" or "ballast") at frequencies ``f`` (Hz).
+        """Loss factor of a family ("rail", "pad", "ballast", "slab" or "layer") at frequencies ``f`` (Hz).
 
         Parameters
         ----------
-        family : {"rail", "pad", "ballast"}
-            The damped element family.
+        family : {"rail", "pad", "ballast", "slab", "layer"}
+            The damped element family ("slab": the flexible slab's bending, "layer": its
+            resilient layer).
         f : array_like
             Frequencies (Hz), any shape (zero allowed: a viscous damper has no loss there).
         eta : float, optional
@@ -344,13 +363,38 @@ class Track:
             ``eta`` (hysteretic) or ``eta f / f_ref`` (viscous), the shape of ``f``.
         """
         if eta is None:
-            eta = {"rail": self.eta_rail, "pad": self.eta_pad, "ballast": self.eta_ballast}[family]
+            eta = self.loss_factors()[family]
         f = np.asarray(f, dtype=float)
-        if family == "ballast" and not self.is_ballasted:
-            return np.zeros(f.shape)  # no ballast: its loss factor damps nothing
+        absent = (family == "ballast" and not self.is_ballasted) or (family in ("slab", "layer")
+                                                                      and not self.has_flexible_slab)
+        if absent:
+            return np.zeros(f.shape)  # no such element: its loss factor damps nothing
         if self.damping == "hysteretic" or eta == 0:
             return np.full(f.shape, eta)
         return eta * f / self.reference_frequencies()[family]
+
+    def slab_receptance(self, f: ArrayLike, from_span: int = 0) -> np.ndarray:
+        """The flexible slab's receptance G_rs between its fasteners, with this track's damping (m/N).
+
+        :meth:`semitrack.Slab.receptance` at the track's spacing, its loss factors those of the
+        families "slab" and "layer" (:meth:`loss_factor`): constant, or viscous ``eta f / f_ref``.
+
+        Parameters
+        ----------
+        f : array_like
+            Frequencies (Hz), positive and finite; flattened.
+        from_span : int
+            As :meth:`semitrack.Slab.receptance`: 0 the whole slab, k the part right of its k-th mid-span.
+
+        Returns
+        -------
+        ndarray of complex, shape ``(n_f, S - from_span, S - from_span)``
+        """
+        if not self.has_flexible_slab:
+            raise InputError("slab_receptance needs a track with a flexible slab (track.slab), got slab=None")
+        f = np.atleast_1d(as_frequencies(f)).ravel()
+        return self.slab.receptance(f, self.spacing, from_span, eta_slab=self.loss_factor("slab", f),
+                                    eta_support=self.loss_factor("layer", f))
 
     def rail_moduli(self, f: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Complex bending and shear stiffness of the rail at frequencies ``f`` (Hz).
@@ -509,8 +553,7 @@ class Track:
                              f"supports_per_period={supports_per_period!r}")
         d = self.spacing
         cut = (self.slab.cut_span - 0.5) * d  # the joint (k = 0) is the mid-span before the first fastener
-        return PeriodicCell(self, s * d, tuple(d * np.arange(s)),
-                            foundation=functools.partial(self.slab.receptance, spacing=d), cut=cut % (s * d))
+        return PeriodicCell(self, s * d, tuple(d * np.arange(s)), foundation=self.slab_receptance, cut=cut % (s * d))
 
 
 def slab_track(**overrides) -> Track:
