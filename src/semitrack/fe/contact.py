@@ -220,10 +220,14 @@ class ContactResponse:
 
     @property
     def x_from_support(self) -> np.ndarray:
-        """The contact position measured from a support (m), in ``[0, spacing)``, as
-        :func:`semitrack.wheel_rail_force` takes it (the model's x = 0 is a mid-span)."""
+        """The contact position measured from a support (m), in ``[0, period)``, as
+        :func:`semitrack.wheel_rail_force` takes it.
+
+        The model's x = 0 is a mid-span, the first support at ``d/2``; on a flexible slab x = 0 is
+        a slab joint and the period is the slab's (its S supports), so the position is taken
+        modulo the period, not one bay: where the wheel sits on the slab matters."""
         d = self.track.spacing
-        return np.mod(self.x + 0.5 * d, d)
+        return np.mod(self.x - 0.5 * d, self.track.cell().period)
 
 
 def _check_inputs(model, vehicle, roughness, x_contact, speed, dt, duration, ramp):
