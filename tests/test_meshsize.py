@@ -89,3 +89,13 @@ def test_long_tracks_mesh_from_the_frequencies_asked():
     with pytest.warns(RuntimeWarning, match="12 elements per bay"):
         coarse = st.fe_semi_infinite_receptance(slab, f, n_bays=4, far_end="exact", elements_per_bay=12)[:, 0, 0]
     assert np.max(np.abs(auto / exact - 1)) < 0.01 < np.max(np.abs(coarse / exact - 1))
+
+
+def test_a_stated_f_max_checks_an_explicit_mesh_at_once():
+    """The time domain's case: no frequencies are asked later, so a stated f_max is checked on construction."""
+    slab = st.slab_track()
+    with pytest.warns(RuntimeWarning, match="8 elements per bay"):
+        st.TruncatedTrack(slab, 2, elements_per_bay=8, f_max=2500.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        st.TruncatedTrack(slab, 2, elements_per_bay=48, f_max=2500.0)

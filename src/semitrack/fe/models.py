@@ -114,7 +114,8 @@ class FETrack:
     f_max : float, optional
         The highest frequency of interest (Hz; default :data:`DEFAULT_F_MAX`, 3 kHz), which the
         default mesh resolves. In the time domain state it: the highest frequency of the loads
-        (a roughness: the speed over its shortest wavelength).
+        (a roughness: the speed over its shortest wavelength); with an explicit
+        ``elements_per_bay`` too, the model warns at once when that mesh does not resolve it.
 
     Attributes
     ----------
@@ -167,6 +168,8 @@ class FETrack:
         self.elements_per_bay = self._check_elements(elements_per_bay)
         # Up to where the mesh's own error is known to be within MESH_TOLERANCE (Hz; grown as asked)
         self._mesh_checked = self.f_max if elements_per_bay is None else 0.0
+        if elements_per_bay is not None and f_max is not None:  # a stated f_max (the time domain's): check it now
+            self._check_mesh(self.f_max)
         self.system = system
         self.changes, self.joints = ({}, {}) if self._infinite is None else (self._infinite.changes,
                                                                              self._infinite.joints)

@@ -45,7 +45,8 @@ from ..model.vehicle import Vehicle
 from ..model.wheel import Wheel
 
 __all__ = ["CASE_BAYS", "imperfect_cases", "imperfect_receptance_table", "several_wheel_table",
-           "reflection_free_bays", "WeldRun", "weld_runs", "p1_p2", "weld_table", "weld_convergence", "gap_runs"]
+           "reflection_free_bays", "WeldRun", "weld_runs", "p1_p2", "weld_table", "weld_convergence", "gap_runs",
+           "change_rolling_table"]
 
 #: Bays each side of the centre of the short models.
 CASE_BAYS = 10
@@ -379,3 +380,51 @@ def gap_runs(track: Track, boundary: BroadbandBoundary, gaps: Sequence[float], k
     return {g: wheel_rail_response(model, Wheel(primary_stiffness=1.2e6, primary_damping=1.5e4), x_contact=start,
                                    speed=v, dt=dt, duration=(stop - start) / v, ballast_gaps={support: g})
             for g in gaps}
+
+
+def change_rolling_table(cases: Mapping[str, tuple], boundaries: Mapping[str, BroadbandBoundary], wheel: Wheel,
+                         kmh: float = 400.0, start: float = -3.0, stop: float = 2.0, dt: float = 1e-5
+                         ) -> pd.DataFrame:
+    """A wheel rolled over each local change (no profile: the change of support alone) at ``kmh``.
+
+    Each case's 10-bay broadband-ended model against a reflection-free pinned model with the same
+    change (the longer of its tracks' reflection-free lengths): the largest force and its
+    difference, the force history's largest difference, the largest rail-seat force.
+
+    Parameters
+    ----------
+    cases : mapping
+        :func:`imperfect_cases`.
+    boundaries : mapping of str to BroadbandBoundary
+        ``{"slab": ..., "ballasted": ...}``.
+    wheel : Wheel
+        The wheel.
+    kmh : float
+        Speed (km/h).
+    start, stop : float
+        The wheel's path (m), over the change at the centre.
+    dt : float
+        Time step (s).
+
+    Returns
+    -------
+    DataFrame
+        One row per case.
+    """
+    v, rows = kmh / 3.6, {}
+    for name, (track, keywords, which, _) in cases.items():
+        own = [track] + ([keywords["right"]] if "right" in keywords else [])
+        bays = max(reflection_free_bays(t, max(abs(start), abs(stop)))[0] for t in own)
+        models = {"short": TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name,
+                                          system=tuple(boundaries[w] for w in which), **keywords),
+                  "long": TruncatedTrack(track, bays, PINNED.name, **keywords)}
+        runs = {label: wheel_rail_response(model, wheel, x_contact=start, speed=v, dt=dt, duration=(stop - start) / v,
+                                           watch_supports=(-1, 0, 1))
+                for label, model in models.items()}
+        fs, fl = runs["short"].force, runs["long"].force
+        rows[name] = {"largest force (kN)": fl.max() / 1e3,
+                      "peak, broadband vs pinned (%)": 100 * abs(fs.max() - fl.max()) / fl.max(),
+                      "history, largest difference (% of range)": 100 * np.abs(fs - fl).max() / (fl.max() - fl.min()),
+                      "largest rail-seat force (kN)": runs["long"].track_forces.rail_seat.max() / 1e3,
+                      "DOFs broadband / pinned": f"{models['short'].n_dof} / {models['long'].n_dof}"}
+    return pd.DataFrame.from_dict(rows, orient="index").rename_axis("case")
