@@ -369,3 +369,16 @@ def test_spread_keeps_labels_apart_near_their_anchors_and_inside():
     assert np.all(np.diff(centres) >= 6.0 - 1e-9)
     assert np.isclose(centres[:3].mean(), 11.0)  # the crowded three are centred on their anchors
     assert centres[3] == 50.0 and centres[4] == 97.0  # the last one is pushed inside the row
+
+
+def test_long_titles_are_broken_to_fit_the_figure():
+    """A title at the house font sizes (large enough to read at the book's width) that would run
+    past the figure's edge is broken into lines inside it; a short one is left as it is."""
+    f = np.array([10.0, 20.0])
+    long_title = "Slab track against the paper's equivalent system and ours, " * 3 + "(as the paper's Fig. 8)"
+    fig, _ = plotting.receptance_figure(f, {"exact": np.ones((2, 2, 2))}, long_title)
+    title = fig._suptitle
+    assert "\n" in title.get_text() and title.get_text().replace("\n", " ") == long_title
+    assert title.get_window_extent(fig.canvas.get_renderer()).width <= fig.get_figwidth() * fig.dpi
+    fig, _ = plotting.receptance_figure(f, {"exact": np.ones((2, 2, 2))}, "Slab track")
+    assert fig._suptitle.get_text() == "Slab track"

@@ -60,7 +60,7 @@ def band_error_figure(curves: Mapping[str, pd.DataFrame], bands: Mapping[str, tu
         ax.set_title(f"{name} track")
         ax.set_xlabel("Frequency (Hz)")
     axes[0].set_ylabel(f"largest error of {', '.join(ELEMENT_TEX[e] for e in ELEMENTS)} (-)")
-    legend_below(fig, axes[0], fontsize=8)
+    legend_below(fig, axes[0])
     if title:
         fig.suptitle(title)
     return fig, axes
@@ -91,9 +91,9 @@ def boundary_receptance_figure(f, curves: Mapping[str, Mapping[str, np.ndarray]]
             for label, alpha in alphas.items():
                 plot_magnitude(ax, f, np.asarray(alpha)[:, i, k], label, **BOUNDARY_STYLE.get(label, {}))
             magnitude_axes(ax, magnitude_label(element), logx=True)
-            ax.set_title(f"{name} track: {ELEMENT_TEX[element]}", fontsize=9)
+            ax.set_title(f"{name} track: {ELEMENT_TEX[element]}")
     show_lowest_tick_labels(axes)
-    legend_below(fig, axes[0, 0], fontsize=8)
+    legend_below(fig, axes[0, 0])
     if title:
         fig.suptitle(title)
     return fig, axes
@@ -123,7 +123,7 @@ def order_error_figure(tables: Mapping[str, pd.DataFrame], title: str = ""):
     for ax, what in zip(axes, ("median", "maximum")):
         ax.set_xlabel("number of poles (complex pairs count twice)")
         ax.set_ylabel(rf"{what} error of $\alpha$ (%)")
-    legend_below(fig, axes[0], fontsize=8)
+    legend_below(fig, axes[0])
     if title:
         fig.suptitle(title)
     return fig, axes
@@ -154,7 +154,7 @@ def passivity_margin_figure(f, margins: Mapping[str, np.ndarray], band: tuple[fl
     ax.axvspan(band[0], band[1], color="0.92", zorder=-1, label=f"fit band {band[0]:g}-{band[1]:g} Hz")
     ax.set_xlabel("Frequency (Hz)")
     ax.set_ylabel("smallest eigenvalue of\n" r"$D^{-1/2}\,\mathrm{Re}\,Z\,D^{-1/2}$ (-)")
-    legend_below(fig, ax, fontsize=8)
+    legend_below(fig, ax)
     if title:
         ax.set_title(title)
     return fig, ax

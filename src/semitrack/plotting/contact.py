@@ -143,7 +143,7 @@ def rolling_figure(runs: Mapping[str, object], spacing: float, after: float, nea
         axes[0].axvline(x_support, color="0.6", lw=0.6, zorder=0)
     axes[0].set(xlabel="Wheel position (m; supports in grey)", ylabel="Contact force (kN)")
     axes[1].set(xlabel="Frequency (Hz)", ylabel="Force amplitude (N)", xlim=(0.0, 2200.0), ylim=(0.1, None))
-    legend_below(fig, axes[1], fontsize="small")
+    legend_below(fig, axes[1])
     if title:
         fig.suptitle(title)
     return fig, axes

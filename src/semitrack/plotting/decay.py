@@ -54,7 +54,7 @@ def decay_rate_figure(rates: Mapping[str, object], limit: Mapping[float, float] 
     ax.set_xlabel("One-third-octave band (Hz)")
     ax.set_ylabel("Track decay rate (dB/m)")
     ax.set_title(title or "Track decay rate (open markers: bands the standard's checks reject)")
-    legend_below(fig, ax, fontsize=8)
+    legend_below(fig, ax)
     return fig, ax
 
 
@@ -91,7 +91,7 @@ def local_change_figure(f, curves: Mapping[str, np.ndarray], positions: tuple[st
         ax.set_title(label)
         ax.set_xlabel("Frequency (Hz)")
     axes[0].set_ylabel("|w / F| (m/N)")
-    legend_below(fig, axes[0], fontsize=8)
+    legend_below(fig, axes[0])
     if title:
         fig.suptitle(title)
     return fig, axes

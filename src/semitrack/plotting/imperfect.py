@@ -40,7 +40,7 @@ def weld_force_figure(runs: Mapping[tuple[float, str], object], reference: str =
         ax.set_xlabel("Wheel position (m; the weld's bottom at 0)")
         ax.set_xlim(-0.5, 1.5)
     axes[0].set_ylabel("Contact force (kN)")
-    legend_below(fig, axes[0], fontsize=8)
+    legend_below(fig, axes[0])
     if title:
         fig.suptitle(title)
     return fig, axes
@@ -80,7 +80,7 @@ def track_force_figure(response, title: str = ""):
     axes[-1].set_ylabel("Moment (kN m, sagging)")
     for ax in axes:
         ax.set_xlabel("Wheel position (m)")
-    legend_below(fig, axes[0], fontsize=8)
+    legend_below(fig, axes[0])
     if title:
         fig.suptitle(title)
     return fig, axes

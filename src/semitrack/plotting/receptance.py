@@ -115,7 +115,7 @@ def convergence_figure(study, title: str = ""):
         ax.set_title(f"{fr:g} Hz")
         ax.set_xlabel("dx (m)")
     axes[0].set_ylabel(r"max relative error of $\alpha_{ij}$ (-)")
-    legend_below(fig, axes[-1], fontsize=8)
+    legend_below(fig, axes[-1])
     if title:
         fig.suptitle(title)
     return fig, axes

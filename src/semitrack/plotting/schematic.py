@@ -23,7 +23,7 @@ PARAMETER_TEX = {"m": "$m$", "k": "$k$", "c_l": r"$c_\mathrm{l}$", "c_r": r"$c_\
 # masses between _MASS_TOP and _MASS_BOTTOM.
 _GROUND, _MASS_TOP, _MASS_BOTTOM = -1.0, -0.42, -0.58
 _LABEL_BOX = dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.85)
-_LABEL_FONTSIZE = 7.0
+_LABEL_FONTSIZE = 9.5
 _SUPPORT_PARAMETERS = ("k", "c_l", "c_r", "mu", "s", "d_l", "d_r")
 
 
@@ -239,7 +239,7 @@ def equivalent_schematic(system, ax=None, title: str = ""):
     """
     p = system.parameters()
     if ax is None:
-        _, ax = new_figure(figsize=(10.0, 5.0 if "mu" in p else 4.0))
+        _, ax = new_figure(figsize=(9.0, 5.6 if "mu" in p else 4.6))
     x = np.concatenate([[0.0], np.cumsum(p["L"])])
     massless = [_draw_bar_and_supports(ax, p, x, j) for j in range(system.n_bars)]
     ax.plot(x[1:-1], np.zeros(system.n_bars - 1), "o", mfc="white", mec="k", ms=5, zorder=5, gid="hinge")

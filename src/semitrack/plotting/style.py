@@ -12,6 +12,7 @@ panel), where they cover no curve, and every panel with no panel below it shows 
 from __future__ import annotations
 
 import functools
+import textwrap
 from contextlib import contextmanager
 
 import matplotlib as mpl
@@ -36,10 +37,13 @@ METHOD_STYLE = {
 #: Colours of the receptance elements, as in the paper's Fig. 8 (black, green, red).
 ELEMENT_COLOR = {"alpha11": "k", "alpha12": "tab:green", "alpha22": "tab:red"}
 
+#: The house rcParams. The book shows a figure at the theme's text width (about 690 px on a
+#: 1280 px screen), so a 10.5 in figure drawn at 110 dpi is scaled to about 0.6: its text is set
+#: large enough (12 pt, legends 11 pt) to read at that scale, about 11 px on the screen.
 RC = {
     "figure.figsize": (7.0, 4.0), "figure.dpi": 110, "axes.grid": True, "grid.alpha": 0.3,
     "axes.spines.top": False, "axes.spines.right": False, "legend.frameon": False,
-    "font.size": 10, "axes.titlesize": 10, "legend.fontsize": 9,
+    "font.size": 12, "axes.titlesize": 12, "legend.fontsize": 11, "figure.titlesize": 13,
 }
 
 
@@ -57,9 +61,47 @@ def house_figure(draw):
     @functools.wraps(draw)
     def drawn(*args, **kwargs):
         with house_style():
-            return draw(*args, **kwargs)
+            result = draw(*args, **kwargs)
+            fig = result[0] if isinstance(result, tuple) else getattr(result, "figure", None)
+            if isinstance(fig, Figure):
+                wrap_titles(fig)
+            return result
 
     return drawn
+
+
+def _wrapped(text_artist, available_px: float, renderer) -> None:
+    """Break the text of ``text_artist`` into lines no wider than ``available_px`` (at spaces)."""
+    text = text_artist.get_text()
+    if not text or "\n" in text or "$" in text:
+        return
+    width = text_artist.get_window_extent(renderer).width
+    if width <= available_px:
+        return
+    chars = max(20, int(len(text) * available_px / width))
+    text_artist.set_text(textwrap.fill(text, chars, break_long_words=False))
+
+
+def wrap_titles(fig) -> None:
+    """Break a figure's title and its panels' titles into lines that fit the figure and the panels.
+
+    A constrained layout makes room for a title but does not break it: a long title at the
+    house font sizes would run past the figure's edge, where the book crops it. Titles with
+    line breaks or mathematics are left as they are.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure, with a canvas that renders (as :func:`new_figure` gives); its titles are
+        changed in place.
+    """
+    renderer = fig.canvas.get_renderer()
+    fig_px = fig.get_figwidth() * fig.dpi
+    if fig._suptitle is not None:
+        _wrapped(fig._suptitle, 0.97 * fig_px, renderer)
+    for ax in fig.axes:
+        if ax.get_visible() and ax.axison:
+            _wrapped(ax.title, 1.1 * ax.get_position().width * fig_px, renderer)
 
 
 def apply_house_style() -> None:
@@ -159,7 +201,7 @@ def mark_frequencies(ax, freqs, labels=None, **style):
         ax.axvline(fr, **style)
         if labels is not None:
             ax.annotate(labels[i], (fr, 1.0), xycoords=("data", "axes fraction"), rotation=90,
-                        ha="right", va="top", fontsize=8, color="0.35")
+                        ha="right", va="top", fontsize=10, color="0.35")
 
 
 #: Keywords of :func:`new_figure` that go to :meth:`matplotlib.figure.Figure.subplots`.

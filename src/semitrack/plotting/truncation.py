@@ -122,7 +122,7 @@ def w1_panels(curves: Mapping[str, pd.DataFrame], bands: Mapping[str, tuple[floa
         magnitude_axes(ax, CENTRAL_LABELS["w1"], logx=logx)
         shade_above(ax, bands[name][1], f[-1])
         ax.set_title(f"{name} track")
-    legend_below(fig, axes[0], fontsize=8)
+    legend_below(fig, axes[0])
     return fig, axes
 
 
@@ -165,6 +165,6 @@ def pulse_panels(results: Mapping[str, dict], n_bays: int, reference_bays: int, 
             ax.set_ylabel(f"w at {res['reference'].labels[row][2:-1]} (nm per N)")
         axes[0, col].set_title(f"{name} {subtitle}")
         axes[-1, col].set_xlabel("time (ms)")
-    legend_below(fig, axes[0, 0], fontsize=8)
+    legend_below(fig, axes[0, 0])
     return fig, axes
 
