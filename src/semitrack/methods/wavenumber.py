@@ -45,9 +45,11 @@ __all__ = ["PAPER_BETA_MAX", "PAPER_DBETA", "PAPER_DX", "PAPER_J_MAX", "Wavenumb
 MAX_TERMS_PER_FREQUENCY = 100_000_000
 #: Most terms per call, over all frequencies (~1.4e7 terms/s on one core: 1e10 ~ 12 min).
 MAX_TERMS = 10_000_000_000
-#: Most supports squared x terms per frequency: the method's arrays grow with both (measured at the
-#: paper's settings: 118 MiB for 10 fasteners per slab, 594 MiB for 40; 200 allocated GiBs).
-MAX_SUPPORT_TERMS = 700_000_000
+#: Most supports per period, squared: the method's per-frequency arrays grow with it, not with the
+#: terms (summed in blocks of ~6 MB), measured at the paper's settings: 118 MiB for 10 fasteners
+#: per slab, 594 MiB for 40 (0.37 MiB per support squared), so 50 stay under ~1 GB; 200
+#: allocated GiBs. The refined settings (6e7 terms) on 10 fasteners run in ~15 s a frequency.
+MAX_SUPPORTS_SQUARED = 2_500
 
 @dataclass(frozen=True)
 class WavenumberSettings:
@@ -140,8 +142,8 @@ def displacement_fields(cell: PeriodicCell, omega: ArrayLike, x_rel: ArrayLike,
     check_work(n_terms * omega.size, MAX_TERMS, f"{omega.size} frequencies x {n_terms} terms give "
                f"{n_terms * omega.size} terms", "use fewer frequencies or coarser settings")
     s = len(cell.positions)
-    check_work(s * s * n_terms, MAX_SUPPORT_TERMS, f"{s} supports per period (squared) x {n_terms} terms per "
-               f"frequency give {s * s * n_terms:.3g}", "use method='transfer' for a slab with many fasteners")
+    check_work(s * s, MAX_SUPPORTS_SQUARED, f"{s} supports per period (squared: {s * s})",
+               "use method='transfer' for a slab with many fasteners")
     grid = _Grid(cell, settings, x_rel, x0)
     # Three (J, N) component arrays of D(beta_j)^-1 per frequency, plus their temporaries: chunk
     # the frequencies, and where one frequency alone exceeds the budget, its wavenumbers.
