@@ -156,3 +156,13 @@ def test_the_element_flexibility_removes_most_of_the_mesh_line_of_a_rolling_whee
     motion = np.max(np.abs(runs[1].force - 1e5))
     assert np.max(np.abs(runs[0].force - runs[1].force)) < 1e-10 * motion
     np.testing.assert_allclose(runs[0].w_rail, runs[1].w_rail, rtol=0, atol=1e-10 * np.abs(runs[1].w_rail).max())
+
+
+def test_several_wheels_on_a_flexible_slab_are_refused_by_the_linear_theory():
+    """A flexible slab has no InfiniteTrack: the several-wheel theory is refused, not replaced by one wheel's."""
+    track = st.example_track("floating-slab").replace(damping="viscous")
+    model = st.TruncatedTrack(track, 10, "pinned", elements_per_bay=8)
+    res = st.wheel_rail_response(model, [st.Wheel(), st.Wheel()], st.corrugation(100.0, 0.1, 1e-7),
+                                 x_contact=[0.0, -2.5], dt=5e-5, duration=0.03, ramp=0.005)
+    with pytest.raises(st.BadInput, match="several wheels needs the exact InfiniteTrack"):
+        st.contact_transfer(res, band=(1000.0, 1000.0), wheel=0)

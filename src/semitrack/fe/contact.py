@@ -559,7 +559,10 @@ def _linear_transfer(response: ContactResponse, f: np.ndarray, R: np.ndarray, wh
     roughness reaches each wheel with its own phase, ``R_j / R_1`` read from the run itself.
     """
     x0 = response.x if response.x.ndim == 1 else response.x[0]
-    if response.infinite is None:  # a response made by hand: the periodic track, one wheel
+    if response.infinite is None:  # a flexible slab (no InfiniteTrack), or a response made by hand
+        if len(response.wheels) > 1:
+            raise InputError("the linear theory of several wheels needs the exact InfiniteTrack of the model, which "
+                             "a flexible slab does not have: analyse one wheel at a time")
         return wheel_rail_force(response.track, f, response.wheel, float(response.x_from_support[0]))
     H = wheel_rail_force(response.infinite, f, response.vehicle, x=np.atleast_1d(x0)[: len(response.wheels)])
     ratio = R[:, 0, :] / R[0, 0, :]  # (wheels, lines)
