@@ -527,7 +527,7 @@ def test_sigint_during_start_up_exits_without_traceback(track):
     traceback. The first ~30 ms are the interpreter's own start-up (its site module), which no
     program can intercept: the delays start after it."""
     interrupted = 0
-    for delay in (0.15, 0.3, 0.5, 1.0):
+    for delay in (0.1, 0.15, 0.3, 0.5, 1.0):
         p = spawn("features", track, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
         time.sleep(delay)
         if p.poll() is not None:  # done already (an idle machine runs `features` in under 1 s)
@@ -535,6 +535,7 @@ def test_sigint_during_start_up_exits_without_traceback(track):
             continue
         p.send_signal(signal.SIGINT)
         err = p.communicate(timeout=60)[1]
-        assert p.returncode in (130, -signal.SIGINT) and "Traceback" not in err, (delay, err)
-        interrupted += 1
+        # 0: the run finished between poll() and the signal (a race the test cannot close), cleanly
+        assert p.returncode in (0, 130, -signal.SIGINT) and "Traceback" not in err, (delay, err)
+        interrupted += p.returncode != 0
     assert interrupted >= 2  # the start-up itself was interrupted, not only finished runs

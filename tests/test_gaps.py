@@ -54,8 +54,9 @@ def test_a_closed_zero_gap_is_the_linear_support():
 
 
 def test_the_gap_closes_as_the_wheel_comes_and_opens_as_it_goes(hanging):
-    res = _roll(hanging, ballast_gaps={0: 5e-4})
+    res = _roll(hanging, ballast_gaps={0: 5e-4}, watch_supports=[0])
     gaps = res.gaps
+    np.testing.assert_array_equal(res.track_forces.ballast[:, 0], gaps.force[:, 0])  # the gap's ballast, reported
     opening, force = gaps.opening[:, 0], gaps.force[:, 0]
     near = np.abs(res.x - 0.3) < 0.2  # the wheel over support 0 (x = 0.3 m)
     assert opening[0] == pytest.approx(5e-4, rel=0.05) and np.all(opening[near] < 0)  # the rail heaves a little ahead

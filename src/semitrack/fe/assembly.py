@@ -267,7 +267,7 @@ def assemble(tracks: Sequence[Track], mesh: Mesh, dofs: DofMap, foundations: Seq
     supports : mapping
         Each support's values (:func:`semitrack.fe.supports.support_values`).
     joints : sequence of float
-        The rotational stiffness (N m/rad) of each joint of ``mesh.joint_nodes``.
+        The rotational stiffness (N m/rad) of each joint of ``mesh.joint_nodes`` (in order of x).
 
     Returns
     -------

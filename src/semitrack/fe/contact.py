@@ -294,7 +294,7 @@ def _gap_response(res, gaps: SleeperGaps, k: int, dt: float) -> GapResponse:
     """The hanging sleepers' columns of a run's contact channels (after the k wheels')."""
     force, w = res["contact force"][:, k:], res["wheel"][:, k:]
     return GapResponse(supports=gaps.supports, gaps=gaps.gaps, force=force, opening=gaps.gaps - w,
-                       contact_time=dt * np.count_nonzero(force > 0, axis=0))
+                       contact_time=dt * np.count_nonzero(force[1:] > 0, axis=0))  # a step per sample after the start
 
 
 def _profile_along(profile: Irregularity, x: np.ndarray) -> np.ndarray:
@@ -416,6 +416,9 @@ def wheel_rail_response(model: FETrack, wheel: Wheel | Sequence[Wheel], roughnes
     res = simulate(system, Newmark(dt), n_steps, loads=loads, contacts=contacts, u0=u0, compiled=compiled,
                    record=watch.dofs)
     forces = track_forces(model, watch, res["dofs"], dt, f_ref) if watch.dofs.size else None
+    if forces is not None and gaps is not None and forces.ballast is not None:
+        for j, k_gap in enumerate(gaps.supports):  # a hanging sleeper's ballast is its gap's contact
+            forces.ballast[:, forces.supports == k_gap] = res["contact force"][:, [k + j]]
     one = (lambda a: a[:, 0]) if k == 1 else (lambda a: a[:, :k])
     return ContactResponse(t=t, force=one(res["contact force"]), w_wheel=one(res["wheel"]), w_rail=one(res["rail"]),
                            roughness=one(r), x=one(x), track=model.track, wheel=wheels[0], speed=float(speed),

@@ -9,8 +9,8 @@ included), so no model is truncated and no mesh is involved:
 
 The forces are piecewise linear between the steps, so the kernel is the rail's response to a hat
 function of force, ``h = irfft(H sinc^2(f dt)) / dt`` on the grid of the run's step and memory
-(``memory`` long: the rail's response must have died away within it; the wrap-around of the
-discrete transform, the response left at the memory's end, is reported), and
+(``memory`` long: the rail's response must have died away within it; a warning says when it is
+still above :data:`WRAP_TOLERANCE` of its peak over the memory's second half), and
 ``w_n = w_static + dt sum_m h_m (F_(n-m) - P0)``. The vehicle (:class:`semitrack.Bogie`, or wheels
 on their suspensions) is integrated by Newmark's average acceleration, and each step's Hertzian
 contacts are solved with the step's compliance of the vehicle and the current step's share of
@@ -26,6 +26,7 @@ over it per wheel pair).
 from __future__ import annotations
 
 import time
+import warnings
 from collections.abc import Sequence
 
 import numpy as np
@@ -42,7 +43,11 @@ from .contact import ContactResponse
 from .roughness import Roughness
 from .timedomain import sin2_ramp
 
-__all__ = ["rail_impulse_responses", "convolution_response"]
+__all__ = ["WRAP_TOLERANCE", "rail_impulse_responses", "convolution_response"]
+
+#: The largest impulse response over the memory's second half, relative to its peak, that is accepted
+#: without a warning.
+WRAP_TOLERANCE = 1e-3
 
 
 def rail_impulse_responses(infinite: InfiniteTrack, x: np.ndarray, dt: float, memory: float
@@ -68,10 +73,9 @@ def rail_impulse_responses(infinite: InfiniteTrack, x: np.ndarray, dt: float, me
     static : ndarray, shape (k, k)
         The static receptance (m/N).
     wrap : float
-        The largest |h| over the second half of the memory (but its last tenth, the ringing before
-        t = 0 of the band-limited kernel) over the largest |h|: what is left to cut off.
+        The largest |h| over the memory's second half over the largest |h|: what is left to cut off.
     """
-    n = 2 * int(np.ceil(0.5 * memory / dt))
+    n = 2 * int(np.ceil(memory / dt))  # twice the memory: the kept first half is free of the wrap-around
     f = np.fft.rfftfreq(n, dt)
     f[0] = 1e-3 * f[1]  # quasi-static: the receptance's limit at 0 Hz
     k = x.size
@@ -81,10 +85,9 @@ def rail_impulse_responses(infinite: InfiniteTrack, x: np.ndarray, dt: float, me
     # the force piecewise linear between the steps (hat functions, spectrum dt sinc^2(f dt)): the
     # kernel of that force is causal, and the taper removes the ringing of the spectrum cut at Nyquist
     h = np.fft.irfft(H * (np.sinc(f * dt) ** 2)[:, None, None], n=n, axis=0) / dt
-    # what is left after half the memory (the last samples are the band-limited kernel's ringing
-    # before t = 0, which the causal convolution leaves out)
-    tail = np.abs(h[n // 2:int(0.9 * n)]).max() / np.abs(h).max()
-    return h, H[0].real, float(tail)
+    kept = h[: n // 2]  # lags up to the memory (the transform's second half: later lags and the ringing before t = 0)
+    tail = np.abs(kept[n // 4:]).max() / np.abs(kept).max()  # what is left over the memory's second half
+    return kept, H[0].real, float(tail)
 
 
 def _vehicle_step(vehicle: Vehicle, stepper: Newmark) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -132,6 +135,10 @@ def convolution_response(track: Track | InfiniteTrack, wheel: Wheel | Vehicle | 
     if not duration > ramp:
         raise InputError(f"duration must exceed ramp = {ramp!r} s, got {duration!r}")
     h, static, wrap = rail_impulse_responses(infinite, x, dt, memory)
+    if wrap > WRAP_TOLERANCE:
+        warnings.warn(f"memory={memory!r} s keeps the rail's impulse responses while they are still {wrap:.1e} of "
+                      "their peak over its second half: the convolution cuts off their tail; give a longer memory",
+                      RuntimeWarning, stacklevel=2)
     t = dt * np.arange(n_steps + 1)
     k = x.size
     r = np.zeros((t.size, k)) if roughness is None else np.column_stack(

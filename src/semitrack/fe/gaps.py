@@ -89,7 +89,9 @@ def sleeper_gaps(model: FETrack, gaps: Mapping[int, float]) -> SleeperGaps:
     if not isinstance(gaps, Mapping):
         raise InputTypeError(f"ballast_gaps must be a mapping {{support index: gap (m)}}, got {gaps!r}")
     index = {int(k): i for i, k in enumerate(model.mesh.support_index)}
-    order = {int(n): j for j, n in enumerate(model.dofs.foundation_nodes)}
+    order = {}
+    for j, n in enumerate(model.dofs.foundation_nodes):  # a node's first foundation DOF: its sleeper's
+        order.setdefault(int(n), j)
     ks, dofs, gs, kbs = [], [], [], []
     for k, g in gaps.items():
         k = check_int_at_least("ballast_gaps key (a support index)", k, -10**9)
@@ -98,8 +100,9 @@ def sleeper_gaps(model: FETrack, gaps: Mapping[int, float]) -> SleeperGaps:
                              f"{max(index)})")
         i = index[k]
         node = int(model.mesh.support_nodes[i])
-        if node not in order:
-            raise InputError(f"ballast_gaps: support {k} has no sleeper (a slab track's pads sit on the ground)")
+        if node not in order or not model.tracks[int(model.mesh.support_part[i])].is_ballasted:
+            raise InputError(f"ballast_gaps: support {k} has no sleeper on ballast (a slab track's pads sit on the "
+                             "ground or on a slab)")
         if model.support_values["kb"][i] != 0 or not model.support_values["present"][i]:
             raise InputError(f"ballast_gaps: build the model with changes={{{k}: {{'kb': 0.0}}}} so that support {k}'s "
                              "sleeper hangs from the rail without its linear ballast; the gap's ballast replaces it")

@@ -184,7 +184,7 @@ class FETrack:
         self.support_values = support_values(self.tracks, self.mesh.support_part, self.mesh.support_index,
                                              self.changes)
         self._parts: TrackMatrices = assemble(self.tracks, self.mesh, self.dofs, self.foundations, self.end_models,
-                                              self.support_values, list(self.joints.values()))
+                                              self.support_values, [self.joints[x] for x in sorted(self.joints)])
 
     def _check_layout(self) -> None:
         """A transition inside the model, one kind of damping on both sides, joints on the rail inside."""

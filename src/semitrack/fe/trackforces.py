@@ -6,7 +6,9 @@ their histories into forces:
 
 - rail seat (the pad): ``F = kv (w_rail - w_sleeper) + c_pad (v_rail - v_sleeper)``, on a slab
   track ``w_sleeper = 0``; compression positive (the rail pressed onto the pad);
-- ballast: ``F = kb w_sleeper + c_ballast v_sleeper``, compression positive;
+- ballast: ``F = kb w_sleeper + c_ballast v_sleeper``, compression positive (under a sleeper
+  hanging over a gap, :mod:`semitrack.fe.gaps`, the gap's contact force instead, set by
+  :func:`semitrack.wheel_rail_response`);
 - the rail's bending moment ``M = -EI dpsi/dx`` at a point, positive sagging (tension at the
   foot), from the element's curvature weights (:func:`semitrack.fe.element.timoshenko_curvature_weights`).
 
