@@ -89,9 +89,6 @@ def sleeper_gaps(model: FETrack, gaps: Mapping[int, float]) -> SleeperGaps:
     if not isinstance(gaps, Mapping):
         raise InputTypeError(f"ballast_gaps must be a mapping {{support index: gap (m)}}, got {gaps!r}")
     index = {int(k): i for i, k in enumerate(model.mesh.support_index)}
-    order = {}
-    for j, n in enumerate(model.dofs.foundation_nodes):  # a node's first foundation DOF: its sleeper's
-        order.setdefault(int(n), j)
     ks, dofs, gs, kbs = [], [], [], []
     for k, g in gaps.items():
         k = check_int_at_least("ballast_gaps key (a support index)", k, -10**9)
@@ -99,15 +96,15 @@ def sleeper_gaps(model: FETrack, gaps: Mapping[int, float]) -> SleeperGaps:
             raise InputError(f"ballast_gaps: support {k} is not in the model (its supports are {min(index)} to "
                              f"{max(index)})")
         i = index[k]
-        node = int(model.mesh.support_nodes[i])
-        if node not in order or not model.tracks[int(model.mesh.support_part[i])].is_ballasted:
+        sleeper = int(model.dofs.foundation_dof_under(model.mesh.support_nodes[i])[0])
+        if sleeper < 0 or not model.tracks[int(model.mesh.support_part[i])].is_ballasted:
             raise InputError(f"ballast_gaps: support {k} has no sleeper on ballast (a slab track's pads sit on the "
                              "ground or on a slab)")
         if model.support_values["kb"][i] != 0 or not model.support_values["present"][i]:
             raise InputError(f"ballast_gaps: build the model with changes={{{k}: {{'kb': 0.0}}}} so that support {k}'s "
                              "sleeper hangs from the rail without its linear ballast; the gap's ballast replaces it")
         ks.append(k)
-        dofs.append(int(model.dofs.index[model.dofs.foundation[order[node]]]))
+        dofs.append(sleeper)
         gs.append(check_nonnegative(f"ballast_gaps[{k}]", g))
         kbs.append(float(model.support_values["kb_track"][i]))
     return SleeperGaps(np.array(ks, np.int64), np.array(dofs, np.int64), np.array(gs, float), np.array(kbs, float))

@@ -190,6 +190,25 @@ class DofMap:
         """Number of DOFs of the model (pinned DOFs removed)."""
         return int(np.count_nonzero(self.index >= 0))
 
+    def foundation_dof_under(self, nodes) -> np.ndarray:
+        """The model DOF of the first foundation DOF under each rail node (a sleeper's, or a slab node's w);
+        -1 where none is.
+
+        Parameters
+        ----------
+        nodes : array_like of int
+            Rail nodes.
+
+        Returns
+        -------
+        ndarray of int
+        """
+        first = {}
+        for j, n in enumerate(self.foundation_nodes):
+            first.setdefault(int(n), j)
+        return np.array([self.index[self.foundation[first[int(n)]]] if int(n) in first else -1
+                         for n in np.atleast_1d(nodes)], dtype=np.int64)
+
     def along_track(self, mesh: Mesh) -> np.ndarray:
         """The model's DOFs in the order of their place along the track: each node's (w, psi),
         a joint's second rotation, then its sleeper; an end's own DOFs beside its end node.

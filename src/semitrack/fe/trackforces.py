@@ -100,13 +100,7 @@ def watched_dofs(model: FETrack, supports: Sequence[int] = (), bending_at: Array
     at = [index[int(k)] for k in ks]
     nodes = model.mesh.support_nodes[at]
     rail = model.dofs.index[2 * nodes]
-    sleeper = np.full(ks.size, -1, np.int64)
-    if model.sleeper_dofs.size:
-        order = {}
-        for j, n in enumerate(model.dofs.foundation_nodes):  # the first DOF at a node: a slab node's w
-            order.setdefault(int(n), j)
-        sleeper = np.array([model.dofs.index[model.dofs.foundation[order[int(n)]]] if int(n) in order else -1
-                            for n in nodes], dtype=np.int64)
+    sleeper = model.dofs.foundation_dof_under(nodes)
     xs = np.atleast_1d(np.asarray(bending_at, dtype=float)).ravel()
     el_dofs, curvature = _curvature(model, xs)
     dofs = np.unique(np.concatenate([rail, sleeper[sleeper >= 0], el_dofs.ravel()[el_dofs.ravel() >= 0]]))
