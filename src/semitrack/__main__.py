@@ -6,11 +6,19 @@ it with exit code 130 and one line, as it does later, instead of a traceback; an
 raised from that interrupt (numpy reports a Ctrl-C during its import as a "bad install") too.
 """
 
+import signal
 import sys
 
 
 def main() -> int:
     """Import the command line (deferred, so that Ctrl-C is caught from the start) and run it."""
+    interrupted = []
+
+    def note_interrupt(signum, frame):  # the default's KeyboardInterrupt, remembered: a C-level import
+        interrupted.append(signum)      # (numpy's datetime capsule) can turn it into an unrelated ImportError
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGINT, note_interrupt)
     try:
         from .cli import main as cli_main
     except KeyboardInterrupt:
@@ -19,10 +27,12 @@ def main() -> int:
     except ImportError as err:  # numpy's "bad install" text for a Ctrl-C while it loads
         from .base.errors import caused_by_interrupt
 
-        if not caused_by_interrupt(err):
+        if not (interrupted or caused_by_interrupt(err)):
             raise
         print("semitrack: interrupted", file=sys.stderr)
         return 130
+    finally:
+        signal.signal(signal.SIGINT, previous)
     return cli_main()
 
 
