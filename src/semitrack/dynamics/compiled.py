@@ -27,12 +27,19 @@ import numba
 import numpy as np
 
 from .contact import MAX_NEWTON, solve_hertz
+from .convolved import convolved_steps
 from .loop import FLUSH
 
 __all__ = ["run_compiled"]
 
 _jit = numba.njit(cache=True, nogil=True, error_model="numpy")  # no division checks on the solve's chains
 _hertz = _jit(solve_hertz)
+_convolved = _jit(convolved_steps)
+
+
+def run_convolved(*arrays) -> int:
+    """The convolution loop of :mod:`semitrack.dynamics.convolved`, compiled, with the compiled contact solve."""
+    return _convolved(*arrays, _hertz)
 
 
 @_jit
@@ -316,7 +323,8 @@ def _forget_stale_kernels() -> None:
     numba does not cache either, and nothing is done.
     """
     here = Path(__file__).resolve().parent
-    digest = hashlib.sha256(b"".join((here / name).read_bytes() for name in ("contact.py", "loop.py"))).hexdigest()
+    digest = hashlib.sha256(b"".join((here / name).read_bytes() for name in ("contact.py", "loop.py",
+                                                                                    "convolved.py"))).hexdigest()
     with contextlib.suppress(AttributeError, OSError):
         folder = Path(_run._cache._cache_path)
         stamp = folder / "compiled.dependencies.sha256"

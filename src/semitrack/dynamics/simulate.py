@@ -35,6 +35,7 @@ from ..base.checks import check_int_at_least, check_work
 from ..base.errors import InputError, InputTypeError
 from ..base.threads import serial_blas
 from .contact import HertzContacts
+from .convolved import convolved_steps, one_contact_steps
 from .factor import BandCholesky, factorise
 from .loop import Outputs, StepArrays, add_loads, run_numpy
 from .newmark import Newmark
@@ -44,7 +45,7 @@ from .states import TrapezoidalStates
 from .system import SecondOrderSystem
 
 __all__ = ["MAX_STEP_DOFS", "MAX_RECORDED", "simulate", "compiled_available", "compiled_contacts_hold",
-           "check_limits"]
+           "check_limits", "convolved_loop"]
 
 #: Most steps x (DOFs + :data:`STEP_OVERHEAD`) of one integration (compiled ~12 ns per DOF, NumPy
 #: ~100 ns: 5e9 ~ 1-8 min).
@@ -65,6 +66,35 @@ def compiled_available() -> bool:
     except ImportError:
         return False
     return True
+
+
+def convolved_loop(compiled: bool | None, one_contact: bool = False):
+    """The step loop of contacts against a convolution (:func:`semitrack.dynamics.convolved.convolved_steps`).
+
+    Parameters
+    ----------
+    compiled : bool or None
+        True: compiled (an error without numba); False: as Python with NumPy's dot products;
+        None: compiled where numba is installed.
+    one_contact : bool
+        One contact on a one-DOF vehicle: the Python loop is then
+        :func:`~semitrack.dynamics.convolved.one_contact_steps` (the same equations in floats).
+
+    Returns
+    -------
+    callable
+        The loop, with :func:`~semitrack.dynamics.convolved.convolved_steps`'s arguments.
+    """
+    python = one_contact_steps if one_contact else convolved_steps
+    if compiled is False:
+        return python
+    if compiled is None and not compiled_available():
+        return python
+    if not compiled_available():
+        raise InputError("compiled=True needs numba (pip install numba); compiled=None falls back to NumPy")
+    from .compiled import run_convolved  # imports numba: deferred to the first run
+
+    return run_convolved
 
 
 def _initial_acceleration(M: sp.spmatrix, r0: np.ndarray) -> np.ndarray:

@@ -71,7 +71,7 @@ from .metrics import ErrorSummary
 from .systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent
 
 __all__ = ["cached_fit", "fit_cache_key", "package_source_digest", "clear_fit_memo", "CachedResponse",
-           "cached_central_response", "response_cache_key"]
+           "cached_central_response", "response_cache_key", "canonical"]
 
 # The package directory: semitrack/, two levels above this file.
 _PACKAGE_DIR = Path(__file__).resolve().parent.parent
@@ -116,7 +116,7 @@ def _digest_of(root: Path) -> str:
     return h.hexdigest()
 
 
-def _canonical(value):
+def canonical(value):
     """A JSON-able, type-tagged description of an argument (TypeError for what cannot be keyed)."""
     if value is None or isinstance(value, (bool, np.bool_, str)):
         return value if not isinstance(value, np.bool_) else bool(value)
@@ -128,16 +128,16 @@ def _canonical(value):
         a = np.ascontiguousarray(value)
         return ["ndarray", a.dtype.str, list(a.shape), hashlib.sha256(a.tobytes()).hexdigest()]
     if isinstance(value, (tuple, list)):
-        return [type(value).__name__] + [_canonical(v) for v in value]
+        return [type(value).__name__] + [canonical(v) for v in value]
     if isinstance(value, dict):
-        return ["dict"] + [[str(k), _canonical(value[k])] for k in sorted(value, key=str)]
+        return ["dict"] + [[str(k), canonical(value[k])] for k in sorted(value, key=str)]
     if isinstance(value, EquivalentSystem):
-        return ["system", value.layout, _canonical(value.parameters())]
+        return ["system", value.layout, canonical(value.parameters())]
     if isinstance(value, Track):
-        return ["track"] + [[f.name, _canonical(getattr(value, f.name))]
+        return ["track"] + [[f.name, canonical(getattr(value, f.name))]
                             for f in dataclasses.fields(value) if f.name != "name"]
     if isinstance(value, Slab):
-        return ["slab"] + [[f.name, _canonical(getattr(value, f.name))] for f in dataclasses.fields(value)]
+        return ["slab"] + [[f.name, canonical(getattr(value, f.name))] for f in dataclasses.fields(value)]
     if isinstance(value, FrequencyCurve):  # a frequency-dependent pad or foundation: its data or parameters
         return ["curve", type(value).__name__] + value.key()
     if callable(value):
@@ -188,7 +188,7 @@ def fit_cache_key(track: Track, layout: Layout, n_bars: int = 5, band: tuple[flo
     track = require_track(track)
     arguments = _bound_arguments(track, layout, n_bars, band, seed, options)
     description = {"source": package_source_digest(),
-                   "arguments": [[name, _canonical(value)] for name, value in sorted(arguments.items())]}
+                   "arguments": [[name, canonical(value)] for name, value in sorted(arguments.items())]}
     return hashlib.sha256(json.dumps(description, sort_keys=True).encode()).hexdigest()
 
 
@@ -317,7 +317,7 @@ def response_cache_key(track: Track, f, method: Method = "wavenumber", **setting
     track = require_track(track)
     arguments = {"track": track, "f": np.atleast_1d(as_frequencies(f)), "method": method, "settings": settings}
     description = {"source": package_source_digest(), "kind": "central_response",
-                   "arguments": [[name, _canonical(value)] for name, value in sorted(arguments.items())]}
+                   "arguments": [[name, canonical(value)] for name, value in sorted(arguments.items())]}
     return hashlib.sha256(json.dumps(description, sort_keys=True).encode()).hexdigest()
 
 

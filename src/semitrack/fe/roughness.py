@@ -176,6 +176,22 @@ class Roughness:
         return replace(self, phases=np.mod(self.phases + 2 * np.pi * self.frequencies * distance / self.speed,
                                            2 * np.pi))
 
+    def at_speed(self, speed: float) -> Roughness:
+        """The same roughness on the rail passed at another ``speed`` (m/s): its wavelengths kept.
+
+        Parameters
+        ----------
+        speed : float
+            The new speed (m/s), positive.
+
+        Returns
+        -------
+        Roughness
+            Lines at ``f speed / self.speed``, the period ``self.period self.speed / speed``.
+        """
+        ratio = check_positive("speed", speed) / self.speed
+        return replace(self, frequencies=self.frequencies * ratio, period=self.period / ratio, speed=float(speed))
+
     def sampled(self, dt: float, n: int) -> np.ndarray:
         """The roughness at the times ``k dt``, ``k = 0 .. n - 1`` (m): what a time-stepping run reads.
 

@@ -1,0 +1,118 @@
+"""The moving Green's functions kept on disk: NumPy's ``.npz`` of arrays and a JSON key, never a pickle.
+
+A study of many roughnesses, preloads or vehicles at one track, speed and time step pays the
+kernels' set-up once: :func:`cached_kernels` keeps them in memory for the process and, given a
+folder, in one file per key, ``kernels-<sha256>.npz``. The key holds everything the kernels depend
+on: the track's parameters (every field, its name aside), the mesh, the damping's reference
+frequencies, the time step, the grid (steps per spacing, the wheels' offsets), the memory, and the
+digest of the package's source (code that changed recomputes). The file holds only numeric arrays
+and the key as text, read with ``allow_pickle=False``; its size is bounded before it is read, and a
+file that cannot be read, holds another key or arrays of the wrong shapes is computed again and
+written over (atomically).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+
+from ..base.files import atomic_write
+from ..model.tracks import Track
+from .kernels import KernelGrid, MovingKernels, kernel_key, moving_kernels
+from .models import FETrack
+
+__all__ = ["MAX_KERNEL_BYTES", "cached_kernels", "clear_kernel_memo"]
+
+#: Largest kernel file read back (bytes): a bogie's kernels on the ballasted track at 20 us hold ~180 MB.
+MAX_KERNEL_BYTES = 2_000_000_000
+
+_MEMO: dict[str, MovingKernels] = {}
+
+
+def _digest(key: dict) -> str:
+    return hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()
+
+
+def _write(path: Path, kernels: MovingKernels) -> None:
+    lags, starts = sorted(kernels.impulse), sorted(kernels.release)
+    arrays = {"key": np.array(json.dumps(kernels.key, sort_keys=True)), "lags": np.array(lags, dtype=np.int64),
+              "impulse": np.stack([kernels.impulse[lag] for lag in lags]),
+              "starts": np.array(starts, dtype=np.int64).reshape(-1, 2),
+              "release": np.stack([kernels.release[start] for start in starts]),
+              "flexibility": kernels.flexibility, "scalars": np.array([kernels.tail, kernels.elapsed]),
+              "speed": np.array(kernels.grid.speed), "period": np.array(kernels.grid.period)}
+    path.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write(path, lambda fh: np.savez(fh, **arrays), binary=True)
+
+
+def _read(path: Path, key: dict, grid: KernelGrid) -> MovingKernels | None:
+    """The kernels stored at ``path`` for ``key``, or None (absent, too large, unreadable, another key)."""
+    try:
+        if path.stat().st_size > MAX_KERNEL_BYTES:
+            return None
+        with np.load(path, allow_pickle=False) as data:
+            if json.loads(str(data["key"])) != json.loads(json.dumps(key, sort_keys=True)):
+                return None
+            lags, impulse, starts, release = data["lags"], data["impulse"], data["starts"], data["release"]
+            flexibility, (tail, elapsed) = data["flexibility"], data["scalars"]
+    except (OSError, ValueError, KeyError, TypeError):  # absent, not an npz, a pickle, a missing array
+        return None
+    L = key["memory"]
+    if (list(lags) != list(grid.lags) or impulse.shape != (len(lags), grid.positions, L)
+            or starts.ndim != 2 or starts.shape[1] != 2 or release.shape != (starts.shape[0], L)
+            or flexibility.shape != (grid.positions,) or impulse.dtype != np.float64 or release.dtype != np.float64):
+        return None
+    return MovingKernels(grid, {int(lag): impulse[i] for i, lag in enumerate(lags)},
+                         {(int(a), int(b)): release[i] for i, (a, b) in enumerate(starts)}, flexibility,
+                         float(tail), key, float(elapsed), key["elements_per_bay"], key["start"])
+
+
+def cached_kernels(track: Track, elements_per_bay: int | None, f_max: float | None, grid: KernelGrid, memory: int,
+                   f_ref=None, cache: str | os.PathLike | None = None, start: int = 0) -> MovingKernels:
+    """The kernels of ``grid``: from this process's memory, else the cache folder, else computed (and stored).
+
+    Parameters
+    ----------
+    track : Track
+        A periodic track.
+    elements_per_bay : int or None
+        The mesh (None: :class:`semitrack.TruncatedTrack`'s default for ``f_max``).
+    f_max : float or None
+        The highest frequency of interest of the default mesh (Hz).
+    grid : KernelGrid
+        From :func:`semitrack.fe.kernels.grid_of`.
+    memory : int
+        L, steps.
+    f_ref : None, float or dict
+        Reference frequencies of the viscous damping.
+    cache : str or os.PathLike, optional
+        The folder of kernel files.
+    start : int
+        The first wheel's phase at the start.
+
+    Returns
+    -------
+    MovingKernels
+    """
+    ne = FETrack(track, 0, 1, "free", "free", elements_per_bay=elements_per_bay, f_max=f_max).elements_per_bay
+    key = kernel_key(track, ne, grid, memory, f_ref, start)
+    digest = _digest(key)
+    if digest in _MEMO:
+        return _MEMO[digest]
+    path = None if cache is None else Path(cache) / f"kernels-{digest}.npz"
+    kernels = None if path is None else _read(path, key, grid)
+    if kernels is None:
+        kernels = moving_kernels(track, ne, grid, memory, f_ref, start=start)
+        if path is not None:
+            _write(path, kernels)
+    _MEMO[digest] = kernels
+    return kernels
+
+
+def clear_kernel_memo() -> None:
+    """Forget the kernels kept in this process's memory (a test, or memory to spare)."""
+    _MEMO.clear()

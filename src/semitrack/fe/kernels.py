@@ -1,0 +1,400 @@
+"""Moving Green's functions of a periodic FE track: the rail's step-by-step response at a moving contact.
+
+A contact moving at speed v along a periodic track, stepped by dt, sits at the points of a grid
+``x_g = g h`` (h = v dt, g the step's index): when ``P h`` is the period (speed rounded so that
+it is, :func:`grid_of`), it takes only P positions relative to the supports, ``p = g mod P``.
+Newmark's average-acceleration rule on any FE model of the track is linear and time-invariant, so
+the rail's displacement under a contact is a sum over the past steps' forces with coefficients
+that depend only on the lag and on where the force acted in the period:
+
+    w_i(n) = sum_j [ P0_j e_ij[p_j(0), n] + sum_{m=1..n} h_ij[p_j(m), n - m] F_j(m) ]
+
+for contacts i, j (the wheels of a vehicle, ``Delta_ij = g_i - g_j`` grid steps apart): the
+kernel ``h_Delta[p, k]`` is w at grid point ``g + Delta + k`` at step k per unit force at grid
+point g (phase p) at step 0, and ``e_Delta[p, n]`` is w at grid point ``g + Delta + n`` at step n
+when a unit force that had stood at g since ever is taken off after step 0 (the start: the
+engine's runs start at rest in the static equilibrium under the preloads).
+
+Both come from the infinite FE track (:mod:`semitrack.fe.bloch`): the trapezoidal rule's transfer
+function is the continuous one at ``s = 2i / dt tan(omega dt / 2)``, so the inverse discrete
+Fourier transform of the infinite track's receptance between the grid points, taken there, is the
+step-by-step response of an infinitely long FE model with the same mesh, no end and no reflection.
+On the grid of N frequencies ``omega_l = 2 pi (l + 1/2) / (N dt)`` (half a bin off, neither 0 nor
+Nyquist) the transform is anti-periodic: the kernels are exact but for ``-h[k + N] + h[k + 2N] ...``,
+which dies with the track's response over ``N dt`` (N = 4 times the memory). With ``z = exp(i
+omega dt)``, ``e``'s transform is ``(H(1) - H(z) / z) / (1 - 1/z)``, of which the first part is half
+the static receptance at every step on this grid.
+
+The receptance from cell 0 to cell j is ``sum_w out_w decay_w^(|j| - 1) shows_w``: for each cell the
+sum over frequencies and waves is one real matrix product (P x 4 n_f) (4 n_f x P), the work of the
+set-up; within cell 0 it is a direct sum over the P x P pairs.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..base.errors import InputError
+from ..equivalent.cache import canonical, package_source_digest
+from ..model.tracks import Track
+from .bloch import BlochCell, CellWaves, warped_s
+
+__all__ = ["KernelGrid", "MovingKernels", "grid_of", "moving_kernels", "track_key", "kernel_key", "ALIAS_FACTOR"]
+
+#: The discrete Fourier transform's length over the kernels' memory: its anti-periodic wrap-around
+#: brings back the response ``ALIAS_FACTOR`` memories later.
+ALIAS_FACTOR = 2
+#: Frequencies evaluated together (memory: the cell-0 receptances are P x P per frequency).
+FREQUENCY_BLOCK = 128
+
+
+@dataclass(frozen=True)
+class KernelGrid:
+    """The positions a moving contact takes: speed rounded to a whole number of steps per period.
+
+    Attributes
+    ----------
+    period : float
+        The track's period (m): its support spacing.
+    dt : float
+        Time step (s).
+    positions : int
+        P, the steps per period.
+    speed : float
+        The speed the grid moves at (m/s), ``period / (P dt)``.
+    offsets : tuple of int
+        Each wheel's grid index relative to the first wheel's (its offset over the step ``h``,
+        rounded).
+    """
+
+    period: float
+    dt: float
+    positions: int
+    speed: float
+    offsets: tuple[int, ...]
+
+    @property
+    def step(self) -> float:
+        """h = speed dt (m), the distance between grid points."""
+        return self.period / self.positions
+
+    @property
+    def lags(self) -> tuple[int, ...]:
+        """The distinct ``Delta = g_i - g_j`` between every pair of wheels (grid steps)."""
+        return tuple(sorted({i - j for i in self.offsets for j in self.offsets}))
+
+
+def grid_of(track: Track, speed: float, dt: float, offsets: Sequence[float] = (0.0,)) -> KernelGrid:
+    """The grid of a contact at ``speed`` stepped by ``dt``: ``P = round(period / (speed dt))`` positions.
+
+    Parameters
+    ----------
+    track : Track
+        The periodic track.
+    speed : float
+        The wheels' speed (m/s), > 0; rounded to ``period / (P dt)`` (by at most ``1 / (2P)`` of itself).
+    dt : float
+        Time step (s).
+    offsets : sequence of float
+        The wheels' positions from the first (m), rounded to whole grid steps.
+
+    Returns
+    -------
+    KernelGrid
+    """
+    d = float(track.spacing)
+    P = max(1, int(round(d / (speed * dt))))
+    if P < 4:
+        raise InputError(f"speed={speed!r} m/s and dt={dt!r} s pass a support spacing of {d} m in "
+                         f"{d / (speed * dt):.3g} steps; the moving Green's functions need at least 4 steps per "
+                         "spacing: give a smaller dt")
+    h = d / P
+    return KernelGrid(d, float(dt), P, h / dt, tuple(int(round(float(o) / h)) for o in offsets))
+
+
+@dataclass(frozen=True, eq=False)
+class MovingKernels:
+    """The moving Green's functions of one track, speed, time step and set of wheel offsets.
+
+    Attributes
+    ----------
+    grid : KernelGrid
+        Positions, speed and offsets.
+    impulse : dict of int to ndarray, shape (P, L)
+        ``impulse[Delta][p, k]`` (m/N): w at ``Delta + k`` grid steps ahead of a unit force at phase
+        p, k steps after it.
+    release : dict of (int, int) to ndarray, shape (L,)
+        ``release[Delta, p][n]`` (m/N): w at ``Delta + n`` grid steps ahead of a unit force that
+        stood at phase p until step 0, n steps after it was taken off; for the wheels' starts
+        (phases p) only.
+    flexibility : ndarray, shape (P,)
+        The rail element's own deflection under a unit force at each grid point (m/N),
+        :meth:`semitrack.fe.models.FETrack.local_flexibility`.
+    tail : float
+        The largest |impulse| over the memory's last quarter over the largest: what the memory cuts off.
+    key : dict
+        What the kernels were computed for (:func:`kernel_key`: track, mesh, damping, grid, memory,
+        start, the package's source): the cache's key (:mod:`semitrack.fe.kernelcache`).
+    elapsed : float
+        Wall time of the computation (s).
+    elements_per_bay : int
+        The FE mesh's elements per spacing.
+    start : int
+        The first wheel's phase at the start, which the releases are for.
+    """
+
+    grid: KernelGrid
+    impulse: dict
+    release: dict
+    flexibility: np.ndarray
+    tail: float
+    key: dict
+    elapsed: float = 0.0
+    elements_per_bay: int = 0
+    start: int = 0
+
+    @property
+    def memory(self) -> int:
+        """L, the steps each kernel holds."""
+        return next(iter(self.impulse.values())).shape[1]
+
+    def rows(self, lag: int) -> np.ndarray:
+        """The impulse kernel of ``lag`` as a step loop reads it: ``K[q, m] = h[(q - m) mod P, m]``.
+
+        Row q holds, for a loading wheel at phase q now, the coefficients of its forces m steps
+        ago (whose phase was ``q - m``): one contiguous dot product per step.
+
+        Parameters
+        ----------
+        lag : int
+            ``Delta``, the observing wheel's grid index minus the loading wheel's.
+
+        Returns
+        -------
+        ndarray, shape (P, L)
+        """
+        h = self.impulse[lag]
+        P, L = h.shape
+        phase = np.mod(np.arange(P)[:, None] - np.arange(L)[None, :], P)
+        return np.ascontiguousarray(h[phase, np.arange(L)[None, :]])
+
+
+def track_key(track: Track) -> str:
+    """SHA-256 (hex) of the track's parameters (every field but its name).
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+
+    Returns
+    -------
+    str
+    """
+    return hashlib.sha256(json.dumps(canonical(track), sort_keys=True).encode()).hexdigest()
+
+
+def kernel_key(track: Track, elements_per_bay: int, grid: KernelGrid, memory: int, f_ref=None, start: int = 0) -> dict:
+    """What the kernels depend on, as JSON-able values (floats bit-exact as hexadecimal).
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+    elements_per_bay : int
+        The mesh, resolved.
+    grid : KernelGrid
+        Steps per spacing, time step and offsets.
+    memory : int
+        L, steps.
+    f_ref : None, float or dict
+        Reference frequencies of the viscous damping.
+    start : int
+        The first wheel's phase at the start.
+
+    Returns
+    -------
+    dict
+    """
+    return {"track": track_key(track), "elements_per_bay": int(elements_per_bay), "dt": float(grid.dt).hex(),
+            "positions": int(grid.positions), "offsets": [int(o) for o in grid.offsets], "memory": int(memory),
+            "start": int(start), "f_ref": canonical(f_ref), "source": package_source_digest()}
+
+
+def _frequencies(n_fft: int, dt: float) -> np.ndarray:
+    """``omega_l = 2 pi (l + 1/2) / (N dt)`` for l < N/2 (rad/s): one half of the shifted grid."""
+    return 2 * np.pi * (np.arange(n_fft // 2) + 0.5) / (n_fft * dt)
+
+
+def _cells(P: int, lag: int, L: int) -> range:
+    """The cells j that grid points ``p + lag + k`` (0 <= p < P, 0 <= k < L) fall in."""
+    return range((lag) // P, (P - 1 + lag + L - 1) // P + 1)
+
+
+def _scatter(block: np.ndarray, j: int, lag: int, out: np.ndarray, p0: int | None = None) -> None:
+    """``out[p, k] += block[p, q]`` where ``k = j P + q - p - lag`` lies in the memory (one row p0: ``out[k]``)."""
+    P, L = block.shape[-1], out.shape[-1]
+    if p0 is not None:
+        k = j * P + np.arange(P) - p0 - lag
+        keep = (k >= 0) & (k < L)
+        out[k[keep]] += block[keep]
+        return
+    p = np.arange(P)[:, None]
+    k = j * P + np.arange(P)[None, :] - p - lag
+    keep = (k >= 0) & (k < L)
+    rows = np.broadcast_to(p, k.shape)[keep]
+    out[rows, k[keep]] += block[keep]
+
+
+@dataclass
+class _Sums:
+    """The sums over frequencies in progress: every cell's block of each kernel.
+
+    ``impulse[j]``: (n_lags, P, P), ``[r, p, q]`` for the lag ``lags[r]``; ``release[j]``:
+    (n_starts, P), ``[r, q]`` for the start ``starts[r] = (lag, p0)``.
+    """
+
+    lags: list
+    starts: list
+    impulse: dict
+    release: dict
+
+
+def _near(cell: BlochCell, w: CellWaves, omega: np.ndarray, dt: float, sums: _Sums, weights: dict) -> None:
+    """Cell 0's share: one product per element over its grid points, every kernel at once."""
+    P = cell.grid.size
+    at_p = np.exp(-1j * dt * omega[:, None] * np.arange(P)[None, :])  # (n_f, P): the load at p
+    field = w.field * at_p[:, None, :]
+    lags = np.array(sums.lags, dtype=float)
+    to_lag = np.exp(-1j * dt * omega[None, :] * lags[:, None]) * weights["impulse"]  # (n_lags, n_f)
+    p0 = np.array([p for _, p in sums.starts], dtype=np.int64)
+    to_start = np.exp(-1j * dt * omega[None, :] * np.array([lag for lag, _ in sums.starts], float)[:, None]
+                      ) * weights["release"]
+    for points, dofs in cell.by_element:
+        at_q = np.exp(1j * dt * omega[None, :] * points[:, None])  # (|Q|, n_f)
+        sub = field[:, dofs, :]  # (n_f, 4, P)
+        if 0 in sums.impulse:
+            E = (at_q[None] * to_lag[:, None, :]).reshape(-1, omega.size)
+            Z = (E @ sub.reshape(omega.size, -1)).reshape(len(sums.lags), points.size, 4, P)
+            sums.impulse[0][:, :, points] += np.einsum("qa,rqap->rpq", cell.grid_weights[points], Z).real
+        if 0 in sums.release:
+            Z = np.einsum("ql,rl,lar->rqa", at_q, to_start, sub[:, :, p0])
+            sums.release[0][:, points] += np.einsum("qa,rqa->rq", cell.grid_weights[points], Z).real
+
+
+def _far(cell: BlochCell, w: CellWaves, omega: np.ndarray, dt: float, sums: _Sums, weights: dict) -> None:
+    """The other cells' share: per cell one real matrix product over (frequency, wave) for every kernel."""
+    P = cell.grid.size
+    q = np.arange(P)
+    at_p = np.exp(-1j * dt * omega[:, None] * q[None, :])
+    at_q = np.exp(1j * dt * omega[:, None] * q[None, :])
+    lags = np.array(sums.lags, dtype=float)
+    to_lag = np.exp(-1j * dt * omega[None, :] * lags[:, None]) * weights["impulse"]
+    p0 = np.array([p for _, p in sums.starts], dtype=np.int64)
+    to_start = np.exp(-1j * dt * omega[None, :] * np.array([lag for lag, _ in sums.starts], float)[:, None]
+                      ) * weights["release"]
+    for side in (1, -1):
+        js = sorted(side * j for j in set(sums.impulse) | set(sums.release) if side * j > 0)
+        if not js:
+            continue
+        out, step, shows = ((w.out_right, w.step_right, w.shows_right) if side > 0 else
+                            (w.out_left, w.step_left, w.shows_left))
+        A = (out * at_p[:, None, :]).transpose(2, 0, 1).reshape(P, -1)  # (P, n_f * 2): (l, a)
+        A_re, A_im = A.real.copy(), A.imag.copy()
+        A0 = (out[:, :, p0].transpose(2, 0, 1) * (at_p[:, p0].T * to_start)[:, :, None]).reshape(p0.size, -1)
+        V = shows * at_q[:, :, None]  # (n_f, P, 2): the view from cell 1, then T^(j-1) further
+        power = 1
+        for j in js:
+            for _ in range(j - power):
+                V = V @ step
+            power = j
+            B = (V * np.exp(1j * dt * omega * side * j * P)[:, None, None]).transpose(0, 2, 1)  # (n_f, 2, P)
+            if side * j in sums.impulse:
+                Bl = (B[None] * to_lag[:, :, None, None]).transpose(1, 2, 0, 3).reshape(omega.size * 2, -1)
+                sums.impulse[side * j] += (A_re @ Bl.real - A_im @ Bl.imag).reshape(P, len(sums.lags), P
+                                                                                     ).transpose(1, 0, 2)
+            if side * j in sums.release:
+                sums.release[side * j] += (A0 @ B.reshape(omega.size * 2, P)).real
+
+
+def _static_release(cell: BlochCell, w0: CellWaves, lag: int, p0: int, j: int) -> np.ndarray:
+    """The static receptance from cell 0's grid point p0 to the grid points of cell j (P,), from one zero frequency."""
+    if j == 0:
+        return cell.observe(w0.field)[0, :, p0].real
+    out, step, shows = ((w0.out_right, w0.step_right, w0.shows_right) if j > 0 else
+                        (w0.out_left, w0.step_left, w0.shows_left))
+    return (shows[0] @ np.linalg.matrix_power(step[0], abs(j) - 1) @ out[0][:, p0]).real
+
+
+def moving_kernels(track: Track, elements_per_bay: int | None, grid: KernelGrid, memory: int, f_ref=None,
+                   f_max: float | None = None, start: int = 0) -> MovingKernels:
+    """The moving Green's functions of every wheel pair of ``grid`` over ``memory`` steps.
+
+    Parameters
+    ----------
+    track : Track
+        A periodic track with one support per period.
+    elements_per_bay : int or None
+        The FE mesh (as :class:`semitrack.TruncatedTrack`; None: its default for ``f_max``).
+    grid : KernelGrid
+        From :func:`grid_of`.
+    memory : int
+        L, the steps each kernel holds.
+    f_ref : None, float or dict
+        Reference frequencies of the viscous damping.
+    f_max : float, optional
+        The highest frequency of interest (Hz), which the default mesh resolves.
+    start : int
+        The first wheel's phase at the start (0 <= start < P): the releases of the standing
+        preloads are computed for the wheels' starts only.
+
+    Returns
+    -------
+    MovingKernels
+    """
+    began = time.perf_counter()
+    P, dt, L = grid.positions, grid.dt, int(memory)
+    cell = BlochCell(track, elements_per_bay, grid.step * np.arange(P), f_ref, f_max)
+    n_fft = 2 * ALIAS_FACTOR * int(math.ceil(L / 2))
+    omega = _frequencies(n_fft, dt)
+    z = np.exp(1j * omega * dt)
+    weights = {"impulse": np.full(omega.size, 2.0 / n_fft), "release": -2.0 / n_fft / (z - 1.0)}
+    phases = [(start + o) % P for o in grid.offsets]
+    starts = sorted({(gi - gj, pj) for gi in grid.offsets for gj, pj in zip(grid.offsets, phases)})
+    lags = list(grid.lags)
+    sums = _Sums(lags, starts,
+                 {j: np.zeros((len(lags), P, P)) for j in sorted(set().union(*(_cells(P, g, L) for g in lags)))},
+                 {j: np.zeros((len(starts), P)) for j in sorted(set().union(*(_cells(P, g + p, L)
+                                                                               for g, p in starts)))})
+    for lo in range(0, omega.size, FREQUENCY_BLOCK):
+        part = slice(lo, lo + FREQUENCY_BLOCK)
+        w = cell.waves(warped_s(omega[part], dt))
+        block_weights = {kind: value[part] for kind, value in weights.items()}
+        _near(cell, w, omega[part], dt, sums, block_weights)
+        _far(cell, w, omega[part], dt, sums, block_weights)
+    w0 = cell.waves(np.zeros(1))
+    impulse = {}
+    for r, lag in enumerate(lags):
+        out = np.zeros((P, L))
+        for j in _cells(P, lag, L):
+            _scatter(sums.impulse[j][r], j, lag, out)
+        impulse[lag] = out
+    release = {}
+    for r, (lag, p0) in enumerate(starts):  # e's first part: half the static receptance at every step on this grid
+        out = np.zeros(L)
+        for j in _cells(P, lag + p0, L):
+            _scatter(sums.release[j][r] + 0.5 * _static_release(cell, w0, lag, p0, j), j, lag, out, p0)
+        release[lag, p0] = out
+    h0 = impulse[0]
+    tail = float(np.abs(h0[:, 3 * L // 4:]).max() / np.abs(h0).max())
+    flexibility = cell.model.local_flexibility(cell.grid)
+    ne = int(cell.model.elements_per_bay)
+    return MovingKernels(grid, impulse, release, flexibility, tail, kernel_key(track, ne, grid, L, f_ref, start),
+                         time.perf_counter() - began, ne, int(start))

@@ -1,0 +1,287 @@
+"""A vehicle on the periodic FE track in time without truncation: moving Green's functions.
+
+For wheels rolling at constant speed along a perfectly periodic track, the fastest route
+(WERAN-type codes) holds no model of the track in the loop: the rail under each wheel is the
+convolution of the contact forces with the track's response at the moving contacts, computed once
+for every position a contact takes within a support spacing (:mod:`semitrack.fe.kernels`, from
+the infinite FE track of :mod:`semitrack.fe.bloch`: the same mesh and the same time steps as a
+truncated FE model, without its ends). The vehicle (:class:`semitrack.Bogie`, or wheels on their
+suspensions) is stepped by Newmark's average acceleration and each step's Hertzian contacts are
+solved against it (:mod:`semitrack.dynamics.convolved`). The start is the one of
+:func:`semitrack.wheel_rail_response`: at rest in the static equilibrium under the preloads, the
+roughness faded in; so the two agree where both apply, the truncated model's ends aside.
+
+Limits, where a user meets them:
+
+* the track must be periodic: one support per spacing, no local change, transition or joint (a
+  defect or a transition breaks the periodicity: the truncated model is the tool there); a
+  flexible slab is not held (its period is a whole slab);
+* constant speed, rounded so that a spacing is a whole number P of steps (by at most
+  ``1 / (2P)`` of itself; :attr:`ContactResponse.speed` is the speed used), the first wheel's start
+  rounded to the grid of steps ``h = speed dt`` and the wheels' offsets to whole steps;
+* the kernels remember ``memory`` seconds: the rail's response to a force older than that is
+  dropped (:attr:`MovingKernels.tail` says what is left at the end of the memory; a warning when
+  over :data:`TAIL_TOLERANCE`);
+* the kernels hold ``P x memory / dt`` values per wheel offset (29 MB for the ballasted track at
+  300 km/h, 20 us and 0.2 s); their set-up is paid once per track, mesh, damping, speed, time
+  step, offsets and memory, and can be kept on disk (``cache``, :mod:`semitrack.fe.kernelcache`).
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from ..base.checks import check_positive, check_real, check_steps
+from ..base.errors import InputError, InputTypeError
+from ..dynamics.newmark import Newmark
+from ..dynamics.simulate import convolved_loop
+from ..model.irregularity import Irregularity
+from ..model.tracks import Track, require_track
+from ..model.vehicle import Vehicle, as_vehicle
+from ..model.wheel import Wheel
+from .contact import ContactResponse
+from .kernelcache import cached_kernels
+from .kernels import MovingKernels, grid_of, track_key
+from .roughness import Roughness
+from .timedomain import sin2_ramp
+
+__all__ = ["TAIL_TOLERANCE", "moving_green_kernels", "moving_green_response"]
+
+#: The largest |kernel| over the memory's last quarter, relative to its peak, accepted without a warning.
+TAIL_TOLERANCE = 1e-3
+
+
+def _require_periodic(track: Track) -> Track:
+    track = require_track(track)
+    if track.has_flexible_slab:
+        raise InputError("moving Green's functions need one support per period (rigid or ballasted supports); a "
+                         "flexible slab's period is a whole slab: use its truncated FE model "
+                         "(st.TruncatedTrack with st.wheel_rail_response)")
+    return track
+
+
+def moving_green_kernels(track: Track, speed: float, dt: float, offsets: Sequence[float] = (0.0,), *,
+                         x_contact: float = 0.0, memory: float = 0.2, elements_per_bay: int | None = None,
+                         f_max: float | None = None, f_ref: float | dict | None = None,
+                         cache: str | Path | None = None) -> MovingKernels:
+    """The moving Green's functions of a periodic track for wheels at ``offsets`` rolling at ``speed``.
+
+    Parameters
+    ----------
+    track : Track
+        A periodic track (rigid or ballasted supports).
+    speed : float
+        Speed (m/s), > 0; rounded to a whole number of steps per support spacing.
+    dt : float
+        Time step (s).
+    offsets : sequence of float
+        The wheels' positions along +x from the first wheel (m), as :attr:`semitrack.Bogie.offsets`;
+        rounded to whole steps ``speed dt``.
+    x_contact : float
+        Where the first wheel starts (m): the kernels hold the release of the standing preloads
+        for that start's position within a spacing (any start a whole number of spacings away
+        shares them).
+    memory : float
+        How long the kernels remember a force (s).
+    elements_per_bay : int, optional
+        The FE mesh; default the fewest elements that keep the mesh's own error under 1 % up to
+        ``f_max`` (:class:`semitrack.TruncatedTrack`'s default).
+    f_max : float, optional
+        The highest frequency of interest (Hz) for the default mesh (default 3 kHz).
+    f_ref : None, float or dict
+        Reference frequencies of the viscous damping (Hz), see :meth:`semitrack.FETrack.matrices`.
+    cache : str or Path, optional
+        A folder where the kernels are kept (one ``.npz`` file per key) and read back.
+
+    Returns
+    -------
+    MovingKernels
+    """
+    track = _require_periodic(track)
+    speed, dt, memory = check_positive("speed", speed), check_positive("dt", dt), check_positive("memory", memory)
+    grid = grid_of(track, speed, dt, offsets)
+    steps = check_steps(dt, memory)
+    start = int(round(check_real("x_contact", x_contact) / grid.step)) % grid.positions
+    return cached_kernels(track, elements_per_bay, f_max, grid, steps, f_ref, cache, start)
+
+
+def _vehicle_step(vehicle: Vehicle, stepper: Newmark) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The vehicle's mass, damping and effective stiffness's inverse for the step."""
+    M, C, K = vehicle.matrices()
+    a0, a1 = stepper.coefficients[:2]
+    return M, C, np.linalg.inv(K + a1 * C + a0 * M)
+
+
+def _start(kernels: MovingKernels, x_contact: float, k: int) -> tuple[np.ndarray, np.ndarray, float]:
+    """The wheels' grid indices and phases at the start, and the first wheel's start on the grid (m)."""
+    grid = kernels.grid
+    g0 = int(round(float(x_contact) / grid.step))
+    g = g0 + np.array(grid.offsets[:k], dtype=np.int64)
+    return g, np.mod(g, grid.positions).astype(np.int64), g0 * grid.step
+
+
+def _loop_arrays(kernels: MovingKernels, g: np.ndarray, phase0: np.ndarray):
+    """Each wheel pair's kernel (rows by the loading wheel's phase) and release for the start."""
+    lags = sorted(kernels.impulse)
+    index = {lag: i for i, lag in enumerate(lags)}
+    stack = np.stack([kernels.rows(lag) for lag in lags])
+    k = g.size
+    pair = np.array([[index[int(g[i] - g[j])] for j in range(k)] for i in range(k)], dtype=np.int64)
+    release = np.stack([np.stack([kernels.release[int(g[i] - g[j]), int(phase0[j])] for j in range(k)])
+                        for i in range(k)])
+    return stack, pair, release
+
+
+def moving_green_response(track: Track, wheel: Wheel | Vehicle | Sequence[Wheel], roughness: Roughness | None = None,
+                          *, x_contact: float = 0.0, speed: float, dt: float = 2e-5, duration: float = 0.1,
+                          ramp: float = 0.02, memory: float = 0.2, elements_per_bay: int | None = None,
+                          f_max: float | None = None, f_ref: float | dict | None = None,
+                          compiled: bool | None = None, cache: str | Path | None = None,
+                          profile: Irregularity | None = None, kernels: MovingKernels | None = None
+                          ) -> ContactResponse:
+    """Wheels or a vehicle rolling along the periodic FE track, nothing truncated (see the module docstring).
+
+    Parameters
+    ----------
+    track : Track
+        A periodic track (rigid or ballasted supports; no changes). Its coordinates are the FE
+        models': x = 0 a mid-span, supports at ``(k + 1/2) d``.
+    wheel : Wheel, sequence of Wheel, or Vehicle
+        As :func:`semitrack.wheel_rail_response` takes it.
+    roughness : Roughness, optional
+        The roughness under the first wheel, at the wheels' speed (re-sampled at the rounded
+        speed, its wavelengths kept), faded in over ``ramp``; None: a smooth rail.
+    x_contact : float
+        The first wheel's start (m), rounded to the grid of steps ``speed dt``.
+    speed : float
+        The wheels' speed (m/s), > 0, rounded to a whole number of steps per spacing.
+    dt, duration, ramp : float
+        Time step, duration and fade-in (s).
+    memory : float
+        How long the kernels remember a force (s): longer than the rail's response takes to die away.
+    elements_per_bay, f_max, f_ref
+        The FE mesh and damping, as :class:`semitrack.TruncatedTrack` takes them.
+    compiled : bool, optional
+        The step loop compiled (True), in Python and NumPy (False) or compiled where numba is
+        installed (None).
+    cache : str or Path, optional
+        A folder for the kernels (see :func:`moving_green_kernels`).
+    profile : Irregularity, optional
+        A geometric irregularity of the rail (:class:`semitrack.DippedWeld`, ...) met by each wheel
+        where it is: the rail's shape, not the track's, so the track stays periodic.
+    kernels : MovingKernels, optional
+        Kernels already computed for this track, speed, step and vehicle (their offsets).
+
+    Returns
+    -------
+    ContactResponse
+        As :func:`semitrack.wheel_rail_response` gives it; ``n_dof`` is the vehicle's DOFs, ``speed``
+        the rounded speed, ``x`` the contacts on the grid.
+    """
+    track = _require_periodic(track)
+    vehicle = as_vehicle(wheel)
+    k = len(vehicle.wheels)
+    dt, duration, ramp = check_positive("dt", dt), check_positive("duration", duration), check_positive("ramp", ramp)
+    if not duration > ramp:
+        raise InputError(f"duration must exceed ramp = {ramp!r} s (the roughness's fade-in), got {duration!r}")
+    if roughness is not None and not isinstance(roughness, Roughness):
+        raise InputTypeError(f"roughness must be None (a smooth rail) or a Roughness, got {type(roughness).__name__}")
+    n_steps = check_steps(dt, duration)
+    if kernels is None:
+        kernels = moving_green_kernels(track, speed, dt, vehicle.offsets, x_contact=x_contact, memory=memory,
+                                       elements_per_bay=elements_per_bay, f_max=f_max, f_ref=f_ref, cache=cache)
+    _check_kernels(kernels, track, speed, dt, vehicle)
+    if kernels.tail > TAIL_TOLERANCE:
+        warnings.warn(f"memory={kernels.memory * dt:.4g} s keeps the moving Green's functions while they are still "
+                      f"{kernels.tail:.1e} of their peak over its last quarter: older forces are dropped; give a "
+                      "longer memory", RuntimeWarning, stacklevel=2)
+    g, phase0, x_first = _start(kernels, x_contact, k)
+    _check_start(kernels, phase0)
+    v = kernels.grid.speed
+    t = dt * np.arange(n_steps + 1)
+    x = (g[None, :] + np.arange(n_steps + 1)[:, None]) * kernels.grid.step
+    r = _roughness_at(roughness, v, x, t, ramp) + (0.0 if profile is None else _profile(profile, x))
+    force, w_wheel, w_rail, elapsed = _run(kernels, vehicle, g, phase0, r, dt, compiled)
+    one = (lambda a: a[:, 0]) if k == 1 else (lambda a: a)
+    return ContactResponse(t=t, force=one(force), w_wheel=one(w_wheel), w_rail=one(w_rail), roughness=one(r),
+                           x=one(x), track=track, wheel=vehicle.wheels[0], speed=float(v), ramp=ramp,
+                           period=None if roughness is None else roughness.at_speed(v).period,
+                           n_dof=vehicle.matrices()[0].shape[0], elapsed=elapsed, wheels=vehicle.wheels,
+                           vehicle=vehicle, infinite=None)
+
+
+def _check_kernels(kernels: MovingKernels, track: Track, speed: float, dt: float, vehicle: Vehicle) -> None:
+    """Kernels given by the caller must be those of this track, speed, step and vehicle."""
+    if not isinstance(kernels, MovingKernels):
+        raise InputTypeError(f"kernels must be MovingKernels (st.moving_green_kernels), got {type(kernels).__name__}")
+    grid = grid_of(track, speed, dt, vehicle.offsets)
+    if (grid.positions, grid.dt, grid.offsets) != (kernels.grid.positions, kernels.grid.dt,
+                                                   kernels.grid.offsets[:len(grid.offsets)]):
+        raise InputError(f"the kernels are for {kernels.grid.positions} steps per spacing at dt={kernels.grid.dt!r} s "
+                         f"and offsets {kernels.grid.offsets} steps, this run needs {grid.positions}, {dt!r} s and "
+                         f"{grid.offsets}")
+    if kernels.key.get("track") != track_key(track):
+        raise InputError("the kernels were computed for another track")
+
+
+def _check_start(kernels: MovingKernels, phase0: np.ndarray) -> None:
+    if int(phase0[0]) != kernels.start:
+        x = kernels.start * kernels.grid.step
+        raise InputError(f"the kernels hold the release of the preloads for a first wheel at phase {kernels.start} "
+                         f"of {kernels.grid.positions} (x = {x:.6g} m plus whole spacings); x_contact is at phase "
+                         f"{int(phase0[0])}: compute kernels for this start")
+
+
+def _roughness_at(roughness: Roughness | None, speed: float, x: np.ndarray, t: np.ndarray, ramp: float) -> np.ndarray:
+    """Each wheel's roughness, at the rounded speed, faded in; the first wheel's as given."""
+    k = x.shape[1]
+    if roughness is None:
+        return np.zeros((t.size, k))
+    rough = roughness.at_speed(speed)
+    fade = sin2_ramp(t, ramp)
+    dt = float(t[1] - t[0])
+    return np.column_stack([rough.shifted(x[0, i] - x[0, 0]).sampled(dt, t.size) * fade for i in range(k)])
+
+
+def _profile(profile: Irregularity, x: np.ndarray) -> np.ndarray:
+    if not isinstance(profile, Irregularity):
+        raise InputTypeError(f"profile must be an Irregularity (st.DippedWeld, st.RailProfile), got "
+                             f"{type(profile).__name__}")
+    r = profile(x)
+    if np.any(r[0] != 0):
+        raise InputError(f"the wheels must start off the profile (it spans {profile.extent} m)")
+    return r
+
+
+def _run(kernels: MovingKernels, vehicle: Vehicle, g: np.ndarray, phase0: np.ndarray, r: np.ndarray, dt: float,
+         compiled: bool | None) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """The static start and the step loop: forces, wheel and rail displacements, and the loop's wall time."""
+    stepper = Newmark(dt)
+    M, C, inverse = _vehicle_step(vehicle, stepper)
+    wheels = vehicle.wheels
+    k = len(wheels)
+    stack, pair, release = _loop_arrays(kernels, g, phase0)
+    preload = np.array([w.preload for w in wheels])
+    flexibility = kernels.flexibility
+    w_rail0 = release[:, :, 0] @ preload + flexibility[phase0] * preload
+    u0 = vehicle.static_state(w_rail0 + np.array([w.static_approach for w in wheels]))
+    loads = vehicle.static_loads(u0)
+    rows = r.shape[0]
+    force, w_wheel, w_rail = np.tile(preload, (rows, 1)), np.empty((rows, k)), np.empty((rows, k))
+    w_wheel[0], w_rail[0] = u0[:k], w_rail0
+    state = np.zeros((3, u0.size))
+    state[0] = u0
+    history = np.zeros((k, rows - 1 + kernels.memory))
+    start = time.perf_counter()
+    failed = convolved_loop(compiled, k == 1 and u0.size == 1)(stack, pair, release, preload, phase0, flexibility,
+                                      np.array([w.hertz_constant for w in wheels]), np.ascontiguousarray(r), inverse,
+                                      M, C, np.array(stepper.coefficients), loads, state, force, w_wheel, w_rail,
+                                      history, np.zeros((k, k + 5)))
+    if failed:
+        raise RuntimeError(f"the contact forces did not converge at step {failed}")
+    return force, w_wheel, w_rail, time.perf_counter() - start

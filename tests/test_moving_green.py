@@ -1,0 +1,215 @@
+"""Moving Green's functions: the periodic FE track in time without truncation.
+
+Independent checks, each against another method: the infinite FE track's receptances from its
+Bloch waves against a long FE model with exact ends (frequency domain); the kernels against
+Newmark run step by step on a long FE model (an impulse, and a standing load released); the
+Python loops against the compiled one; whole runs (one wheel, two wheels, loss of contact, a
+smooth rail's support-passing line) against the truncated FE model with broadband ends that holds
+the path. The cache stores data that reads back equal, and refuses what is not its own.
+"""
+
+import json
+
+import numpy as np
+import pytest
+import scipy.sparse.linalg as spl
+
+import semitrack as st
+from semitrack.fe.bloch import BlochCell
+from semitrack.fe.kernelcache import cached_kernels, clear_kernel_memo
+from semitrack.fe.kernels import grid_of, moving_kernels
+
+SLAB = st.slab_track(damping="viscous")
+BALLAST = st.ballasted_track(damping="viscous")
+NE = 8  # coarse meshes: the checks are of the method, which holds for any mesh
+SPEED, DT = 50.0, 1e-4
+
+
+def _newmark_kernel(model, x_load, x_obs, n, dt, release=False):
+    """w at the moving points ``x_obs[k]`` after a unit impulse at x_load at step 0 (or its standing load
+    taken off after step 0), by Newmark's average acceleration on the FE model, step by step."""
+    M, C, K = model.matrices()
+    a0, a1 = 4 / dt**2, 2 / dt
+    lu = spl.splu((K + a1 * C + a0 * M).tocsc())
+    b = model.output_matrix([x_load]).toarray()[0]
+    u = spl.splu(K.tocsc()).solve(b) if release else np.zeros(model.n_dof)
+    v, a = np.zeros_like(u), np.zeros_like(u)
+    obs = model.output_matrix(x_obs).toarray()
+    out = [obs[0] @ u] if release else []
+    for k in range(1 if release else 0, n):
+        un = lu.solve(M @ (a0 * u + 4 / dt * v + a) + C @ (a1 * u + v) + (b if k == 0 and not release else 0))
+        an = a0 * (un - u) - 4 / dt * v - a
+        v, a, u = v + dt / 2 * (a + an), an, un
+        out.append(obs[k] @ u)
+    return np.array(out)
+
+
+def test_the_bloch_waves_give_the_long_fe_track():
+    """The infinite FE track from one cell against a 40-bay FE model with exact ends: within 1e-9 below 300 Hz."""
+    grid = np.array([0.0, 0.1, 0.3])
+    cell = BlochCell(BALLAST, NE, grid)
+    f = np.array([20.0, 90.0, 280.0])
+    w = cell.waves(2j * np.pi * f)
+    model = st.TruncatedTrack(BALLAST, 20, "exact", elements_per_bay=NE)
+    out = lambda x: model.output_matrix([x]).toarray().T  # noqa: E731
+    U = model.solve(f, out(0.1))[:, :, 0]
+    near = cell.observe(w.field)[:, :, 1]
+    for q, x in enumerate(grid):
+        assert np.allclose(near[:, q], U @ out(x)[:, 0], rtol=1e-9, atol=0)
+    d = BALLAST.spacing
+    right = np.einsum("fqa,fab,fb->fq", w.shows_right, np.linalg.matrix_power(w.step_right, 2), w.out_right[:, :, 1])
+    left = np.einsum("fqa,fa->fq", w.shows_left, w.out_left[:, :, 1])
+    for q, x in enumerate(grid):
+        assert np.allclose(right[:, q], U @ out(3 * d + x)[:, 0], rtol=1e-8, atol=0)
+        assert np.allclose(left[:, q], U @ out(-d + x)[:, 0], rtol=1e-8, atol=0)
+
+
+@pytest.fixture(scope="module")
+def slab_kernels():
+    grid = grid_of(SLAB, SPEED, DT, (0.0, -0.5))
+    return grid, moving_kernels(SLAB, NE, grid, 1500, start=3)
+
+
+def test_the_kernels_are_newmark_on_the_infinite_fe_track(slab_kernels):
+    """Impulse and release kernels, self and cross, against Newmark step by step on a 40-bay pinned model
+    (no reflection returns within 200 steps): within 1e-6 of their peak."""
+    grid, kernels = slab_kernels
+    h, n = grid.step, 200
+    model = st.TruncatedTrack(SLAB, 40, "pinned", elements_per_bay=NE)
+    for p in (0, 3, grid.positions - 1):
+        for lag in grid.lags:
+            x_obs = (p + lag + np.arange(n)) * h
+            ref = _newmark_kernel(model, p * h, x_obs, n, DT)
+            ker = kernels.impulse[lag][p, :n]
+            assert np.abs(ker - ref).max() <= 1e-6 * np.abs(kernels.impulse[0]).max()
+    for lag, p0 in kernels.release:
+        ref = _newmark_kernel(model, p0 * h, (p0 + lag + np.arange(n)) * h, n, DT, release=True)
+        assert np.abs(kernels.release[lag, p0][:n] - ref).max() <= 1e-6 * np.abs(ref).max()
+
+
+def test_the_grid_rounds_the_speed_and_the_offsets():
+    grid = grid_of(BALLAST, 300 / 3.6, 2e-5, (0.0, -2.5))
+    assert grid.positions == 360 and grid.offsets == (0, -1500)
+    assert abs(grid.speed - 300 / 3.6) / (300 / 3.6) <= 1 / (2 * grid.positions)
+    odd = grid_of(BALLAST, 84.0, 2e-5, (0.0, -2.501))
+    assert odd.positions == round(0.6 / (84.0 * 2e-5)) and odd.speed == 0.6 / (odd.positions * 2e-5)
+    assert odd.lags == (odd.offsets[1], 0, -odd.offsets[1])
+    with pytest.raises(ValueError, match="at least 4 steps"):
+        grid_of(BALLAST, 300.0, 1e-3)
+
+
+def _rough(speed, period=0.05):
+    lam = st.third_octave_bands(0.04, 0.5)[0]
+    return st.roughness_from_spectrum(speed, lam, np.full(lam.size, 0.0), period=period, seed=2)
+
+
+@pytest.fixture(scope="module")
+def boundary():
+    return st.fit_boundary(SLAB)
+
+
+def _truncated(res, boundary, duration):
+    """The truncated FE model with broadband ends that holds the run's path, 40 bays to spare (20 leave
+    1e-3 of reflections on this coarse mesh)."""
+    reach = np.abs(res.x).max() + SLAB.spacing
+    model = st.TruncatedTrack(SLAB, int(np.ceil(reach / SLAB.spacing)) + 40, "boundary", system=boundary,
+                              elements_per_bay=NE)
+    x0 = res.x[0] if res.x.ndim == 1 else res.x[0, 0]
+    return st.wheel_rail_response(model, res.vehicle, _rough(res.speed), x_contact=float(x0), speed=res.speed,
+                                  dt=res.dt, duration=duration)
+
+
+def test_one_wheel_and_two_agree_with_the_truncated_model(boundary):
+    """A rough rail at 50 m/s: the force's fluctuation within 1e-3 rms of the truncated model's
+    (measured 1e-5 to 4e-5), for one wheel and for two 0.5 m apart."""
+    for vehicle in (st.Wheel(), st.WheelGroup((st.Wheel(), st.Wheel()), spacing=(0.0, -0.5))):
+        res = st.moving_green_response(SLAB, vehicle, _rough(SPEED), x_contact=-1.0, speed=SPEED, dt=DT,
+                                       duration=0.1, memory=0.15, elements_per_bay=NE)
+        ref = _truncated(res, boundary, 0.1)
+        F, Fr = res.force.reshape(res.t.size, -1), ref.force.reshape(ref.t.size, -1)
+        for i in range(F.shape[1]):
+            fluct = Fr[:, i] - Fr[:, i].mean()
+            assert np.sqrt(np.mean((F[:, i] - Fr[:, i]) ** 2)) <= 1e-3 * np.sqrt(np.mean(fluct**2))
+
+
+def test_loss_of_contact_as_in_the_truncated_model(boundary):
+    """A 0.2 mm corrugation of 0.1 m at 50 m/s: the wheel leaves the rail in both, at the same steps."""
+    rough = st.corrugation(speed=grid_of(SLAB, SPEED, DT).speed, wavelength=0.1, amplitude=2e-4)
+    res = st.moving_green_response(SLAB, st.Wheel(), rough, x_contact=-1.0, speed=SPEED, dt=DT, duration=0.1,
+                                   memory=0.15, elements_per_bay=NE)
+    reach = np.abs(res.x).max() + SLAB.spacing
+    model = st.TruncatedTrack(SLAB, int(np.ceil(reach / SLAB.spacing)) + 40, "boundary", system=boundary,
+                              elements_per_bay=NE)
+    ref = st.wheel_rail_response(model, st.Wheel(), rough, x_contact=float(res.x[0]), speed=res.speed, dt=DT,
+                                 duration=0.1)
+    assert res.lost_contact and ref.lost_contact
+    assert np.count_nonzero(res.in_contact != ref.in_contact) <= 2
+    assert np.abs(res.force - ref.force).max() <= 1e-3 * ref.force.max()
+
+
+def test_a_smooth_rail_shows_the_support_passing_line(boundary):
+    """No roughness: the force's line at speed / spacing (tens of N) is the truncated model's within 1e-3,
+    and so is the whole spectrum (the wheel's bounce set off by the start among it)."""
+    res = st.moving_green_response(SLAB, st.Wheel(), None, x_contact=-1.0, speed=SPEED, dt=DT, duration=0.2,
+                                   memory=0.15, elements_per_bay=NE)
+    reach = np.abs(res.x).max() + SLAB.spacing
+    model = st.TruncatedTrack(SLAB, int(np.ceil(reach / SLAB.spacing)) + 40, "boundary", system=boundary,
+                              elements_per_bay=NE)
+    ref = st.wheel_rail_response(model, st.Wheel(), None, x_contact=float(res.x[0]), speed=res.speed, dt=DT,
+                                 duration=0.2)
+    f, amp = res.force_spectrum(after=0.05)
+    _, amp_ref = ref.force_spectrum(after=0.05)
+    line = np.argmin(np.abs(f - res.speed / SLAB.spacing))
+    assert amp[line] > 10.0 and amp[line] > 5 * np.median(amp[1:])  # the line stands out (N)
+    assert abs(amp[line] - amp_ref[line]) <= 1e-3 * amp_ref[line]
+    assert np.abs(amp - amp_ref).max() <= 1e-3 * amp_ref.max()
+
+
+def test_the_python_loops_are_the_compiled_one(slab_kernels):
+    """The general Python loop, the one-wheel loop in floats and the compiled loop give the same run."""
+    pytest.importorskip("numba")
+    rough = _rough(SPEED)
+    one = [st.moving_green_response(SLAB, st.Wheel(), rough, x_contact=-1.0, speed=SPEED, dt=DT, duration=0.03,
+                                    memory=0.15, elements_per_bay=NE, compiled=c) for c in (False, True)]
+    assert np.allclose(one[0].force, one[1].force, rtol=1e-12, atol=1e-9)
+    grid, kernels = slab_kernels
+    group = st.WheelGroup((st.Wheel(), st.Wheel()), spacing=(0.0, -0.5))
+    two = [st.moving_green_response(SLAB, group, rough, x_contact=3 * grid.step, speed=SPEED, dt=DT, duration=0.03,
+                                    kernels=kernels, compiled=c) for c in (False, True)]
+    assert np.allclose(two[0].force, two[1].force, rtol=1e-12, atol=1e-9)
+
+
+def test_the_cache_reads_back_what_it_wrote_and_refuses_the_rest(tmp_path):
+    grid = grid_of(SLAB, SPEED, DT)
+    clear_kernel_memo()
+    first = cached_kernels(SLAB, NE, None, grid, 300, None, tmp_path)
+    files = list(tmp_path.glob("kernels-*.npz"))
+    assert len(files) == 1
+    clear_kernel_memo()
+    again = cached_kernels(SLAB, NE, None, grid, 300, None, tmp_path)
+    assert again.elapsed == first.elapsed  # read, not computed
+    assert np.array_equal(again.impulse[0], first.impulse[0]) and again.release.keys() == first.release.keys()
+    with np.load(files[0], allow_pickle=False) as data:
+        assert json.loads(str(data["key"]))["elements_per_bay"] == NE
+    files[0].write_bytes(b"\x80\x04not an npz")  # a pickle's opening bytes: never unpickled, computed again
+    clear_kernel_memo()
+    redone = cached_kernels(SLAB, NE, None, grid, 300, None, tmp_path)
+    assert np.array_equal(redone.impulse[0], first.impulse[0])
+    other = cached_kernels(SLAB, NE, None, grid, 320, None, tmp_path)  # another memory: another file
+    assert other.memory == 320 and len(list(tmp_path.glob("kernels-*.npz"))) == 2
+
+
+def test_what_the_route_does_not_hold_is_refused(slab_kernels):
+    _, kernels = slab_kernels
+    slab = st.example_track("floating-slab")
+    with pytest.raises(ValueError, match="flexible slab"):
+        st.moving_green_response(slab, st.Wheel(), speed=SPEED, dt=DT, duration=0.03)
+    with pytest.raises(ValueError, match="phase"):  # the kernels' release is for another start
+        st.moving_green_response(SLAB, st.WheelGroup((st.Wheel(), st.Wheel()), spacing=(0.0, -0.5)), speed=SPEED,
+                                 dt=DT, duration=0.03, x_contact=0.0, kernels=kernels)
+    with pytest.raises(ValueError, match="steps per spacing"):
+        st.moving_green_response(SLAB, st.Wheel(), speed=SPEED, dt=2 * DT, duration=0.03, kernels=kernels)
+    with pytest.raises(ValueError, match="another track"):
+        st.moving_green_response(SLAB.replace(kv=2 * SLAB.kv), st.WheelGroup((st.Wheel(), st.Wheel()),
+                                                                             spacing=(0.0, -0.5)),
+                                 speed=SPEED, dt=DT, duration=0.03, x_contact=3 * kernels.grid.step, kernels=kernels)
