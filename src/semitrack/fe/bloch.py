@@ -34,6 +34,7 @@ import scipy.sparse as sp
 from ..base.errors import InputError
 from ..dynamics.factor import BandOrder, band_solve
 from ..model.tracks import Track
+from .ends import FREE
 from .models import FETrack
 
 __all__ = ["BlochCell", "CellWaves", "warped_s"]
@@ -111,7 +112,7 @@ class BlochCell:
                              "supports); a flexible slab's period is a whole slab: use its truncated FE model")
         self.track = track
         self.period = float(track.spacing)
-        self.model = m = FETrack(track, 0, 1, "free", "free", elements_per_bay=elements_per_bay, f_max=f_max)
+        self.model = m = FETrack(track, 0, 1, FREE, FREE, elements_per_bay=elements_per_bay, f_max=f_max)
         self.matrices = tuple(sp.csr_matrix(A) for A in m.matrices(f_ref))
         self.left = np.array([m.dof(0.0, "w"), m.dof(0.0, "psi")])
         self.right = np.array([m.dof(self.period, "w"), m.dof(self.period, "psi")])

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..base.files import atomic_write
 from ..model.tracks import Track
+from .ends import FREE
 from .kernels import KernelGrid, MovingKernels, kernel_key, moving_kernels
 from .models import FETrack
 
@@ -98,7 +99,7 @@ def cached_kernels(track: Track, elements_per_bay: int | None, f_max: float | No
     -------
     MovingKernels
     """
-    ne = FETrack(track, 0, 1, "free", "free", elements_per_bay=elements_per_bay, f_max=f_max).elements_per_bay
+    ne = FETrack(track, 0, 1, FREE, FREE, elements_per_bay=elements_per_bay, f_max=f_max).elements_per_bay
     key = kernel_key(track, ne, grid, memory, f_ref, start)
     digest = _digest(key)
     if digest in _MEMO:
@@ -113,6 +114,15 @@ def cached_kernels(track: Track, elements_per_bay: int | None, f_max: float | No
     return kernels
 
 
-def clear_kernel_memo() -> None:
-    """Forget the kernels kept in this process's memory (a test, or memory to spare)."""
-    _MEMO.clear()
+def clear_kernel_memo(kernels: MovingKernels | None = None) -> None:
+    """Forget the kernels kept in this process's memory: all of them, or ``kernels`` alone.
+
+    Parameters
+    ----------
+    kernels : MovingKernels, optional
+        The kernels to forget (by their key); None forgets all (a test, or memory to spare).
+    """
+    if kernels is None:
+        _MEMO.clear()
+    else:
+        _MEMO.pop(_digest(kernels.key), None)

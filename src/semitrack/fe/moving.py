@@ -29,6 +29,7 @@ Limits, where a user meets them:
 
 from __future__ import annotations
 
+import dataclasses
 import time
 import warnings
 from collections.abc import Sequence
@@ -42,7 +43,7 @@ from ..dynamics.newmark import Newmark
 from ..dynamics.simulate import convolved_loop
 from ..model.irregularity import Irregularity
 from ..model.tracks import Track, require_track
-from ..model.vehicle import Vehicle, as_vehicle
+from ..model.vehicle import Bogie, Vehicle, WheelGroup, as_vehicle
 from ..model.wheel import Wheel
 from .contact import ContactResponse
 from .kernelcache import cached_kernels
@@ -50,7 +51,7 @@ from .kernels import MovingKernels, grid_of, track_key
 from .roughness import Roughness
 from .timedomain import sin2_ramp
 
-__all__ = ["TAIL_TOLERANCE", "moving_green_kernels", "moving_green_response"]
+__all__ = ["TAIL_TOLERANCE", "moving_green_kernels", "moving_green_response", "vehicle_on_grid"]
 
 #: The largest |kernel| over the memory's last quarter, relative to its peak, accepted without a warning.
 TAIL_TOLERANCE = 1e-3
@@ -108,6 +109,33 @@ def moving_green_kernels(track: Track, speed: float, dt: float, offsets: Sequenc
     steps = check_steps(dt, memory)
     start = int(round(check_real("x_contact", x_contact) / grid.step)) % grid.positions
     return cached_kernels(track, elements_per_bay, f_max, grid, steps, f_ref, cache, start)
+
+
+def vehicle_on_grid(vehicle: Vehicle, kernels: MovingKernels) -> Vehicle:
+    """The vehicle with its wheels' offsets rounded to the kernels' grid, as the route runs it.
+
+    A :class:`semitrack.Bogie`'s wheelbase or a :class:`semitrack.WheelGroup`'s spacing becomes a
+    whole number of grid steps ``speed dt``: the vehicle to give a truncated model that is to run
+    exactly what the route ran.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        The vehicle.
+    kernels : MovingKernels
+        Its kernels.
+
+    Returns
+    -------
+    Vehicle
+    """
+    h = kernels.grid.step
+    offsets = np.round(np.asarray(vehicle.offsets, dtype=float) / h) * h
+    if isinstance(vehicle, Bogie):
+        return dataclasses.replace(vehicle, wheelbase=float(-offsets[1]))
+    if isinstance(vehicle, WheelGroup):
+        return dataclasses.replace(vehicle, spacing=tuple(float(o) for o in offsets))
+    return vehicle
 
 
 def _vehicle_step(vehicle: Vehicle, stepper: Newmark) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -181,7 +209,8 @@ def moving_green_response(track: Track, wheel: Wheel | Vehicle | Sequence[Wheel]
     -------
     ContactResponse
         As :func:`semitrack.wheel_rail_response` gives it; ``n_dof`` is the vehicle's DOFs, ``speed``
-        the rounded speed, ``x`` the contacts on the grid.
+        the rounded speed, ``x`` the contacts on the grid, ``vehicle`` the vehicle with its offsets
+        rounded (:func:`vehicle_on_grid`), which a truncated model takes to run the same.
     """
     track = _require_periodic(track)
     vehicle = as_vehicle(wheel)
@@ -208,6 +237,7 @@ def moving_green_response(track: Track, wheel: Wheel | Vehicle | Sequence[Wheel]
     r = _roughness_at(roughness, v, x, t, ramp) + (0.0 if profile is None else _profile(profile, x))
     force, w_wheel, w_rail, elapsed = _run(kernels, vehicle, g, phase0, r, dt, compiled)
     one = (lambda a: a[:, 0]) if k == 1 else (lambda a: a)
+    vehicle = vehicle_on_grid(vehicle, kernels)
     return ContactResponse(t=t, force=one(force), w_wheel=one(w_wheel), w_rail=one(w_rail), roughness=one(r),
                            x=one(x), track=track, wheel=vehicle.wheels[0], speed=float(v), ramp=ramp,
                            period=None if roughness is None else roughness.at_speed(v).period,

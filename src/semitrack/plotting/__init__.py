@@ -9,7 +9,8 @@ global rcParams (:func:`apply_house_style` does, when a notebook asks for it).
 Modules: :mod:`~.style` (line styles, figures, axes, legends), :mod:`~.receptance`,
 :mod:`~.schematic` (the equivalent systems to scale), :mod:`~.truncation` (truncated FE tracks),
 :mod:`~.boundary` (the broadband boundary), :mod:`~.contact` (the wheel on the rail), :mod:`~.imperfect`
-(wheels over a dipped weld, forces in the track).
+(wheels over a dipped weld, forces in the track), :mod:`~.moving` (moving Green's functions beside the
+truncated model).
 """
 
 from .boundary import (  # noqa: F401
@@ -30,6 +31,7 @@ from .contact import (  # noqa: F401
 )
 from .decay import decay_rate_figure, local_change_figure  # noqa: F401
 from .imperfect import gap_figure, track_force_figure, weld_force_figure  # noqa: F401
+from .moving import moving_force_figure  # noqa: F401
 from .receptance import (  # noqa: F401
     central_response_figure,
     convergence_figure,

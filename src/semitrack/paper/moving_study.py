@@ -1,0 +1,237 @@
+"""The periodic track in time without truncation: moving Green's functions beside the truncated model.
+
+The computations of the book's chapter "Beyond the paper: the periodic track in time without
+truncation" and of ``benchmarks/bench_moving.py``; each returns runs or a table
+(:class:`pandas.DataFrame`) that the chapter shows.
+
+* :func:`rolling_roughness`: the rough rail of the comparisons, the ISO 3095 limit over the
+  wavelengths that a wheel at the speed meets between 40 Hz and 3 kHz (period 0.1 s).
+* :func:`compare_runs`: one vehicle at one speed on one track, by moving Green's functions
+  (:func:`semitrack.moving_green_response`) and by the truncated FE model with broadband ends that
+  holds the whole path (:func:`semitrack.wheel_rail_response`), the same mesh, time step, start
+  and roughness; with the set-up's cost, its cost read back from the cache, and the steps' costs.
+* :func:`force_agreement`: the two contact forces' agreement: the rms of the difference over the
+  rms of the reference's fluctuation, and the one-third-octave band levels 50 Hz - 2.5 kHz of the
+  forces (their level difference, dB) and of the difference (its level under the reference's, dB).
+* :func:`moving_table`: one row per comparison.
+"""
+
+from __future__ import annotations
+
+import tempfile
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from ..base.bands import third_octave_bands
+from ..boundary.fitting import BroadbandBoundary
+from ..fe.contact import ContactResponse, wheel_rail_response
+from ..fe.ends import BoundaryEnd
+from ..fe.kernelcache import clear_kernel_memo
+from ..fe.kernels import MovingKernels, grid_of
+from ..fe.models import TruncatedTrack
+from ..fe.moving import moving_green_kernels, moving_green_response
+from ..fe.roughness import ISO3095_ROUGHNESS_LIMIT, Roughness, roughness_from_spectrum
+from ..model.tracks import Track
+from ..model.vehicle import as_vehicle
+
+__all__ = ["MARGIN_BAYS", "TABLE_FORMATS", "rolling_roughness", "Comparison", "compare_runs", "force_agreement",
+           "moving_table"]
+
+#: How :func:`moving_table`'s columns read best (for :func:`semitrack.paper.tables.styled`).
+TABLE_FORMATS = {"rms difference (%)": "{:.4f}", "worst band difference (dB)": "{:.1e}",
+                 "worst band error level (dB)": "{:.1f}", "set-up (s)": "{:.1f}", "from cache (s)": "{:.2f}",
+                 "step, compiled (us)": "{:.2f}", "step, Python (us)": "{:.1f}", "run, compiled (s)": "{:.2f}",
+                 "km/h": "{:.0f}"}
+
+#: Bays of the truncated reference beyond the path at each end: its broadband ends' reflections
+#: then return at ~1e-5 of the force (20 bays left 1e-3 on a coarse mesh, measured).
+MARGIN_BAYS = 40
+
+
+def rolling_roughness(speed: float, f_low: float = 40.0, f_high: float = 3000.0, period: float = 0.1,
+                      seed: int = 1) -> Roughness:
+    """The ISO 3095 limit spectrum over the wavelengths a wheel at ``speed`` passes between ``f_low`` and ``f_high``.
+
+    Parameters
+    ----------
+    speed : float
+        Speed (m/s).
+    f_low, f_high : float
+        The frequencies the wavelengths are kept between (Hz).
+    period : float
+        The roughness's period (s).
+    seed : int
+        Seed of the random phases.
+
+    Returns
+    -------
+    Roughness
+    """
+    kept = {lam: level for lam, level in ISO3095_ROUGHNESS_LIMIT.items() if f_low <= speed / lam <= f_high}
+    return roughness_from_spectrum(speed, list(kept), list(kept.values()), period=period, seed=seed)
+
+
+@dataclass(frozen=True, eq=False)
+class Comparison:
+    """One vehicle at one speed by moving Green's functions and by the truncated model.
+
+    Attributes
+    ----------
+    label : str
+        Track and vehicle.
+    kmh : float
+        The speed asked (km/h); the runs' is the rounded ``green.speed``.
+    green, truncated : ContactResponse
+        The two runs.
+    kernels : MovingKernels
+        The kernels used.
+    setup : float
+        Wall time of the kernels' set-up (s).
+    from_cache : float
+        Wall time to read them back from a cache folder in a fresh process memory (s).
+    step_compiled, step_numpy : float
+        Wall time of a step of the compiled loop and of the Python loop (us).
+    truncated_dofs : int
+        DOFs of the truncated model.
+    truncated_time : float
+        Wall time of the truncated model's run (s).
+    """
+
+    label: str
+    kmh: float
+    green: ContactResponse
+    truncated: ContactResponse
+    kernels: MovingKernels
+    setup: float
+    from_cache: float
+    step_compiled: float
+    step_numpy: float
+    truncated_dofs: int
+    truncated_time: float
+
+
+def compare_runs(label: str, track: Track, boundary: BroadbandBoundary, vehicle, kmh: float, dt: float,
+                 duration: float, numpy_duration: float = 0.05) -> Comparison:
+    """One vehicle on a rough rail by both routes (see the module docstring).
+
+    Parameters
+    ----------
+    label : str
+        The case's name.
+    track : Track
+        A periodic track (viscous damping).
+    boundary : BroadbandBoundary
+        Its broadband end, for the truncated model.
+    vehicle : Wheel, Bogie or sequence of Wheel
+        The vehicle.
+    kmh : float
+        Speed (km/h).
+    dt, duration : float
+        Time step and duration (s).
+    numpy_duration : float
+        Duration of the Python loop's timed run (s).
+
+    Returns
+    -------
+    Comparison
+    """
+    vehicle = as_vehicle(vehicle)
+    speed = kmh / 3.6
+    path = speed * duration
+    x0 = -round(0.5 * path / track.spacing) * track.spacing  # the path centred on the model, from a mid-span
+    with tempfile.TemporaryDirectory() as folder:
+        clear_kernel_memo()  # timed from nothing: this process keeps no kernels from before
+        start = time.perf_counter()
+        kernels = moving_green_kernels(track, speed, dt, vehicle.offsets, x_contact=x0, cache=folder)
+        setup = time.perf_counter() - start
+        clear_kernel_memo(kernels)
+        start = time.perf_counter()
+        moving_green_kernels(track, speed, dt, vehicle.offsets, x_contact=x0, cache=folder)
+        from_cache = time.perf_counter() - start
+    rough = rolling_roughness(grid_of(track, speed, dt).speed)
+    run = {"x_contact": x0, "speed": speed, "dt": dt, "kernels": kernels}
+    moving_green_response(track, vehicle, rough, duration=0.03, **run)  # compile outside the timing
+    green = moving_green_response(track, vehicle, rough, duration=duration, **run)
+    numpy = moving_green_response(track, vehicle, rough, duration=numpy_duration, compiled=False, **run)
+    reach = np.abs(green.x).max() + abs(vehicle.offsets).max() + track.spacing
+    model = TruncatedTrack(track, int(np.ceil(reach / track.spacing)) + MARGIN_BAYS, BoundaryEnd.name, system=boundary,
+                           elements_per_bay=kernels.elements_per_bay)
+    start = time.perf_counter()
+    truncated = wheel_rail_response(model, green.vehicle, rough, x_contact=x0, speed=green.speed, dt=dt,
+                                    duration=duration)  # the vehicle as run: its offsets on the grid
+    return Comparison(label, kmh, green, truncated, kernels, setup, from_cache,
+                      1e6 * green.elapsed / (green.t.size - 1), 1e6 * numpy.elapsed / (numpy.t.size - 1),
+                      model.n_dof, time.perf_counter() - start)
+
+
+def force_agreement(green: ContactResponse, truncated: ContactResponse, wheel: int = 0, after: float = 0.1,
+                    band: tuple[float, float] = (50.0, 2500.0)) -> dict:
+    """How closely two runs' contact forces agree, from time ``after`` on.
+
+    Parameters
+    ----------
+    green, truncated : ContactResponse
+        The run and its reference, on the same time steps.
+    wheel : int
+        Which wheel's force.
+    after : float
+        Start of the compared record (s).
+    band : (float, float)
+        Lowest and highest one-third-octave band centres (Hz).
+
+    Returns
+    -------
+    dict
+        ``rms`` (the difference's rms over the reference's fluctuation's, -), ``centres`` (Hz),
+        ``level_difference`` (dB, per band), ``error_level`` (dB, the difference's band level
+        under the reference's), their largest magnitudes ``worst_level_difference`` and
+        ``worst_error_level``.
+    """
+    column = (lambda a: a) if green.force.ndim == 1 else (lambda a: a[:, wheel])  # noqa: E731
+    late = green.t >= after
+    F, R = column(green.force)[late], column(truncated.force)[late]
+    fluct = R - R.mean()
+    rms = float(np.sqrt(np.mean((F - R) ** 2)) / np.sqrt(np.mean(fluct**2)))
+    f = np.fft.rfftfreq(F.size, green.dt)
+    spec_f, spec_r = np.abs(np.fft.rfft(F - F.mean())) ** 2, np.abs(np.fft.rfft(fluct)) ** 2
+    spec_e = np.abs(np.fft.rfft(F - R - (F - R).mean())) ** 2
+    centres, lower, upper = third_octave_bands(*band)
+    level_f, level_r, level_e = (np.array([s[(f >= lo) & (f < hi)].sum() for lo, hi in zip(lower, upper)])
+                                 for s in (spec_f, spec_r, spec_e))
+    difference = 10 * np.log10(level_f / level_r)
+    error = 10 * np.log10(level_e / level_r)
+    return {"rms": rms, "centres": centres, "level_difference": difference, "error_level": error,
+            "worst_level_difference": float(np.abs(difference).max()), "worst_error_level": float(error.max())}
+
+
+def moving_table(comparisons: Mapping[str, Comparison] | list[Comparison]) -> pd.DataFrame:
+    """One row per comparison and wheel: agreement and costs.
+
+    Parameters
+    ----------
+    comparisons : list of Comparison
+        From :func:`compare_runs`.
+
+    Returns
+    -------
+    pandas.DataFrame
+    """
+    rows = []
+    for c in (comparisons.values() if isinstance(comparisons, Mapping) else comparisons):
+        k = len(c.green.wheels)
+        for i in range(k):
+            a = force_agreement(c.green, c.truncated, wheel=i)
+            rows.append({"case": c.label, "km/h": c.kmh, "wheel": i + 1 if k > 1 else "",
+                         "rms difference (%)": 100 * a["rms"],
+                         "worst band difference (dB)": a["worst_level_difference"],
+                         "worst band error level (dB)": a["worst_error_level"],
+                         "steps per spacing": c.kernels.grid.positions,
+                         "set-up (s)": c.setup, "from cache (s)": c.from_cache,
+                         "step, compiled (us)": c.step_compiled, "step, Python (us)": c.step_numpy,
+                         "truncated model": f"{c.truncated_dofs} DOFs, {c.truncated_time:.1f} s",
+                         "run, compiled (s)": c.green.elapsed})
+    return pd.DataFrame(rows).set_index(["case", "km/h", "wheel"])
