@@ -213,3 +213,28 @@ def test_what_the_route_does_not_hold_is_refused(slab_kernels):
         st.moving_green_response(SLAB.replace(kv=2 * SLAB.kv), st.WheelGroup((st.Wheel(), st.Wheel()),
                                                                              spacing=(0.0, -0.5)),
                                  speed=SPEED, dt=DT, duration=0.03, x_contact=3 * kernels.grid.step, kernels=kernels)
+
+
+def test_work_beyond_reason_is_refused_before_it_starts(tmp_path):
+    """A memory of 100 s or a run of an hour is refused at once, naming what to change; a cache file
+    holding an object array (a pickle inside an npz) is never unpickled but computed again."""
+    import time
+
+    start = time.perf_counter()
+    with pytest.raises(ValueError, match="shorter memory"):
+        st.moving_green_kernels(BALLAST, 300 / 3.6, 2e-5, memory=100.0)
+    grid = grid_of(SLAB, SPEED, DT)
+    kernels = moving_kernels(SLAB, NE, grid, 300)
+    with pytest.raises(ValueError, match="simulate less"):
+        st.moving_green_response(SLAB, st.Wheel(), speed=SPEED, dt=DT, duration=3600.0, kernels=kernels)
+    assert time.perf_counter() - start < 5.0
+    clear_kernel_memo()
+    first = cached_kernels(SLAB, NE, None, grid, 300, None, tmp_path)
+    (path,) = tmp_path.glob("kernels-*.npz")
+    with np.load(path, allow_pickle=False) as data:
+        arrays = {name: data[name] for name in data.files}
+    arrays["key"] = np.array([{"not": "data"}], dtype=object)
+    np.savez(path, **arrays, allow_pickle=True)
+    clear_kernel_memo()
+    again = cached_kernels(SLAB, NE, None, grid, 300, None, tmp_path)
+    assert again.elapsed != first.elapsed and np.array_equal(again.impulse[0], first.impulse[0])

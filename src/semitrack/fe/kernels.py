@@ -41,16 +41,24 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..base.checks import check_work
 from ..base.errors import InputError
 from ..equivalent.cache import canonical, package_source_digest
 from ..model.tracks import Track
 from .bloch import BlochCell, CellWaves, warped_s
 
-__all__ = ["KernelGrid", "MovingKernels", "grid_of", "moving_kernels", "track_key", "kernel_key", "ALIAS_FACTOR"]
+__all__ = ["KernelGrid", "MovingKernels", "grid_of", "moving_kernels", "track_key", "kernel_key", "ALIAS_FACTOR",
+           "MAX_KERNEL_VALUES", "MAX_KERNEL_WORK"]
 
 #: The discrete Fourier transform's length over the kernels' memory: its anti-periodic wrap-around
 #: brings back the response ``ALIAS_FACTOR`` memories later.
 ALIAS_FACTOR = 2
+#: Most values the kernels and their cells' sums may hold, ``P (L + P)`` per wheel offset (8 bytes each):
+#: a bogie on the ballasted track at 300 km/h, 20 us and 0.2 s holds 1.2e7.
+MAX_KERNEL_VALUES = 100_000_000
+#: Most work of a set-up, ``P L^2`` per wheel offset (multiply-adds over frequencies and cells): that bogie's
+#: 1.1e11 took 48 s on a 2-core machine (measured), so the limit is some 4 minutes.
+MAX_KERNEL_WORK = 5e11
 #: Frequencies evaluated together (memory: the cell-0 receptances are P x P per frequency).
 FREQUENCY_BLOCK = 128
 
@@ -361,6 +369,13 @@ def moving_kernels(track: Track, elements_per_bay: int | None, grid: KernelGrid,
     """
     began = time.perf_counter()
     P, dt, L = grid.positions, grid.dt, int(memory)
+    lags = list(grid.lags)
+    request = (f"{P} steps per spacing, a memory of {L} steps and {len(lags)} wheel offset(s) (speed "
+               f"{grid.speed:.6g} m/s, dt={dt!r} s)")
+    hint = "use a larger dt, a higher speed, a shorter memory or fewer wheels"
+    check_work(P * (L + P) * len(lags), MAX_KERNEL_VALUES, f"{request} hold {P * (L + P) * len(lags)} values", hint)
+    check_work(float(P) * L * L * len(lags), MAX_KERNEL_WORK, f"{request} take {float(P) * L * L * len(lags):.3g} "
+               "multiply-adds", hint)
     cell = BlochCell(track, elements_per_bay, grid.step * np.arange(P), f_ref, f_max)
     n_fft = 2 * ALIAS_FACTOR * int(math.ceil(L / 2))
     omega = _frequencies(n_fft, dt)
@@ -368,7 +383,6 @@ def moving_kernels(track: Track, elements_per_bay: int | None, grid: KernelGrid,
     weights = {"impulse": np.full(omega.size, 2.0 / n_fft), "release": -2.0 / n_fft / (z - 1.0)}
     phases = [(start + o) % P for o in grid.offsets]
     starts = sorted({(gi - gj, pj) for gi in grid.offsets for gj, pj in zip(grid.offsets, phases)})
-    lags = list(grid.lags)
     sums = _Sums(lags, starts,
                  {j: np.zeros((len(lags), P, P)) for j in sorted(set().union(*(_cells(P, g, L) for g in lags)))},
                  {j: np.zeros((len(starts), P)) for j in sorted(set().union(*(_cells(P, g + p, L)
