@@ -28,8 +28,9 @@ import pandas as pd
 
 from ..base.bands import third_octave_bands
 from ..boundary.fitting import BroadbandBoundary
+from ..dynamics.factor import factorise
 from ..fe.contact import ContactResponse, wheel_rail_response
-from ..fe.ends import BoundaryEnd
+from ..fe.ends import PINNED, BoundaryEnd
 from ..fe.kernelcache import clear_kernel_memo
 from ..fe.kernels import MovingKernels, grid_of
 from ..fe.models import TruncatedTrack
@@ -39,7 +40,7 @@ from ..model.tracks import Track
 from ..model.vehicle import as_vehicle
 
 __all__ = ["MARGIN_BAYS", "TABLE_FORMATS", "rolling_roughness", "Comparison", "compare_runs", "force_agreement",
-           "moving_table"]
+           "moving_table", "impulse_run_step"]
 
 #: How :func:`moving_table`'s columns read best (for :func:`semitrack.paper.tables.styled`).
 TABLE_FORMATS = {"rms difference (%)": "{:.4f}", "worst band difference (dB)": "{:.1e}",
@@ -166,6 +167,46 @@ def compare_runs(label: str, track: Track, boundary: BroadbandBoundary, vehicle,
     return Comparison(label, kmh, green, truncated, kernels, setup, from_cache,
                       1e6 * green.elapsed / (green.t.size - 1), 1e6 * numpy.elapsed / (numpy.t.size - 1),
                       model.n_dof, time.perf_counter() - start)
+
+
+def impulse_run_step(track: Track, bays: int, dt: float, positions: int, elements_per_bay: int | None = None,
+                     repeat: int = 3) -> tuple[int, float]:
+    """The cost of one step of the alternative source of the kernels: an FE impulse run with a load per position.
+
+    The kernels could also come from Newmark run on a long FE model with one right-hand side per
+    position a contact takes within a spacing; each step then solves the step's factorised
+    effective stiffness for all of them and forms the mass and damping products.
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+    bays : int
+        Bays of the model each side of its centre (margins for its ends' reflections and the memory's reach).
+    dt : float
+        Time step (s).
+    positions : int
+        Right-hand sides (the positions per spacing).
+    elements_per_bay : int, optional
+        The mesh (default: the default mesh for 3 kHz).
+    repeat : int
+        Steps timed (the mean is returned).
+
+    Returns
+    -------
+    n_dof : int
+        The model's DOFs.
+    seconds : float
+        Wall time of one step (s).
+    """
+    model = TruncatedTrack(track, bays, PINNED.name, elements_per_bay=elements_per_bay)
+    M, C, K = model.matrices()
+    factor = factorise(K + 2 / dt * C + 4 / dt**2 * M, model.dofs.along_track(model.mesh))
+    rhs = np.random.default_rng(0).random((model.n_dof, positions))
+    start = time.perf_counter()
+    for _ in range(repeat):
+        factor.solve(M @ rhs + C @ rhs)
+    return model.n_dof, (time.perf_counter() - start) / repeat
 
 
 def force_agreement(green: ContactResponse, truncated: ContactResponse, wheel: int = 0, after: float = 0.1,
