@@ -37,9 +37,10 @@ def convolved_steps(kernels, pair, release, preload, phase0, flexibility, c_h, r
         ``K[q, m]`` (m/N) for each distinct kernel, rows by the loading contact's phase at the step.
     pair : ndarray of int64, shape (k, k)
         Which kernel gives w at contact i per force at contact j.
-    release : ndarray, shape (k, k, L)
+    release : ndarray, shape (k, k, R)
         ``e_ij[n]`` (m/N): w at contact i, n steps after the preload of contact j that stood at
-        its start was taken off.
+        its start was taken off; 0 from step R on (R = L for moving contacts, whose release has
+        gone by then; a stationary one's is the kernel's cut-off tail for good).
     preload : ndarray, shape (k,)
         The standing forces of the start (N).
     phase0 : ndarray of int64, shape (k,)
@@ -76,6 +77,7 @@ def convolved_steps(kernels, pair, release, preload, phase0, flexibility, c_h, r
     n_kernels, P, L = kernels.shape
     k, n_v = pair.shape[0], M.shape[0]
     n_steps = force.shape[0] - 1
+    R = release.shape[2]
     a0, a1, a2, a3, a4, a5 = coef[0], coef[1], coef[2], coef[3], coef[4], coef[5]
     G = np.zeros((k, k))
     a = np.zeros(k)
@@ -90,7 +92,7 @@ def convolved_steps(kernels, pair, release, preload, phase0, flexibility, c_h, r
             for j in range(k):
                 q = (phase0[j] + n) % P
                 row = kernels[pair[i, j], q]
-                if n < L:
+                if n < R:
                     s += preload[j] * release[i, j, n]
                 s += np.dot(row[1:], history[j, base + 1: base + L])
                 G[i, j] = row[0] + inverse[i, j]
@@ -145,6 +147,7 @@ def one_contact_steps(kernels, pair, release, preload, phase0, flexibility, c_h,
     m, c, g_w = float(M[0, 0]), float(C[0, 0]), float(inverse[0, 0])
     load, p0 = float(loads[0]), float(preload[0])
     e = release[0, 0].tolist()
+    R = len(e)
     flex, rough = flexibility.tolist(), r[:, 0].tolist()
     hist_force = history[0]
     first = rows[:, 0].tolist()
@@ -156,7 +159,7 @@ def one_contact_steps(kernels, pair, release, preload, phase0, flexibility, c_h,
         q = (phase + n) % P
         base = n_steps - n
         hist = float(dot(rows[q, 1:], hist_force[base + 1: base + L]))
-        if n < L:
+        if n < R:
             hist += p0 * e[n]
         flex_n = flex[q]
         free = g_w * (load + m * (a0 * x + a2 * v + a3 * acc) + c * (a1 * x + a4 * v + a5 * acc))

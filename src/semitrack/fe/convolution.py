@@ -33,13 +33,14 @@ import numpy as np
 
 from ..base.checks import check_positive, check_steps
 from ..base.errors import InputError, InputTypeError
-from ..dynamics.contact import MAX_NEWTON, solve_hertz
 from ..dynamics.newmark import Newmark
+from ..dynamics.simulate import convolved_loop
 from ..methods.infinite import InfiniteTrack
 from ..model.tracks import Track
 from ..model.vehicle import Vehicle, as_vehicle
 from ..model.wheel import Wheel
 from .contact import ContactResponse
+from .moving import vehicle_step
 from .roughness import Roughness
 from .timedomain import sin2_ramp
 
@@ -88,15 +89,6 @@ def rail_impulse_responses(infinite: InfiniteTrack, x: np.ndarray, dt: float, me
     kept = h[: n // 2]  # lags up to the memory (the transform's second half: later lags and the ringing before t = 0)
     tail = np.abs(kept[n // 4:]).max() / np.abs(kept).max()  # what is left over the memory's second half
     return kept, H[0].real, float(tail)
-
-
-def _vehicle_step(vehicle: Vehicle, stepper: Newmark) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The vehicle's matrices and its effective stiffness's inverse; the wheels' step compliance."""
-    M, C, K = vehicle.matrices()
-    a0, a1 = stepper.coefficients[:2]
-    inverse = np.linalg.inv(K + a1 * C + a0 * M)
-    k = len(vehicle.wheels)
-    return M, C, inverse, inverse[:k, :k]
 
 
 def convolution_response(track: Track | InfiniteTrack, wheel: Wheel | Vehicle | Sequence[Wheel],
@@ -155,37 +147,35 @@ def convolution_response(track: Track | InfiniteTrack, wheel: Wheel | Vehicle | 
 
 def _integrate(vehicle: Vehicle, h: np.ndarray, static: np.ndarray, r: np.ndarray, dt: float
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The step loop: the vehicle by Newmark, the rail by the convolution, the contacts solved."""
+    """The step loop of :mod:`semitrack.dynamics.convolved` with one phase (stationary wheels).
+
+    Its kernel is ``dt h`` and its release of the standing preloads ``static - dt sum_(k<min(n, L))
+    h[k]`` over the whole run, so that ``w_n = static P0 + dt sum_m h_m (F_(n-m) - P0)`` as the
+    module docstring writes it (a constant preload gives the static deflection, the memory's tail
+    included).
+    """
     stepper = Newmark(dt)
-    a0, a1, a2, a3, a4, a5 = stepper.coefficients
-    M, C, inverse, G_wheels = _vehicle_step(vehicle, stepper)
+    M, C, inverse = vehicle_step(vehicle, stepper)
     wheels = vehicle.wheels
-    k, rows = len(wheels), r.shape[0]
-    c_h = np.array([w.hertz_constant for w in wheels])
+    k, rows, L = len(wheels), r.shape[0], h.shape[0]
     preload = np.array([w.preload for w in wheels])
+    kernels = np.ascontiguousarray((dt * h).transpose(1, 2, 0).reshape(k * k, 1, L))  # one phase per pair
+    pair = np.arange(k * k, dtype=np.int64).reshape(k, k)
+    taken = np.cumsum(dt * h, axis=0).transpose(1, 2, 0)  # (k, k, L): sum over k <= n of dt h
+    held = np.concatenate([np.zeros((k, k, 1)), taken, np.repeat(taken[:, :, -1:], max(rows - L - 1, 0), axis=2)],
+                          axis=2)[:, :, :rows]  # sum over k < min(n, L): the memory's cut-off tail stays
+    release = static[:, :, None] - held
     w_rail0 = static @ preload
-    u = vehicle.static_state(w_rail0 + np.array([w.static_approach for w in wheels]))
-    loads = vehicle.static_loads(u)
-    v, a = np.zeros_like(u), np.zeros_like(u)
-    G = G_wheels + dt * h[0]  # the current step's share of the convolution
-    dF = np.zeros((rows, k))  # F - P0: zero before the start
+    u0 = vehicle.static_state(w_rail0 + np.array([w.static_approach for w in wheels]))
     force, w_wheel, w_rail = np.tile(preload, (rows, 1)), np.empty((rows, k)), np.empty((rows, k))
-    w_wheel[0], w_rail[0] = u[:k], w_rail0
-    work, f_now = np.zeros((k, k + 5)), np.zeros(k)
-    memory = h.shape[0]
-    for n in range(1, rows):
-        lo = max(0, n - memory + 1)
-        past = dF[lo:n][::-1]  # F(t_n - m dt) - P0 for m = 1 ...
-        history = dt * np.einsum("mij,mj->i", h[1:n - lo + 1], past)
-        rhs = loads + M @ (a0 * u + a2 * v + a3 * a) + C @ (a1 * u + a4 * v + a5 * a)
-        free = inverse @ rhs
-        approach = free[:k] - (w_rail0 + history - dt * h[0] @ preload) - r[n]
-        if solve_hertz(c_h, approach, G, f_now, work) > MAX_NEWTON:
-            raise RuntimeError(f"the contact forces did not converge at step {n}")
-        u_new = free - inverse[:, :k] @ f_now
-        v, a = stepper.correct(u, v, a, u_new)
-        u = u_new
-        dF[n] = f_now - preload
-        force[n], w_wheel[n] = f_now, u[:k]
-        w_rail[n] = w_rail0 + history + dt * h[0] @ dF[n]
+    w_wheel[0], w_rail[0] = u0[:k], w_rail0
+    state = np.zeros((3, u0.size))
+    state[0] = u0
+    failed = convolved_loop(None, k == 1 and u0.size == 1)(
+        kernels, pair, release, preload, np.zeros(k, dtype=np.int64), np.zeros(1),
+        np.array([w.hertz_constant for w in wheels]), np.ascontiguousarray(r), inverse, M, C,
+        np.array(stepper.coefficients), vehicle.static_loads(u0), state, force, w_wheel, w_rail,
+        np.zeros((k, rows - 1 + L)), np.zeros((k, k + 5)))
+    if failed:
+        raise RuntimeError(f"the contact forces did not converge at step {failed}")
     return force, w_wheel, w_rail

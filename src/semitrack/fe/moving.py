@@ -142,8 +142,21 @@ def vehicle_on_grid(vehicle: Vehicle, kernels: MovingKernels) -> Vehicle:
     return vehicle
 
 
-def _vehicle_step(vehicle: Vehicle, stepper: Newmark) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The vehicle's mass, damping and effective stiffness's inverse for the step."""
+def vehicle_step(vehicle: Vehicle, stepper: Newmark) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The vehicle's mass, damping and effective stiffness's inverse for a Newmark step.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        The vehicle.
+    stepper : Newmark
+        The scheme and its step.
+
+    Returns
+    -------
+    M, C, inverse : ndarray
+        ``(n_v, n_v)`` each.
+    """
     M, C, K = vehicle.matrices()
     a0, a1 = stepper.coefficients[:2]
     return M, C, np.linalg.inv(K + a1 * C + a0 * M)
@@ -300,7 +313,7 @@ def _run(kernels: MovingKernels, vehicle: Vehicle, g: np.ndarray, phase0: np.nda
          compiled: bool | None) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """The static start and the step loop: forces, wheel and rail displacements, and the loop's wall time."""
     stepper = Newmark(dt)
-    M, C, inverse = _vehicle_step(vehicle, stepper)
+    M, C, inverse = vehicle_step(vehicle, stepper)
     wheels = vehicle.wheels
     k = len(wheels)
     stack, pair, release = _loop_arrays(kernels, g, phase0)
