@@ -108,15 +108,15 @@ def boundary():
     return st.fit_boundary(SLAB)
 
 
-def _truncated(res, boundary, duration):
-    """The truncated FE model with broadband ends that holds the run's path, 40 bays to spare (20 leave
-    1e-3 of reflections on this coarse mesh)."""
+def _truncated(res, boundary, duration, rough="broadband"):
+    """The same run on the truncated FE model with broadband ends that holds its path, 40 bays to spare
+    (20 leave 1e-3 of reflections on this coarse mesh)."""
     reach = np.abs(res.x).max() + SLAB.spacing
     model = st.TruncatedTrack(SLAB, int(np.ceil(reach / SLAB.spacing)) + 40, "boundary", system=boundary,
                               elements_per_bay=NE)
     x0 = res.x[0] if res.x.ndim == 1 else res.x[0, 0]
-    return st.wheel_rail_response(model, res.vehicle, _rough(res.speed), x_contact=float(x0), speed=res.speed,
-                                  dt=res.dt, duration=duration)
+    return st.wheel_rail_response(model, res.vehicle, _rough(res.speed) if rough == "broadband" else rough,
+                                  x_contact=float(x0), speed=res.speed, dt=res.dt, duration=duration)
 
 
 def test_one_wheel_and_two_agree_with_the_truncated_model(boundary):
@@ -137,11 +137,7 @@ def test_loss_of_contact_as_in_the_truncated_model(boundary):
     rough = st.corrugation(speed=grid_of(SLAB, SPEED, DT).speed, wavelength=0.1, amplitude=2e-4)
     res = st.moving_green_response(SLAB, st.Wheel(), rough, x_contact=-1.0, speed=SPEED, dt=DT, duration=0.1,
                                    memory=0.15, elements_per_bay=NE)
-    reach = np.abs(res.x).max() + SLAB.spacing
-    model = st.TruncatedTrack(SLAB, int(np.ceil(reach / SLAB.spacing)) + 40, "boundary", system=boundary,
-                              elements_per_bay=NE)
-    ref = st.wheel_rail_response(model, st.Wheel(), rough, x_contact=float(res.x[0]), speed=res.speed, dt=DT,
-                                 duration=0.1)
+    ref = _truncated(res, boundary, 0.1, rough)
     assert res.lost_contact and ref.lost_contact
     assert np.count_nonzero(res.in_contact != ref.in_contact) <= 2
     assert np.abs(res.force - ref.force).max() <= 1e-3 * ref.force.max()
@@ -152,11 +148,7 @@ def test_a_smooth_rail_shows_the_support_passing_line(boundary):
     and so is the whole spectrum (the wheel's bounce set off by the start among it)."""
     res = st.moving_green_response(SLAB, st.Wheel(), None, x_contact=-1.0, speed=SPEED, dt=DT, duration=0.2,
                                    memory=0.15, elements_per_bay=NE)
-    reach = np.abs(res.x).max() + SLAB.spacing
-    model = st.TruncatedTrack(SLAB, int(np.ceil(reach / SLAB.spacing)) + 40, "boundary", system=boundary,
-                              elements_per_bay=NE)
-    ref = st.wheel_rail_response(model, st.Wheel(), None, x_contact=float(res.x[0]), speed=res.speed, dt=DT,
-                                 duration=0.2)
+    ref = _truncated(res, boundary, 0.2, None)
     f, amp = res.force_spectrum(after=0.05)
     _, amp_ref = ref.force_spectrum(after=0.05)
     line = np.argmin(np.abs(f - res.speed / SLAB.spacing))

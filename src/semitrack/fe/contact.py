@@ -66,7 +66,8 @@ from .roughness import Roughness, third_octave_bands
 from .timedomain import sin2_ramp
 from .trackforces import TrackForces, track_forces, watched_dofs
 
-__all__ = ["ContactResponse", "ContactTransfer", "wheel_rail_response", "contact_transfer", "hertz_contact_force"]
+__all__ = ["ContactResponse", "ContactTransfer", "wheel_rail_response", "contact_transfer", "hertz_contact_force",
+           "profile_along"]
 
 def hertz_contact_force(c_h: float, a: float, beta: float) -> float:
     """The force F >= 0 (N) with ``F = c_h max(a - beta F, 0)^(3/2)``: one wheel's contact equation in a step.
@@ -297,8 +298,21 @@ def _gap_response(res, gaps: SleeperGaps, k: int, dt: float) -> GapResponse:
                        contact_time=dt * np.count_nonzero(force[1:] > 0, axis=0))  # a step per sample after the start
 
 
-def _profile_along(profile: Irregularity, x: np.ndarray) -> np.ndarray:
-    """Each wheel's drop of the rail ``r(x_i(t))`` (m), checked zero where the wheels start."""
+def profile_along(profile: Irregularity, x: np.ndarray) -> np.ndarray:
+    """Each wheel's drop of the rail ``r(x_i(t))`` (m), checked zero where the wheels start.
+
+    Parameters
+    ----------
+    profile : Irregularity
+        The irregularity fixed on the rail.
+    x : ndarray, shape (steps, wheels)
+        The wheels' positions (m).
+
+    Returns
+    -------
+    ndarray
+        The shape of ``x`` (m, downward).
+    """
     if not isinstance(profile, Irregularity):
         raise InputTypeError(f"profile must be an Irregularity (st.DippedWeld, st.RailProfile), got "
                              f"{type(profile).__name__}")
@@ -408,7 +422,7 @@ def wheel_rail_response(model: FETrack, wheel: Wheel | Sequence[Wheel], roughnes
     r = np.zeros((t.size, k)) if roughness is None else np.column_stack(
         [roughness.shifted(x[0, i] - x[0, 0]).sampled(dt, t.size) * fade for i in range(k)])
     if profile is not None:
-        r = r + _profile_along(profile, x)
+        r = r + profile_along(profile, x)
     watch = watched_dofs(model, watch_supports, bending_at)
     vehicle_dofs = model.n_dof + np.arange(vehicle_loads.size)
     contacts = _all_contacts(vehicle_dofs[:k], points, wheels, r, flexibility, gaps)

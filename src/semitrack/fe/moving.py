@@ -45,7 +45,7 @@ from ..model.irregularity import Irregularity
 from ..model.tracks import Track, require_track
 from ..model.vehicle import Bogie, Vehicle, WheelGroup, as_vehicle
 from ..model.wheel import Wheel
-from .contact import ContactResponse
+from .contact import ContactResponse, profile_along
 from .kernelcache import cached_kernels
 from .kernels import MovingKernels, grid_of, track_key
 from .roughness import Roughness
@@ -255,7 +255,7 @@ def moving_green_response(track: Track, wheel: Wheel | Vehicle | Sequence[Wheel]
     v = kernels.grid.speed
     t = dt * np.arange(n_steps + 1)
     x = (g[None, :] + np.arange(n_steps + 1)[:, None]) * kernels.grid.step
-    r = _roughness_at(roughness, v, x, t, ramp) + (0.0 if profile is None else _profile(profile, x))
+    r = _roughness_at(roughness, v, x, t, ramp) + (0.0 if profile is None else profile_along(profile, x))
     force, w_wheel, w_rail, elapsed = _run(kernels, vehicle, g, phase0, r, dt, compiled)
     one = (lambda a: a[:, 0]) if k == 1 else (lambda a: a)
     vehicle = vehicle_on_grid(vehicle, kernels)
@@ -297,16 +297,6 @@ def _roughness_at(roughness: Roughness | None, speed: float, x: np.ndarray, t: n
     fade = sin2_ramp(t, ramp)
     dt = float(t[1] - t[0])
     return np.column_stack([rough.shifted(x[0, i] - x[0, 0]).sampled(dt, t.size) * fade for i in range(k)])
-
-
-def _profile(profile: Irregularity, x: np.ndarray) -> np.ndarray:
-    if not isinstance(profile, Irregularity):
-        raise InputTypeError(f"profile must be an Irregularity (st.DippedWeld, st.RailProfile), got "
-                             f"{type(profile).__name__}")
-    r = profile(x)
-    if np.any(r[0] != 0):
-        raise InputError(f"the wheels must start off the profile (it spans {profile.extent} m)")
-    return r
 
 
 def _run(kernels: MovingKernels, vehicle: Vehicle, g: np.ndarray, phase0: np.ndarray, r: np.ndarray, dt: float,
