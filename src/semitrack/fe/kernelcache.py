@@ -16,6 +16,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -23,7 +24,7 @@ import numpy as np
 from ..base.files import atomic_write
 from ..model.tracks import Track
 from .ends import FREE
-from .kernels import KernelGrid, MovingKernels, kernel_key, moving_kernels
+from .kernels import KernelGrid, MovingKernels, kernel_key, moving_kernels, release_starts
 from .models import FETrack
 
 __all__ = ["MAX_KERNEL_BYTES", "cached_kernels", "clear_kernel_memo"]
@@ -50,26 +51,33 @@ def _write(path: Path, kernels: MovingKernels) -> None:
     atomic_write(path, lambda fh: np.savez(fh, **arrays), binary=True)
 
 
-def _read(path: Path, key: dict, grid: KernelGrid) -> MovingKernels | None:
-    """The kernels stored at ``path`` for ``key``, or None (absent, too large, unreadable, another key)."""
+def _read(path: Path, key: dict, grid: KernelGrid, starts: list) -> MovingKernels | None:
+    """The kernels stored at ``path`` for ``key``, or None: absent, too large (stored or inflated), unreadable,
+    another key, or arrays that are not finite float64 of the grid's shapes and starts."""
+    L, P = key["memory"], grid.positions
     try:
         if path.stat().st_size > MAX_KERNEL_BYTES:
             return None
-        with np.load(path, allow_pickle=False) as data:
-            if json.loads(str(data["key"])) != json.loads(json.dumps(key, sort_keys=True)):
+        with zipfile.ZipFile(path) as archive:  # the members' inflated sizes, before any is read
+            if sum(info.file_size for info in archive.infolist()) > MAX_KERNEL_BYTES:
                 return None
-            lags, impulse, starts, release = data["lags"], data["impulse"], data["starts"], data["release"]
-            flexibility, (tail, elapsed) = data["flexibility"], data["scalars"]
-    except (OSError, ValueError, KeyError, TypeError):  # absent, not an npz, a pickle, a missing array
+        with np.load(path, allow_pickle=False) as data:
+            if json.loads(str(data["key"][()])) != json.loads(json.dumps(key, sort_keys=True)):
+                return None
+            arrays = {name: data[name] for name in ("lags", "impulse", "starts", "release", "flexibility", "scalars")}
+        lags, stored = arrays["lags"].tolist(), [tuple(s) for s in arrays["starts"].tolist()]
+        floats = [arrays[name] for name in ("impulse", "release", "flexibility", "scalars")]
+        if (lags != list(grid.lags) or stored != starts or arrays["impulse"].shape != (len(lags), P, L)
+                or arrays["release"].shape != (len(starts), L) or arrays["flexibility"].shape != (P,)
+                or arrays["scalars"].shape != (2,) or not all(a.dtype == np.float64 and np.isfinite(a).all()
+                                                               for a in floats)):
+            return None
+    except (OSError, ValueError, KeyError, TypeError, zipfile.BadZipFile):  # absent, not an npz, a pickle, ...
         return None
-    L = key["memory"]
-    if (list(lags) != list(grid.lags) or impulse.shape != (len(lags), grid.positions, L)
-            or starts.ndim != 2 or starts.shape[1] != 2 or release.shape != (starts.shape[0], L)
-            or flexibility.shape != (grid.positions,) or impulse.dtype != np.float64 or release.dtype != np.float64):
-        return None
-    return MovingKernels(grid, {int(lag): impulse[i] for i, lag in enumerate(lags)},
-                         {(int(a), int(b)): release[i] for i, (a, b) in enumerate(starts)}, flexibility,
-                         float(tail), key, float(elapsed), key["elements_per_bay"], key["start"])
+    tail, elapsed = arrays["scalars"].tolist()
+    return MovingKernels(grid, {int(lag): arrays["impulse"][i] for i, lag in enumerate(lags)},
+                         {(int(a), int(b)): arrays["release"][i] for i, (a, b) in enumerate(starts)},
+                         arrays["flexibility"], float(tail), key, float(elapsed), key["elements_per_bay"], key["start"])
 
 
 def cached_kernels(track: Track, elements_per_bay: int | None, f_max: float | None, grid: KernelGrid, memory: int,
@@ -105,7 +113,7 @@ def cached_kernels(track: Track, elements_per_bay: int | None, f_max: float | No
     if digest in _MEMO:
         return _MEMO[digest]
     path = None if cache is None else Path(cache) / f"kernels-{digest}.npz"
-    kernels = None if path is None else _read(path, key, grid)
+    kernels = None if path is None else _read(path, key, grid, release_starts(grid, start))
     if kernels is None:
         kernels = moving_kernels(track, ne, grid, memory, f_ref, start=start)
         if path is not None:

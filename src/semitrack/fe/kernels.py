@@ -21,7 +21,7 @@ Fourier transform of the infinite track's receptance between the grid points, ta
 step-by-step response of an infinitely long FE model with the same mesh, no end and no reflection.
 On the grid of N frequencies ``omega_l = 2 pi (l + 1/2) / (N dt)`` (half a bin off, neither 0 nor
 Nyquist) the transform is anti-periodic: the kernels are exact but for ``-h[k + N] + h[k + 2N] ...``,
-which dies with the track's response over ``N dt`` (N = 4 times the memory). With ``z = exp(i
+which dies with the track's response over ``N dt`` (N = :data:`ALIAS_FACTOR` times the memory). With ``z = exp(i
 omega dt)``, ``e``'s transform is ``(H(1) - H(z) / z) / (1 - 1/z)``, of which the first part is half
 the static receptance at every step on this grid.
 
@@ -47,8 +47,8 @@ from ..equivalent.cache import canonical, package_source_digest
 from ..model.tracks import Track
 from .bloch import BlochCell, CellWaves, warped_s
 
-__all__ = ["KernelGrid", "MovingKernels", "grid_of", "moving_kernels", "track_key", "kernel_key", "ALIAS_FACTOR",
-           "MAX_KERNEL_VALUES", "MAX_KERNEL_WORK"]
+__all__ = ["KernelGrid", "MovingKernels", "grid_of", "moving_kernels", "release_starts", "track_key", "kernel_key",
+           "ALIAS_FACTOR", "MAX_KERNEL_VALUES", "MAX_KERNEL_WORK"]
 
 #: The discrete Fourier transform's length over the kernels' memory: its anti-periodic wrap-around
 #: brings back the response ``ALIAS_FACTOR`` memories later.
@@ -341,6 +341,26 @@ def _static_release(cell: BlochCell, w0: CellWaves, lag: int, p0: int, j: int) -
     return (shows[0] @ np.linalg.matrix_power(step[0], abs(j) - 1) @ out[0][:, p0]).real
 
 
+def release_starts(grid: KernelGrid, start: int) -> list[tuple[int, int]]:
+    """The releases a start needs: ``(Delta, p)`` for every wheel pair, p the loading wheel's phase.
+
+    Parameters
+    ----------
+    grid : KernelGrid
+        The grid and the wheels' offsets.
+    start : int
+        The phase of the vehicle's reference point (its first offset's origin) at the start.
+
+    Returns
+    -------
+    list of (int, int)
+        Sorted.
+    """
+    P = grid.positions
+    phases = [(start + o) % P for o in grid.offsets]
+    return sorted({(gi - gj, pj) for gi in grid.offsets for gj, pj in zip(grid.offsets, phases)})
+
+
 def moving_kernels(track: Track, elements_per_bay: int | None, grid: KernelGrid, memory: int, f_ref=None,
                    f_max: float | None = None, start: int = 0) -> MovingKernels:
     """The moving Green's functions of every wheel pair of ``grid`` over ``memory`` steps.
@@ -381,8 +401,7 @@ def moving_kernels(track: Track, elements_per_bay: int | None, grid: KernelGrid,
     omega = _frequencies(n_fft, dt)
     z = np.exp(1j * omega * dt)
     weights = {"impulse": np.full(omega.size, 2.0 / n_fft), "release": -2.0 / n_fft / (z - 1.0)}
-    phases = [(start + o) % P for o in grid.offsets]
-    starts = sorted({(gi - gj, pj) for gi in grid.offsets for gj, pj in zip(grid.offsets, phases)})
+    starts = release_starts(grid, start)
     sums = _Sums(lags, starts,
                  {j: np.zeros((len(lags), P, P)) for j in sorted(set().union(*(_cells(P, g, L) for g in lags)))},
                  {j: np.zeros((len(starts), P)) for j in sorted(set().union(*(_cells(P, g + p, L)

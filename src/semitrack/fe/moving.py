@@ -30,6 +30,7 @@ Limits, where a user meets them:
 from __future__ import annotations
 
 import dataclasses
+import math
 import time
 import warnings
 from collections.abc import Sequence
@@ -41,17 +42,25 @@ from ..base.checks import check_positive, check_real, check_steps, check_work
 from ..base.errors import InputError, InputTypeError
 from ..dynamics.newmark import Newmark
 from ..dynamics.simulate import MAX_RECORDED, convolved_loop
+from ..equivalent.cache import canonical
 from ..model.irregularity import Irregularity
 from ..model.tracks import Track, require_track
 from ..model.vehicle import Bogie, Vehicle, WheelGroup, as_vehicle
 from ..model.wheel import Wheel
 from .contact import ContactResponse, profile_along
+from .ends import FREE
 from .kernelcache import cached_kernels
 from .kernels import MovingKernels, grid_of, track_key
+from .models import FETrack
 from .roughness import Roughness
 from .timedomain import sin2_ramp
 
-__all__ = ["TAIL_TOLERANCE", "MAX_LOOP_WORK", "moving_green_kernels", "moving_green_response", "vehicle_on_grid"]
+__all__ = ["TAIL_TOLERANCE", "MAX_LOOP_WORK", "DEFAULT_MEMORY", "moving_green_kernels", "moving_green_response",
+           "vehicle_on_grid"]
+
+#: The kernels' memory when none is given (s): on the paper's tracks at 300 km/h they have died to
+#: 6e-5 (slab) and below (ballasted) of their peak by its last quarter (measured).
+DEFAULT_MEMORY = 0.2
 
 #: Most multiply-adds of a run's convolutions, steps x wheels^2 x memory (a 1-s bogie run on the ballasted
 #: track at 20 us, 2e9, took 0.9 s compiled).
@@ -71,7 +80,7 @@ def _require_periodic(track: Track) -> Track:
 
 
 def moving_green_kernels(track: Track, speed: float, dt: float, offsets: Sequence[float] = (0.0,), *,
-                         x_contact: float = 0.0, memory: float = 0.2, elements_per_bay: int | None = None,
+                         x_contact: float = 0.0, memory: float = DEFAULT_MEMORY, elements_per_bay: int | None = None,
                          f_max: float | None = None, f_ref: float | dict | None = None,
                          cache: str | Path | None = None) -> MovingKernels:
     """The moving Green's functions of a periodic track for wheels at ``offsets`` rolling at ``speed``.
@@ -88,9 +97,9 @@ def moving_green_kernels(track: Track, speed: float, dt: float, offsets: Sequenc
         The wheels' positions along +x from the first wheel (m), as :attr:`semitrack.Bogie.offsets`;
         rounded to whole steps ``speed dt``.
     x_contact : float
-        Where the first wheel starts (m): the kernels hold the release of the standing preloads
-        for that start's position within a spacing (any start a whole number of spacings away
-        shares them).
+        Where the vehicle starts (m; wheel i at ``x_contact + offsets[i]``): the kernels hold the
+        release of the standing preloads for that start's position within a spacing (any start a
+        whole number of spacings away shares them).
     memory : float
         How long the kernels remember a force (s).
     elements_per_bay : int, optional
@@ -111,7 +120,10 @@ def moving_green_kernels(track: Track, speed: float, dt: float, offsets: Sequenc
     speed, dt, memory = check_positive("speed", speed), check_positive("dt", dt), check_positive("memory", memory)
     grid = grid_of(track, speed, dt, offsets)
     steps = check_steps(dt, memory)
-    start = int(round(check_real("x_contact", x_contact) / grid.step)) % grid.positions
+    x_contact = check_real("x_contact", x_contact)
+    if not math.isfinite(x_contact):
+        raise InputError(f"x_contact must be finite (m), got {x_contact!r}")
+    start = int(round(x_contact / grid.step)) % grid.positions
     return cached_kernels(track, elements_per_bay, f_max, grid, steps, f_ref, cache, start)
 
 
@@ -165,7 +177,7 @@ def vehicle_step(vehicle: Vehicle, stepper: Newmark) -> tuple[np.ndarray, np.nda
 def _start(kernels: MovingKernels, x_contact: float, k: int) -> tuple[np.ndarray, np.ndarray]:
     """The wheels' grid indices and phases at the start (the first wheel's start rounded to the grid)."""
     grid = kernels.grid
-    g = int(round(check_real("x_contact", x_contact) / grid.step)) + np.array(grid.offsets[:k], dtype=np.int64)
+    g = int(round(x_contact / grid.step)) + np.array(grid.offsets[:k], dtype=np.int64)
     return g, np.mod(g, grid.positions).astype(np.int64)
 
 
@@ -183,7 +195,7 @@ def _loop_arrays(kernels: MovingKernels, g: np.ndarray, phase0: np.ndarray):
 
 def moving_green_response(track: Track, wheel: Wheel | Vehicle | Sequence[Wheel], roughness: Roughness | None = None,
                           *, x_contact: float = 0.0, speed: float, dt: float = 2e-5, duration: float = 0.1,
-                          ramp: float = 0.02, memory: float = 0.2, elements_per_bay: int | None = None,
+                          ramp: float = 0.02, memory: float | None = None, elements_per_bay: int | None = None,
                           f_max: float | None = None, f_ref: float | dict | None = None,
                           compiled: bool | None = None, cache: str | Path | None = None,
                           profile: Irregularity | None = None, kernels: MovingKernels | None = None
@@ -201,15 +213,18 @@ def moving_green_response(track: Track, wheel: Wheel | Vehicle | Sequence[Wheel]
         The roughness under the first wheel, at the wheels' speed (re-sampled at the rounded
         speed, its wavelengths kept), faded in over ``ramp``; None: a smooth rail.
     x_contact : float
-        The first wheel's start (m), rounded to the grid of steps ``speed dt``.
+        Where the vehicle starts (m): wheel i at ``x_contact + offsets[i]`` (the first wheel's
+        start for a vehicle whose first offset is 0), rounded to the grid of steps ``speed dt``.
     speed : float
         The wheels' speed (m/s), > 0, rounded to a whole number of steps per spacing.
     dt, duration, ramp : float
         Time step, duration and fade-in (s).
-    memory : float
-        How long the kernels remember a force (s): longer than the rail's response takes to die away.
+    memory : float, optional
+        How long the kernels remember a force (s; default :data:`DEFAULT_MEMORY`): longer than the
+        rail's response takes to die away.
     elements_per_bay, f_max, f_ref
-        The FE mesh and damping, as :class:`semitrack.TruncatedTrack` takes them.
+        The FE mesh and damping, as :class:`semitrack.TruncatedTrack` takes them. With ``kernels``,
+        ``memory``, the mesh and ``f_ref`` are the kernels'; any of them given must agree with them.
     compiled : bool, optional
         The step loop compiled (True), in Python and NumPy (False) or compiled where numba is
         installed (None).
@@ -219,7 +234,9 @@ def moving_green_response(track: Track, wheel: Wheel | Vehicle | Sequence[Wheel]
         A geometric irregularity of the rail (:class:`semitrack.DippedWeld`, ...) met by each wheel
         where it is: the rail's shape, not the track's, so the track stays periodic.
     kernels : MovingKernels, optional
-        Kernels already computed for this track, speed, step and vehicle (their offsets).
+        Kernels already computed for this track, speed, step, vehicle (its offsets, or more) and
+        start (its position within a spacing); any preload, roughness or vehicle dynamics may
+        use them. Kernels of another track, step, speed, mesh, damping or memory are refused.
 
     Returns
     -------
@@ -231,27 +248,22 @@ def moving_green_response(track: Track, wheel: Wheel | Vehicle | Sequence[Wheel]
     track = _require_periodic(track)
     vehicle = as_vehicle(wheel)
     k = len(vehicle.wheels)
-    dt, duration, ramp = check_positive("dt", dt), check_positive("duration", duration), check_positive("ramp", ramp)
-    if not duration > ramp:
-        raise InputError(f"duration must exceed ramp = {ramp!r} s (the roughness's fade-in), got {duration!r}")
-    if roughness is not None and not isinstance(roughness, Roughness):
-        raise InputTypeError(f"roughness must be None (a smooth rail) or a Roughness, got {type(roughness).__name__}")
+    speed, dt = check_positive("speed", speed), check_positive("dt", dt)
+    duration, ramp = check_positive("duration", duration), check_positive("ramp", ramp)
+    x_contact = check_real("x_contact", x_contact)
+    if not (duration > ramp and math.isfinite(x_contact)):
+        raise InputError(f"duration must exceed ramp = {ramp!r} s (the roughness's fade-in) and x_contact be finite, "
+                         f"got duration={duration!r} s and x_contact={x_contact!r} m")
     n_steps = check_steps(dt, duration)
+    settings = {"memory": memory, "elements_per_bay": elements_per_bay, "f_max": f_max, "f_ref": f_ref}
     if kernels is None:
-        kernels = moving_green_kernels(track, speed, dt, vehicle.offsets, x_contact=x_contact, memory=memory,
-                                       elements_per_bay=elements_per_bay, f_max=f_max, f_ref=f_ref, cache=cache)
-    _check_kernels(kernels, track, speed, dt, vehicle)
+        kernels = moving_green_kernels(track, speed, dt, vehicle.offsets, x_contact=x_contact, cache=cache,
+                                       **{**settings, "memory": DEFAULT_MEMORY if memory is None else memory})
+    _check_kernels(kernels, track, speed, dt, vehicle, settings)
+    _check_roughness(roughness, speed, kernels.grid.speed)
     g, phase0 = _start(kernels, x_contact, k)
-    _check_start(kernels, phase0)
-    request = f"duration={duration!r} s / dt={dt!r} s with {k} wheel(s) and a memory of {kernels.memory} steps"
-    check_work(float(n_steps) * k * k * kernels.memory, MAX_LOOP_WORK, f"{request} take "
-               f"{float(n_steps) * k * k * kernels.memory:.3g} multiply-adds", "simulate less or use a shorter memory")
-    check_work((n_steps + 1) * (4 * k + 1), MAX_RECORDED, f"{request} record {(n_steps + 1) * (4 * k + 1)} values",
-               "simulate less")
-    if kernels.tail > TAIL_TOLERANCE:
-        warnings.warn(f"memory={kernels.memory * dt:.4g} s keeps the moving Green's functions while they are still "
-                      f"{kernels.tail:.1e} of their peak over its last quarter: older forces are dropped; give a "
-                      "longer memory", RuntimeWarning, stacklevel=2)
+    _check_start(kernels, g, vehicle)
+    _check_work(kernels, n_steps, k, f"duration={duration!r} s / dt={dt!r} s with {k} wheel(s)")
     v = kernels.grid.speed
     t = dt * np.arange(n_steps + 1)
     x = (g[None, :] + np.arange(n_steps + 1)[:, None]) * kernels.grid.step
@@ -266,8 +278,9 @@ def moving_green_response(track: Track, wheel: Wheel | Vehicle | Sequence[Wheel]
                            vehicle=vehicle, infinite=None)
 
 
-def _check_kernels(kernels: MovingKernels, track: Track, speed: float, dt: float, vehicle: Vehicle) -> None:
-    """Kernels given by the caller must be those of this track, speed, step and vehicle."""
+def _check_kernels(kernels: MovingKernels, track: Track, speed: float, dt: float, vehicle: Vehicle,
+                   settings: dict) -> None:
+    """Kernels given by the caller must be those of this track, speed, step, vehicle and of the settings given."""
     if not isinstance(kernels, MovingKernels):
         raise InputTypeError(f"kernels must be MovingKernels (st.moving_green_kernels), got {type(kernels).__name__}")
     grid = grid_of(track, speed, dt, vehicle.offsets)
@@ -278,14 +291,52 @@ def _check_kernels(kernels: MovingKernels, track: Track, speed: float, dt: float
                          f"{grid.offsets}")
     if kernels.key.get("track") != track_key(track):
         raise InputError("the kernels were computed for another track")
+    memory, ne, f_max, f_ref = (settings[name] for name in ("memory", "elements_per_bay", "f_max", "f_ref"))
+    differ = []
+    if memory is not None and check_steps(dt, check_positive("memory", memory)) != kernels.memory:
+        differ.append(f"memory={memory!r} s (the kernels': {kernels.memory * dt:.6g} s)")
+    if (ne is not None or f_max is not None) and FETrack(track, 0, 1, FREE, FREE, elements_per_bay=ne, f_max=f_max
+                                                         ).elements_per_bay != kernels.elements_per_bay:
+        differ.append(f"elements_per_bay={ne!r}, f_max={f_max!r} (the kernels': {kernels.elements_per_bay} elements)")
+    if f_ref is not None and canonical(f_ref) != kernels.key.get("f_ref"):
+        differ.append(f"f_ref={f_ref!r}")
+    if differ:
+        raise InputError(f"the kernels were computed with other settings than {', '.join(differ)}: leave them out "
+                         "to run with the kernels' own, or compute kernels for these")
 
 
-def _check_start(kernels: MovingKernels, phase0: np.ndarray) -> None:
-    if int(phase0[0]) != kernels.start:
+def _check_roughness(roughness: Roughness | None, speed: float, grid_speed: float) -> None:
+    """A roughness as a rolling wheel meets it: at the wheels' speed (as asked, or as rounded)."""
+    if roughness is None:
+        return
+    if not isinstance(roughness, Roughness):
+        raise InputTypeError(f"roughness must be None (a smooth rail) or a Roughness, got {type(roughness).__name__}")
+    if not any(math.isclose(roughness.speed, v, rel_tol=1e-9) for v in (speed, grid_speed)):
+        raise InputError(f"a rolling wheel passes the roughness at its own speed: roughness.speed must equal "
+                         f"speed={speed!r} m/s (or the rounded {grid_speed!r} m/s), got {roughness.speed!r}")
+
+
+def _check_start(kernels: MovingKernels, g: np.ndarray, vehicle: Vehicle) -> None:
+    """The kernels' release must be for this start's position within a spacing."""
+    start = int(g[0] - kernels.grid.offsets[0]) % kernels.grid.positions
+    if start != kernels.start:
         x = kernels.start * kernels.grid.step
-        raise InputError(f"the kernels hold the release of the preloads for a first wheel at phase {kernels.start} "
-                         f"of {kernels.grid.positions} (x = {x:.6g} m plus whole spacings); x_contact is at phase "
-                         f"{int(phase0[0])}: compute kernels for this start")
+        raise InputError(f"the kernels hold the release of the preloads for a start at phase {kernels.start} of "
+                         f"{kernels.grid.positions} (x_contact = {x:.6g} m plus whole spacings); x_contact is at phase "
+                         f"{start}: compute kernels for this start (moving_green_kernels(..., x_contact=))")
+
+
+def _check_work(kernels: MovingKernels, n_steps: int, k: int, request: str) -> None:
+    """A run's convolutions and records within reason, and a warning when the memory cuts off the kernels."""
+    L = kernels.memory
+    check_work(float(n_steps) * k * k * L, MAX_LOOP_WORK, f"{request} and a memory of {L} steps take "
+               f"{float(n_steps) * k * k * L:.3g} multiply-adds", "simulate less or use a shorter memory")
+    check_work((n_steps + 1) * (4 * k + 1), MAX_RECORDED, f"{request} record {(n_steps + 1) * (4 * k + 1)} values",
+               "simulate less")
+    if kernels.tail > TAIL_TOLERANCE:
+        warnings.warn(f"memory={L * kernels.grid.dt:.4g} s keeps the moving Green's functions while they are still "
+                      f"{kernels.tail:.1e} of their peak over its last quarter: older forces are dropped; give a "
+                      "longer memory", RuntimeWarning, stacklevel=3)
 
 
 def _roughness_at(roughness: Roughness | None, speed: float, x: np.ndarray, t: np.ndarray, ramp: float) -> np.ndarray:
