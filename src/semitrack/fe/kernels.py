@@ -146,7 +146,8 @@ class MovingKernels:
         The rail element's own deflection under a unit force at each grid point (m/N),
         :meth:`semitrack.fe.models.FETrack.local_flexibility`.
     tail : float
-        The largest |impulse| over the memory's last quarter over the largest: what the memory cuts off.
+        The largest magnitude of the impulse kernels over the memory's last quarter over their largest:
+        what the memory cuts off.
     key : dict
         What the kernels were computed for (:func:`kernel_key`: track, mesh, damping, grid, memory,
         start, the package's source): the cache's key (:mod:`semitrack.fe.kernelcache`).

@@ -66,7 +66,8 @@ DEFAULT_MEMORY = 0.2
 #: track at 20 us, 2e9, took 0.9 s compiled).
 MAX_LOOP_WORK = 2e11
 
-#: The largest |kernel| over the memory's last quarter, relative to its peak, accepted without a warning.
+#: The largest magnitude of the kernels over the memory's last quarter, relative to their peak, accepted without a
+#: warning.
 TAIL_TOLERANCE = 1e-3
 
 
