@@ -24,7 +24,8 @@ Limits, where a user meets them:
   over :data:`TAIL_TOLERANCE`);
 * the kernels hold ``P x memory / dt`` values per wheel offset (29 MB for the ballasted track at
   300 km/h, 20 us and 0.2 s); their set-up is paid once per track, mesh, damping, speed, time
-  step, offsets and memory, and can be kept on disk (``cache``, :mod:`semitrack.fe.kernelcache`).
+  step, offsets, memory and the start's position within a spacing, and can be kept on disk
+  (``cache``, :mod:`semitrack.fe.kernelcache`).
 """
 
 from __future__ import annotations
