@@ -194,7 +194,7 @@ def test_the_cache_reads_back_what_it_wrote_and_refuses_the_rest(tmp_path):
     assert again.elapsed == first.elapsed  # read, not computed
     assert np.array_equal(again.impulse[0], first.impulse[0]) and again.release.keys() == first.release.keys()
     with np.load(files[0], allow_pickle=False) as data:
-        assert json.loads(str(data["key"]))["elements_per_bay"] == NE
+        assert json.loads(str(data["key"]))["mesh"] == ["elements", NE]
     files[0].write_bytes(b"\x80\x04not an npz")  # a pickle's opening bytes: never unpickled, computed again
     clear_kernel_memo()
     redone = cached_kernels(SLAB, NE, None, grid, 300, None, tmp_path)

@@ -23,9 +23,7 @@ import numpy as np
 
 from ..base.files import atomic_write
 from ..model.tracks import Track
-from .ends import FREE
 from .kernels import KernelGrid, MovingKernels, kernel_key, moving_kernels, release_starts
-from .models import FETrack
 
 __all__ = ["MAX_KERNEL_BYTES", "cached_kernels", "clear_kernel_memo"]
 
@@ -45,7 +43,8 @@ def _write(path: Path, kernels: MovingKernels) -> None:
               "impulse": np.stack([kernels.impulse[lag] for lag in lags]),
               "starts": np.array(starts, dtype=np.int64).reshape(-1, 2),
               "release": np.stack([kernels.release[start] for start in starts]),
-              "flexibility": kernels.flexibility, "scalars": np.array([kernels.tail, kernels.elapsed]),
+              "flexibility": kernels.flexibility,
+              "scalars": np.array([kernels.tail, kernels.elapsed, kernels.elements_per_bay]),
               "speed": np.array(kernels.grid.speed), "period": np.array(kernels.grid.period)}
     path.parent.mkdir(parents=True, exist_ok=True)
     atomic_write(path, lambda fh: np.savez(fh, **arrays), binary=True)
@@ -69,15 +68,17 @@ def _read(path: Path, key: dict, grid: KernelGrid, starts: list) -> MovingKernel
         floats = [arrays[name] for name in ("impulse", "release", "flexibility", "scalars")]
         if (lags != list(grid.lags) or stored != starts or arrays["impulse"].shape != (len(lags), P, L)
                 or arrays["release"].shape != (len(starts), L) or arrays["flexibility"].shape != (P,)
-                or arrays["scalars"].shape != (2,) or not all(a.dtype == np.float64 and np.isfinite(a).all()
+                or arrays["scalars"].shape != (3,) or not all(a.dtype == np.float64 and np.isfinite(a).all()
                                                                for a in floats)):
             return None
     except (OSError, ValueError, KeyError, TypeError, zipfile.BadZipFile):  # absent, not an npz, a pickle, ...
         return None
-    tail, elapsed = arrays["scalars"].tolist()
+    tail, elapsed, ne = arrays["scalars"].tolist()
+    if ne != int(ne) or ne < 2 or (key["mesh"][0] == "elements" and ne != key["mesh"][1]):
+        return None
     return MovingKernels(grid, {int(lag): arrays["impulse"][i] for i, lag in enumerate(lags)},
                          {(int(a), int(b)): arrays["release"][i] for i, (a, b) in enumerate(starts)},
-                         arrays["flexibility"], float(tail), key, float(elapsed), key["elements_per_bay"], key["start"])
+                         arrays["flexibility"], float(tail), key, float(elapsed), int(ne), key["start"])
 
 
 def cached_kernels(track: Track, elements_per_bay: int | None, f_max: float | None, grid: KernelGrid, memory: int,
@@ -107,15 +108,14 @@ def cached_kernels(track: Track, elements_per_bay: int | None, f_max: float | No
     -------
     MovingKernels
     """
-    ne = FETrack(track, 0, 1, FREE, FREE, elements_per_bay=elements_per_bay, f_max=f_max).elements_per_bay
-    key = kernel_key(track, ne, grid, memory, f_ref, start)
+    key = kernel_key(track, elements_per_bay, grid, memory, f_ref, start, f_max)
     digest = _digest(key)
     if digest in _MEMO:
         return _MEMO[digest]
     path = None if cache is None else Path(cache) / f"kernels-{digest}.npz"
     kernels = None if path is None else _read(path, key, grid, release_starts(grid, start))
     if kernels is None:
-        kernels = moving_kernels(track, ne, grid, memory, f_ref, start=start)
+        kernels = moving_kernels(track, elements_per_bay, grid, memory, f_ref, f_max, start)
         if path is not None:
             _write(path, kernels)
     _MEMO[digest] = kernels

@@ -46,6 +46,7 @@ from ..base.errors import InputError
 from ..equivalent.cache import canonical, package_source_digest
 from ..model.tracks import Track
 from .bloch import BlochCell, CellWaves, warped_s
+from .models import DEFAULT_F_MAX
 
 __all__ = ["KernelGrid", "MovingKernels", "grid_of", "moving_kernels", "release_starts", "track_key", "kernel_key",
            "ALIAS_FACTOR", "MAX_KERNEL_VALUES", "MAX_KERNEL_WORK"]
@@ -210,15 +211,19 @@ def track_key(track: Track) -> str:
     return hashlib.sha256(json.dumps(canonical(track), sort_keys=True).encode()).hexdigest()
 
 
-def kernel_key(track: Track, elements_per_bay: int, grid: KernelGrid, memory: int, f_ref=None, start: int = 0) -> dict:
+def kernel_key(track: Track, elements_per_bay: int | None, grid: KernelGrid, memory: int, f_ref=None,
+               start: int = 0, f_max: float | None = None) -> dict:
     """What the kernels depend on, as JSON-able values (floats bit-exact as hexadecimal).
+
+    The mesh is keyed as asked: a number of elements, or the default for ``f_max`` (which the
+    package's source and the track determine), so that a cache is read without resolving it.
 
     Parameters
     ----------
     track : Track
         The track.
-    elements_per_bay : int
-        The mesh, resolved.
+    elements_per_bay : int or None
+        The mesh asked for (None: the default for ``f_max``).
     grid : KernelGrid
         Steps per spacing, time step and offsets.
     memory : int
@@ -226,13 +231,17 @@ def kernel_key(track: Track, elements_per_bay: int, grid: KernelGrid, memory: in
     f_ref : None, float or dict
         Reference frequencies of the viscous damping.
     start : int
-        The first wheel's phase at the start.
+        The phase of the vehicle's origin at the start.
+    f_max : float, optional
+        With ``elements_per_bay=None``: the highest frequency the default mesh resolves (Hz).
 
     Returns
     -------
     dict
     """
-    return {"track": track_key(track), "elements_per_bay": int(elements_per_bay), "dt": float(grid.dt).hex(),
+    mesh = (["elements", int(elements_per_bay)] if elements_per_bay is not None else
+            ["default up to", canonical(float(DEFAULT_F_MAX if f_max is None else f_max))])
+    return {"track": track_key(track), "mesh": mesh, "dt": float(grid.dt).hex(),
             "positions": int(grid.positions), "offsets": [int(o) for o in grid.offsets], "memory": int(memory),
             "start": int(start), "f_ref": canonical(f_ref), "source": package_source_digest()}
 
@@ -430,5 +439,6 @@ def moving_kernels(track: Track, elements_per_bay: int | None, grid: KernelGrid,
     tail = float(np.abs(h0[:, 3 * L // 4:]).max() / np.abs(h0).max())
     flexibility = cell.model.local_flexibility(cell.grid)
     ne = int(cell.model.elements_per_bay)
-    return MovingKernels(grid, impulse, release, flexibility, tail, kernel_key(track, ne, grid, L, f_ref, start),
+    return MovingKernels(grid, impulse, release, flexibility, tail,
+                         kernel_key(track, elements_per_bay, grid, L, f_ref, start, f_max),
                          time.perf_counter() - began, ne, int(start))
