@@ -46,9 +46,10 @@ def moving_force_figure(comparison, agreements: Sequence[dict], window: tuple[fl
     axes[1].axhline(-45.0, color="k", lw=0.8, ls=":", label="-45 dB")
     axes[1].set_xlabel("One-third-octave band centre (Hz)")
     axes[1].set_ylabel("Difference under the force (dB)")
-    axes[1].set_ylim(top=max(-40.0, float(np.max([a["error_level"].max() for a in agreements])) + 5))
+    top = max(-45.0, float(np.max([a["error_level"].max() for a in agreements])))
+    axes[1].set_ylim(top=top + 25)  # room above the -45 dB line for the legend
     legend_below(fig, axes[0])
-    axes[1].legend(loc="upper left")
+    axes[1].legend(loc="upper right", ncol=3)
     if title:
         fig.suptitle(title)
     return fig, axes
