@@ -21,13 +21,15 @@ Fourier transform of the infinite track's receptance between the grid points, ta
 step-by-step response of an infinitely long FE model with the same mesh, no end and no reflection.
 On the grid of N frequencies ``omega_l = 2 pi (l + 1/2) / (N dt)`` (half a bin off, neither 0 nor
 Nyquist) the transform is anti-periodic: the kernels are exact but for ``-h[k + N] + h[k + 2N] ...``,
-which dies with the track's response over ``N dt`` (N = :data:`ALIAS_FACTOR` times the memory). With ``z = exp(i
-omega dt)``, ``e``'s transform is ``(H(1) - H(z) / z) / (1 - 1/z)``, of which the first part is half
-the static receptance at every step on this grid.
+which dies with the track's response over ``N dt`` (N = :data:`ALIAS_FACTOR` times the memory).
+With ``z = exp(i omega dt)``, ``e``'s transform is ``(H(1) - H(z) / z) / (1 - 1/z)``, of which the
+first part is half the static receptance at every step on this grid.
 
-The receptance from cell 0 to cell j is ``sum_w out_w decay_w^(|j| - 1) shows_w``: for each cell the
-sum over frequencies and waves is one real matrix product (P x 4 n_f) (4 n_f x P), the work of the
-set-up; within cell 0 it is a direct sum over the P x P pairs.
+The receptance from grid point p of cell 0 to grid point q of cell j is
+``shows[q] @ T^(|j| - 1) @ out[:, p]`` (:class:`semitrack.fe.bloch.CellWaves`): for each cell the
+sum over frequencies and the cut's two DOFs is the real part of one matrix product
+(P x 2 n_f) (2 n_f x P), the work of the set-up; within cell 0 it is one product per element over
+its grid points.
 """
 
 from __future__ import annotations
