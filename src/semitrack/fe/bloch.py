@@ -4,10 +4,12 @@ One period of a periodic FE track (its cell: the rail elements between two mid-s
 supports in it) is what every truncated model of that track repeats. Joined to copies of itself
 without end, it is the infinite FE track: no end, no reflection. At a complex frequency s its
 condensed dynamic stiffness ``S = [[S_LL, S_LR], [S_RL, S_RR]]`` on the cuts' rail DOFs
-``(w, psi)`` gives the Bloch waves ``u_(n+1) = lambda u_n`` from the quadratic eigenproblem
-``(S_RL + lambda (S_LL + S_RR) + lambda^2 S_LR) phi = 0``: two decay to the right
-(``|lambda| < 1``), two to the left. They close the cell on both sides, so that a load in one cell
-(cell 0) has its field there from one solve, and in cell ``j`` from the waves it sends out.
+``(w, psi)`` has Bloch waves ``u_(n+1) = lambda u_n``, two decaying to the right and two to the
+left. The semi-infinite tracks on either side of a cell are found without them, by cyclic
+reduction of the chain of cells (:func:`_semi_infinite`: stable up to the Nyquist frequency,
+where the cells hardly couple and the waves' eigenvectors are lost to round-off). They close
+the cell on both sides, so that a load in one cell (cell 0) has its field there from one solve,
+and in cell ``j`` the cut motion ``T^(|j| - 1)`` carries out of it.
 
 The time domain of the engine is Newmark's average acceleration, the trapezoidal rule, whose
 discrete transfer function is the continuous one at ``s = (2 / dt) (z - 1) / (z + 1)``, exactly
@@ -20,8 +22,8 @@ neither z = 1 nor z = -1.
 
 :class:`BlochCell` holds the cell and evaluates, per frequency, everything the moving
 kernels need for loads and observations on a grid of points ``x_q = x0 + q h`` of the cell
-(``P h`` = the period): the transfer receptances within cell 0, the waves' amplitudes that a
-load at each point sends out, their decay per cell and what each wave shows at each point.
+(``P h`` = the period): the field in cell 0 of a load at each point, the motion of its cuts,
+the transfer ``T`` from cut to cut and what a cell's grid points show of its cuts' motion.
 """
 
 from __future__ import annotations
@@ -155,7 +157,7 @@ class BlochCell:
         K_left = _semi_infinite(S_rr, S_ll + S_rr, S_rl, S_lr)  # cells -1, -2, ... at its left cut
         T_r = -np.linalg.solve(S_rr + K_right, S_rl)
         T_l = -np.linalg.solve(S_ll + K_left, S_lr)
-        ends = np.concatenate([K_left.reshape(-1, 4), K_right.reshape(-1, 4)], axis=1)  # on _end_slots
+        ends = np.concatenate([K_left.reshape(-1, 4), K_right.reshape(-1, 4)], axis=1)  # on _end_rows, _end_cols
         Y = self._loaded_field(s, ends)
         eye = np.broadcast_to(np.eye(2), T_r.shape)
         return CellWaves(Y, Y[:, self.right, :], Y[:, self.left, :], T_r, T_l,
