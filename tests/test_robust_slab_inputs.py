@@ -21,27 +21,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 from peak_memory import PEAK_RSS
+from refusals import SECONDS, refused
 
 import semitrack as st
 from semitrack.base.errors import InputError, InputTypeError
 from semitrack.cli import main
 from semitrack.model.trackfile import example_path
 from semitrack.model.tracks import OPTIONAL_FIELDS
-
-SECONDS = 5.0  # every refusal (measured: < 0.5 s)
-
-
-def refused(call, cls, *words):
-    start = time.perf_counter()
-    with pytest.raises(cls) as info:
-        call()
-    message = str(info.value)
-    assert len(message.splitlines()) == 1, message
-    for word in words:
-        assert word in message, message
-    assert time.perf_counter() - start < SECONDS
-    return message
-
 
 # --- Track fields: None only for sleeper_mass and kb ---------------------------------------------------
 FIELDS = [f.name for f in dataclasses.fields(st.Track) if f.name not in OPTIONAL_FIELDS

@@ -11,13 +11,13 @@ import os
 import subprocess
 import sys
 import textwrap
-import time
 import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
 from peak_memory import PEAK_RSS
+from refusals import refused
 
 import semitrack as st
 from semitrack.base.errors import InputError, InputTypeError
@@ -25,24 +25,10 @@ from semitrack.dynamics.simulate import MAX_STEP_DOFS, check_limits
 from semitrack.fe.roughness import corrugation, roughness_from_spectrum
 from semitrack.fe.timedomain import moving_load_response, pulse_response
 
-SECONDS = 5.0  # each refusal (measured: milliseconds, after the model is built)
-
 
 @pytest.fixture(scope="module")
 def model():
     return st.TruncatedTrack(st.slab_track(), 2, elements_per_bay=4)
-
-
-def refused(call, cls, *words):
-    start = time.perf_counter()
-    with pytest.raises(cls) as info:
-        call()
-    message = str(info.value)
-    assert len(message.splitlines()) == 1, message
-    for word in words:
-        assert word in message, message
-    assert time.perf_counter() - start < SECONDS
-    return message
 
 
 # --- the wheel ---------------------------------------------------------------------------------------
