@@ -202,7 +202,6 @@ class _BandPattern:
         self.positions = self.order.general_positions(self.rows, self.cols)
         self.index = {(int(r), int(c)): k for k, (r, c) in enumerate(zip(self.rows, self.cols))}
         self._slots: dict = {}
-        self.dofs = dofs
 
     def solve(self, s: complex, rhs: np.ndarray, extra=None) -> np.ndarray:
         """``(K + s C + s^2 M + extra)^-1 rhs``; ``extra`` = (rows, cols, values) on stored entries."""

@@ -44,8 +44,7 @@ def _write(path: Path, kernels: MovingKernels) -> None:
               "starts": np.array(starts, dtype=np.int64).reshape(-1, 2),
               "release": np.stack([kernels.release[start] for start in starts]),
               "flexibility": kernels.flexibility,
-              "scalars": np.array([kernels.tail, kernels.elapsed, kernels.elements_per_bay]),
-              "speed": np.array(kernels.grid.speed), "period": np.array(kernels.grid.period)}
+              "scalars": np.array([kernels.tail, kernels.elapsed, kernels.elements_per_bay])}
     path.parent.mkdir(parents=True, exist_ok=True)
     atomic_write(path, lambda fh: np.savez(fh, **arrays), binary=True)
 

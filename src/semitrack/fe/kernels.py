@@ -344,7 +344,7 @@ def _far(cell: BlochCell, w: CellWaves, omega: np.ndarray, dt: float, sums: _Sum
                 sums.release[side * j] += (A0 @ B.reshape(omega.size * 2, P)).real
 
 
-def _static_release(cell: BlochCell, w0: CellWaves, lag: int, p0: int, j: int) -> np.ndarray:
+def _static_release(cell: BlochCell, w0: CellWaves, p0: int, j: int) -> np.ndarray:
     """The static receptance from cell 0's grid point p0 to the grid points of cell j (P,), from one zero frequency."""
     if j == 0:
         return cell.observe(w0.field)[0, :, p0].real
@@ -435,7 +435,7 @@ def moving_kernels(track: Track, elements_per_bay: int | None, grid: KernelGrid,
     for r, (lag, p0) in enumerate(starts):  # e's first part: half the static receptance at every step on this grid
         out = np.zeros(L)
         for j in _cells(P, lag + p0, L):
-            _scatter(sums.release[j][r] + 0.5 * _static_release(cell, w0, lag, p0, j), j, lag, out, p0)
+            _scatter(sums.release[j][r] + 0.5 * _static_release(cell, w0, p0, j), j, lag, out, p0)
         release[lag, p0] = out
     h0 = impulse[0]
     tail = float(np.abs(h0[:, 3 * L // 4:]).max() / np.abs(h0).max())

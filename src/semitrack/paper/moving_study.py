@@ -14,6 +14,8 @@ truncation" and of ``benchmarks/bench_moving.py``; each returns runs or a table
   rms of the reference's fluctuation, and the one-third-octave band levels 50 Hz - 2.5 kHz of the
   forces (their level difference, dB) and of the difference (its level under the reference's, dB).
 * :func:`moving_table`: one row per comparison.
+* :func:`contact_table`: one wheel by both routes on a rail that makes it leave the rail and on a
+  smooth one: its time out of contact and the support-passing line.
 """
 
 from __future__ import annotations
@@ -32,15 +34,16 @@ from ..dynamics.factor import factorise
 from ..fe.contact import ContactResponse, wheel_rail_response
 from ..fe.ends import PINNED, BoundaryEnd
 from ..fe.kernelcache import clear_kernel_memo
-from ..fe.kernels import MovingKernels, grid_of
+from ..fe.kernels import MovingKernels
 from ..fe.models import TruncatedTrack
 from ..fe.moving import moving_green_kernels, moving_green_response
 from ..fe.roughness import ISO3095_ROUGHNESS_LIMIT, Roughness, roughness_from_spectrum
 from ..model.tracks import Track
 from ..model.vehicle import as_vehicle
+from ..model.wheel import Wheel
 
 __all__ = ["MARGIN_BAYS", "TABLE_FORMATS", "rolling_roughness", "Comparison", "compare_runs", "force_agreement",
-           "moving_table", "impulse_run_step"]
+           "moving_table", "impulse_run_step", "contact_table"]
 
 #: How :func:`moving_table`'s columns read best (for :func:`semitrack.paper.tables.styled`).
 TABLE_FORMATS = {"rms difference (%)": "{:.4f}", "worst band difference (dB)": "{:.1e}",
@@ -154,7 +157,7 @@ def compare_runs(label: str, track: Track, boundary: BroadbandBoundary, vehicle,
         start = time.perf_counter()
         moving_green_kernels(track, speed, dt, vehicle.offsets, x_contact=x0, cache=folder)
         from_cache = time.perf_counter() - start
-    rough = rolling_roughness(grid_of(track, speed, dt).speed)
+    rough = rolling_roughness(kernels.grid.speed)
     run = {"x_contact": x0, "speed": speed, "dt": dt, "kernels": kernels}
     moving_green_response(track, vehicle, rough, duration=0.03, **run)  # compile outside the timing
     green = moving_green_response(track, vehicle, rough, duration=duration, **run)
@@ -248,6 +251,50 @@ def force_agreement(green: ContactResponse, truncated: ContactResponse, wheel: i
     error = 10 * np.log10(level_e / level_r)
     return {"rms": rms, "centres": centres, "level_difference": difference, "error_level": error,
             "worst_level_difference": float(np.abs(difference).max()), "worst_error_level": float(error.max())}
+
+
+def contact_table(track: Track, boundary: BroadbandBoundary, kernels: MovingKernels, rails: Mapping[str, object],
+                  duration: float = 0.3, after: float = 0.1) -> pd.DataFrame:
+    """One wheel from a mid-span on each rail by both routes: its time out of contact, the largest force
+    difference and the support-passing line at ``v / d``.
+
+    Parameters
+    ----------
+    track : Track
+        A periodic track.
+    boundary : BroadbandBoundary
+        Its broadband end, for the truncated model.
+    kernels : MovingKernels
+        One wheel's kernels for this track, speed and step, starting at a mid-span (phase 0).
+    rails : mapping of str to Roughness or None
+        The rails: a roughness at the kernels' speed, or None for a smooth rail.
+    duration : float
+        Duration of each run (s).
+    after : float
+        Start of the force spectra (s).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per rail; the out-of-contact times and the line's amplitudes in numbers, both routes'.
+    """
+    speed, dt, d = kernels.grid.speed, kernels.grid.dt, track.spacing
+    rows = {}
+    for label, rough in rails.items():
+        green = moving_green_response(track, Wheel(), rough, speed=speed, dt=dt, duration=duration, kernels=kernels)
+        model = TruncatedTrack(track, int(np.ceil(np.abs(green.x).max() / d)) + MARGIN_BAYS, BoundaryEnd.name,
+                               system=boundary, elements_per_bay=kernels.elements_per_bay)
+        truncated = wheel_rail_response(model, Wheel(), rough, speed=speed, dt=dt, duration=duration)
+        f, amp = green.force_spectrum(after=after)
+        amp_ref = truncated.force_spectrum(after=after)[1]
+        line = int(np.argmin(np.abs(f - speed / d)))
+        rows[label] = {"out of contact, Green (ms)": 1e3 * dt * np.count_nonzero(~green.in_contact),
+                       "out of contact, truncated (ms)": 1e3 * dt * np.count_nonzero(~truncated.in_contact),
+                       "largest force difference (% of peak)":
+                       100 * np.abs(green.force - truncated.force).max() / truncated.force.max(),
+                       "line at v/d, Green (N)": amp[line], "line at v/d, truncated (N)": amp_ref[line],
+                       "v/d (Hz)": speed / d, "smallest force (N)": min(green.force.min(), truncated.force.min())}
+    return pd.DataFrame.from_dict(rows, orient="index").rename_axis("rail")
 
 
 def moving_table(comparisons: Mapping[str, Comparison] | list[Comparison]) -> pd.DataFrame:
