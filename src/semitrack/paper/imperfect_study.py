@@ -39,12 +39,14 @@ from ..fe.models import TruncatedTrack
 from ..fe.roughness import Roughness
 from ..methods.decay import track_decay_rate
 from ..methods.impact import jenkins_p2, lumped_track
+from ..methods.receptance import point_receptance
 from ..model.irregularity import DippedWeld
 from ..model.tracks import Track
 from ..model.vehicle import Vehicle
 from ..model.wheel import Wheel
 
-__all__ = ["CASE_BAYS", "imperfect_cases", "imperfect_receptance_table", "several_wheel_table",
+__all__ = ["CASE_BAYS", "imperfect_cases", "imperfect_receptance_table", "floating_slab_table", "jenkins_table",
+           "several_wheel_table",
            "reflection_free_bays", "WeldRun", "weld_runs", "p1_p2", "weld_table", "weld_convergence", "gap_runs",
            "change_rolling_table"]
 
@@ -76,14 +78,53 @@ def imperfect_cases(slab: Track, ballasted: Track) -> dict[str, tuple[Track, dic
     }
 
 
+def _fe_receptance(model: TruncatedTrack, f: np.ndarray, x_load: float, points: Sequence[float]) -> np.ndarray:
+    """The model's w at nodes ``points`` per unit force at the node ``x_load`` (m/N), (n_f, len(points))."""
+    rhs = np.zeros((model.n_dof, 1))
+    rhs[model.dof(x_load)] = 1.0
+    return model.solve(f, rhs)[:, [model.dof(x) for x in points], 0]
+
+
 def _point_errors(model: TruncatedTrack, f: np.ndarray, x_load: float, x_away: float) -> np.ndarray:
     """Relative error of w/F at the load and a bay away against the model's infinite track, (n_f, 2)."""
     points = [x_load, x_away]
     ref = model.infinite_track().receptance(f, x_load, points)[:, :, 0, 0]
-    rhs = np.zeros((model.n_dof, 1))
-    rhs[model.dof(x_load)] = 1.0
-    u = model.solve(f, rhs)[:, [model.dof(x) for x in points], 0]
-    return np.abs(u - ref) / np.abs(ref)
+    return np.abs(_fe_receptance(model, f, x_load, points) - ref) / np.abs(ref)
+
+
+def floating_slab_table(track: Track, boundary: BroadbandBoundary, f: ArrayLike, elements_per_bay: int = 48
+                        ) -> pd.DataFrame:
+    """A flexible-slab track cut at a slab joint: w/F there on 10-bay models against the exact method.
+
+    The reference is :func:`semitrack.point_receptance` (the periodic-structure method with the
+    slab's exact receptance) at the joint, half a bay before a support; InfiniteTrack does not
+    hold a flexible slab.
+
+    Parameters
+    ----------
+    track : Track
+        A flexible-slab track whose slab joint lies at a mid-span (the models' x = 0).
+    boundary : BroadbandBoundary
+        Its broadband end.
+    f : array_like
+        Frequencies (Hz).
+    elements_per_bay : int
+        The mesh.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Rows by ends (broadband, pinned): the median and largest error at the joint (%).
+    """
+    f = np.asarray(f, dtype=float)
+    exact = point_receptance(track, f, -0.5 * track.spacing)[:, 0, 0]
+    rows = {}
+    for ends in (BoundaryEnd.name, PINNED.name):
+        model = TruncatedTrack(track, CASE_BAYS, ends, system=boundary if ends == BoundaryEnd.name else None,
+                               elements_per_bay=elements_per_bay)
+        e = 100 * np.abs(_fe_receptance(model, f, 0.0, [0.0])[:, 0] / exact - 1)
+        rows[ends] = {"median at the joint (%)": np.median(e), "max at the joint (%)": e.max()}
+    return pd.DataFrame.from_dict(rows, orient="index").rename_axis("ends")
 
 
 def imperfect_receptance_table(cases: Mapping[str, tuple], boundaries: Mapping[str, BroadbandBoundary],
@@ -264,6 +305,39 @@ def p1_p2(response: ContactResponse, weld: DippedWeld, f_low: float = 200.0) -> 
     low = sosfiltfilt(sos, response.force)
     later = (response.t >= t_bottom) & (response.t <= t_bottom + 25e-3)
     return float(response.force[after].max()), float(low[later].max())
+
+
+def jenkins_table(track: Track, boundary: BroadbandBoundary, wheel: Wheel,
+                  dips: Sequence[tuple[float, float, float]]) -> pd.DataFrame:
+    """P2 from the time domain beside Jenkins' closed form, for dips rolled over on the 10-bay broadband-ended model.
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+    boundary : BroadbandBoundary
+        Its broadband end.
+    wheel : Wheel
+        The wheel.
+    dips : sequence of (float, float, float)
+        ``(length (m), angle (rad), speed (km/h))`` of each dip (:class:`semitrack.DippedWeld` at x = 0).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per dip: P2 of the time domain (:func:`p1_p2`) and of Jenkins' formula with the lumped track fitted
+        to the exact receptance (:func:`semitrack.methods.impact.jenkins_p2`), kN, and whether contact was lost.
+    """
+    lumped = lumped_track(track)
+    model = TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name, system=boundary)
+    rows = {}
+    for length, angle, kmh in dips:
+        dip, v = DippedWeld(angle, length, 0.0), kmh / 3.6
+        res = wheel_rail_response(model, wheel, profile=dip, x_contact=-2.0, speed=v, dt=2e-5, duration=4.0 / v)
+        rows[f"{length:g} m, {1e3 * angle:g} mrad, {kmh:g} km/h"] = {
+            "P2, time domain (kN)": p1_p2(res, dip)[1] / 1e3, "Jenkins (kN)": jenkins_p2(wheel, angle, v, lumped) / 1e3,
+            "lost contact": res.lost_contact}
+    return pd.DataFrame.from_dict(rows, orient="index").rename_axis("dip")
 
 
 def weld_table(runs: Mapping[tuple[float, str], WeldRun], weld: DippedWeld, track: Track, wheel: Wheel
