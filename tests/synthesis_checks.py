@@ -50,8 +50,10 @@ def check_second_order(bnd, name):
     assert np.allclose(C[:2, :2], ss.D, rtol=1e-10, atol=0), name  # the high-frequency dashpot
     high = _condensed(M, C, K, [1e9])[0] / (2j * np.pi * 1e9)
     assert np.allclose(high, _state_space_stiffness(ss, [1e9])[0] / (2j * np.pi * 1e9), rtol=1e-9), name
+    # the condensation at 1e-9 Hz solves with a K that is singular on the Maxwell DOFs (cond ~1e30):
+    # round-off, not the model, sets what is left (2e-10 of K0 measured on one machine's OpenBLAS)
     low = _condensed(M, C, K, [1e-9])[0]
-    assert np.max(np.abs(low - ss.K0)) < 1e-10 * np.max(np.abs(ss.K0)), name
+    assert np.max(np.abs(low - ss.K0)) < 1e-9 * np.max(np.abs(ss.K0)), name
     assert np.max(np.abs(system.static_stiffness() - ss.K0)) < 1e-8 * np.max(np.abs(ss.K0)), name
     assert system.n_internal <= ss.n_states, name
     assert elapsed < 1.0, (name, elapsed)
