@@ -2,7 +2,7 @@
 
 Layers, lowest first: ``base`` (checks, conventions, the paper's numbers) -> ``dynamics`` (second-order
 systems in time, knowing nothing of tracks) -> ``model`` ->
-``methods`` -> ``equivalent`` -> ``boundary`` -> ``fe`` -> ``paper`` -> the top-level modules (``cli``,
+``methods`` -> ``equivalent`` -> ``boundary`` -> ``fe`` -> ``interaction`` -> ``paper`` -> the top-level modules (``cli``,
 ``plotting``, ``progress`` and the flat namespace). A module may import from its own subpackage
 and from lower layers only. The test reads the source with :mod:`ast`, so it also sees imports
 inside functions, and it fails on a module that no layer claims, so ARCHITECTURE.md and this
@@ -22,8 +22,9 @@ import semitrack
 PACKAGE = pathlib.Path(semitrack.__file__).parent
 ROOT = PACKAGE.parent.parent
 
-LAYERS = {"base": 0, "dynamics": 1, "model": 2, "methods": 3, "equivalent": 4, "boundary": 5, "fe": 6, "paper": 7}
-TOP = 8  # cli, plotting, progress, __init__, __main__
+LAYERS = {"base": 0, "dynamics": 1, "model": 2, "methods": 3, "equivalent": 4, "boundary": 5, "fe": 6,
+          "interaction": 7, "paper": 8}
+TOP = 9  # cli, plotting, progress, __init__, __main__
 TOP_MODULES = {"__init__", "__main__", "cli", "plotting", "progress"}
 TOP_PACKAGES = {"plotting"}  # subpackages of the top layer: the figures, by subject
 # Only the command line defers imports of the package: cli so that `semitrack --help` and
@@ -118,3 +119,20 @@ def test_every_lazy_export_resolves_from_a_layer_below_the_top():
         assert getattr(importlib.import_module(f"semitrack.{module}"), attribute) is getattr(semitrack, name)
     with pytest.raises(AttributeError, match="has no attribute 'no_such_name'"):
         semitrack.no_such_name  # noqa: B018
+
+
+#: The routes of a vehicle's run (interaction/): each imports only the layer's shared part, never another route.
+ROUTES = {"fe_model", "infinite_convolution", "moving_green"}
+SHARED = {"response", "inputs", "excitation", "convolved_run"}
+
+
+def test_the_routes_import_only_the_shared_part_of_their_layer():
+    """Each route and ``transfer`` (beside them) imports the shared modules of interaction/ and lower layers only."""
+    folder = PACKAGE / "interaction"
+    on_disk = {p.stem for p in folder.glob("*.py")} - {"__init__"}
+    assert on_disk == ROUTES | SHARED | {"transfer"}, f"interaction/ holds {sorted(on_disk)}: name its part here"
+    for path in sorted(folder.glob("*.py")):
+        parts = ("semitrack", "interaction", path.stem)
+        own = [t[2] for t, _, _ in _imports(path, parts) if t[:2] == ("semitrack", "interaction") and len(t) > 2]
+        allowed = SHARED if path.stem in ROUTES | {"transfer"} else SHARED - {path.stem}
+        assert set(own) <= allowed, f"interaction/{path.name} imports {sorted(set(own) - allowed)} of its layer"

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import semitrack as st
-from semitrack.fe.contact import hertz_contact_force
+from semitrack.dynamics.contact import hertz_contact_force
 
 #: The flat test spectrum: one-third-octave bands of wavelength 2 m to 4 cm, which at 100 m/s
 #: cover the frequency bands 50 Hz - 2.5 kHz, each at -10 dB re 1 um (1.3 um rms in all).

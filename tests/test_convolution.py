@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import semitrack as st
-from semitrack.fe.convolution import convolution_response, rail_impulse_responses
+from semitrack.interaction.infinite_convolution import convolution_response, rail_impulse_responses
 
 TRACK = st.ballasted_track(damping="viscous")
 

@@ -17,10 +17,10 @@ from semitrack.dynamics.contact import HertzContacts, solve_hertz
 from semitrack.dynamics.factor import factorise
 from semitrack.dynamics.newmark import Newmark
 from semitrack.dynamics.points import PointSet
+from semitrack.dynamics.signals import sin2_ramp
 from semitrack.dynamics.simulate import compiled_available, simulate
 from semitrack.dynamics.states import StateBlock
 from semitrack.dynamics.system import Connection, SecondOrderSystem, union
-from semitrack.fe.timedomain import sin2_ramp
 
 needs_numba = pytest.mark.skipif(not compiled_available(), reason="numba is not installed")
 

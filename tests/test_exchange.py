@@ -19,7 +19,8 @@ import scipy.io
 import scipy.sparse as sp
 
 import semitrack as st
-from semitrack.fe.timedomain import hann_pulse, pulse_response, relative_l2_error
+from semitrack.dynamics.signals import hann_pulse
+from semitrack.fe.timedomain import pulse_response, relative_l2_error
 
 F = np.geomspace(1.0, 2e4, 60)
 CONVENTION_KEYS = ("side", "load_convention", "port_dofs", "port_indices", "left_end_mirror", "units", "track",

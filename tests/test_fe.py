@@ -14,10 +14,11 @@ import scipy.sparse as sp
 
 import semitrack as st
 from semitrack.base.paper_values import FIT_BANDS
+from semitrack.dynamics.signals import hann_pulse
 from semitrack.equivalent.metrics import error_band_grid, error_summary
 from semitrack.fe.element import timoshenko_element, timoshenko_shape_functions
 from semitrack.fe.models import FETrack, TruncatedTrack, fe_central_receptance, fe_semi_infinite_receptance
-from semitrack.fe.timedomain import hann_pulse, moving_load_response, newmark, pulse_response, relative_l2_error
+from semitrack.fe.timedomain import moving_load_response, newmark, pulse_response, relative_l2_error
 from semitrack.fe.truncation import truncation_errors
 from semitrack.model.timoshenko import field_transfer
 

@@ -22,8 +22,8 @@ from refusals import refused
 import semitrack as st
 from semitrack.base.errors import InputError, InputTypeError
 from semitrack.dynamics.simulate import MAX_STEP_DOFS, check_limits
-from semitrack.fe.roughness import corrugation, roughness_from_spectrum
 from semitrack.fe.timedomain import moving_load_response, pulse_response
+from semitrack.model.roughness import corrugation, roughness_from_spectrum
 
 
 @pytest.fixture(scope="module")
@@ -137,7 +137,7 @@ def test_both_roughness_builders_warn_when_given_the_step():
 MEASURE = PEAK_RSS + textwrap.dedent("""
     import sys, time
     import semitrack as st
-    from semitrack.fe.roughness import roughness_from_spectrum
+    from semitrack.model.roughness import roughness_from_spectrum
     from semitrack.fe.timedomain import moving_load_response, pulse_response
     model = st.TruncatedTrack(st.slab_track(), 2, elements_per_bay=4)
     calls = {

@@ -34,7 +34,7 @@ import numpy as np
 from ..base.errors import InputError
 from .points import PointSet
 
-__all__ = ["MAX_NEWTON", "HertzContacts", "solve_hertz"]
+__all__ = ["MAX_NEWTON", "HertzContacts", "solve_hertz", "hertz_contact_force"]
 
 #: Newton iterations allowed for one step's contact forces (a few on the paper's tracks, as measured
 #: when the loop was written; the cap only stops a run that would not converge).
@@ -180,6 +180,39 @@ def solve_hertz(c_h: np.ndarray, a: np.ndarray, G: np.ndarray, force: np.ndarray
                     force[i] = c_h[i] * delta[i] * math.sqrt(delta[i])
             return iteration
     return MAX_NEWTON + 1
+
+
+def hertz_contact_force(c_h: float, a: float, beta: float) -> float:
+    """The force F >= 0 (N) with ``F = c_h max(a - beta F, 0)^(3/2)``: one wheel's contact equation in a step.
+
+    The one-wheel case of :func:`semitrack.dynamics.contact.solve_hertz`.
+
+    Parameters
+    ----------
+    c_h : float
+        Hertz constant (N/m^1.5), positive.
+    a : float
+        The approach the step would have without contact force (m).
+    beta : float
+        The compliance that the contact force sees within the step (m/N), positive: the approach
+        is ``a - beta F``.
+
+    Returns
+    -------
+    float
+        The contact force (N): 0 when ``a <= 0`` (loss of contact).
+
+    Examples
+    --------
+    >>> f = hertz_contact_force(9.3e10, 1e-4, 1e-9)
+    >>> bool(abs(f - 9.3e10 * (1e-4 - 1e-9 * f) ** 1.5) < 1e-6 * f)
+    True
+    """
+    force = np.zeros(1)
+    if solve_hertz(np.array([float(c_h)]), np.array([float(a)]), np.array([[float(beta)]]), force,
+                   np.zeros((1, 6))) > MAX_NEWTON:
+        raise RuntimeError(f"the contact force did not converge in {MAX_NEWTON} Newton steps")
+    return float(force[0])
 
 
 @dataclass(frozen=True)

@@ -16,7 +16,7 @@ discrete transfer function is the continuous one at ``s = (2 / dt) (z - 1) / (z 
 (:mod:`semitrack.dynamics.newmark`). On the unit circle ``z = exp(i omega dt)`` that is
 ``s = 2i / dt tan(omega dt / 2)``: so the receptances here, taken at those s, are the z-transforms
 of the step-by-step responses an infinitely long FE model would give, and their inverse discrete
-Fourier transform is its discrete impulse response (:mod:`semitrack.fe.moving`). The grid of
+Fourier transform is its discrete impulse response (:mod:`semitrack.fe.kernels`). The grid of
 frequencies is shifted by half a bin (``omega_l = 2 pi (l + 1/2) / (N dt)``) so that it holds
 neither z = 1 nor z = -1.
 

@@ -43,6 +43,7 @@ from ..base.checks import check_int_at_least, check_positive, check_real, check_
 from ..base.errors import InputError, InputTypeError
 from ..dynamics.newmark import Newmark
 from ..dynamics.points import PointSet
+from ..dynamics.signals import hann_pulse, sin2_ramp
 from ..dynamics.simulate import MAX_RECORDED, MAX_STEP_DOFS, check_limits, simulate
 from ..dynamics.states import StateBlock
 from ..dynamics.system import SecondOrderSystem
@@ -51,8 +52,6 @@ from .models import FETrack, require_model
 __all__ = [
     "TimeHistory",
     "newmark",
-    "hann_pulse",
-    "sin2_ramp",
     "pulse_response",
     "moving_load_response",
     "relative_l2_error",
@@ -195,62 +194,9 @@ def newmark(M: ArrayLike | sp.spmatrix, C: ArrayLike | sp.spmatrix, K: ArrayLike
     return TimeHistory(t=res.t, u=res["out"] if probes else res["dofs"], labels=labels)
 
 
-def sin2_ramp(t: ArrayLike, ramp: float) -> np.ndarray:
-    """``sin^2(pi t / (2 ramp))`` on ``[0, ramp]``, 0 before, 1 after: the package's one fade-in.
-
-    Parameters
-    ----------
-    t : array_like
-        Times (s).
-    ramp : float
-        Duration of the rise (s), positive.
-
-    Returns
-    -------
-    ndarray
-        The ramp at ``t`` (-), same shape.
-
-    Examples
-    --------
-    >>> sin2_ramp([-1.0, 0.5, 1.0, 2.0], 1.0).round(12).tolist()
-    [0.0, 0.5, 1.0, 1.0]
-    """
-    ramp = check_positive("ramp", ramp)
-    s = np.asarray(t, dtype=float)
-    return np.where(s <= 0, 0.0, np.where(s >= ramp, 1.0, np.sin(0.5 * np.pi * np.clip(s, 0, ramp) / ramp) ** 2))
-
-
 # ------------------------------------------------------------------------------------------------
 # Loads on an FE track
 # ------------------------------------------------------------------------------------------------
-def hann_pulse(t: ArrayLike, duration: float) -> np.ndarray:
-    """Unit Hann (raised-cosine) pulse ``sin^2(pi t / duration)`` on ``0 <= t <= duration``, else 0.
-
-    Its amplitude spectrum is ``duration / 2 |sinc(f T) / (1 - (f T)^2)|`` (T = duration) with
-    the first zero at ``f = 2 / T``; choose ``T = 2 / f_max`` for content up to ``f_max``.
-
-    Parameters
-    ----------
-    t : array_like
-        Times (s).
-    duration : float
-        Length T of the pulse (s), positive.
-
-    Returns
-    -------
-    ndarray
-        The pulse at ``t`` (-), same shape.
-
-    Examples
-    --------
-    >>> hann_pulse([0.0, 0.5e-3, 1e-3, 2e-3], 1e-3).round(12).tolist()
-    [0.0, 1.0, 0.0, 0.0]
-    """
-    duration = check_positive("duration", duration)
-    t = np.asarray(t, dtype=float)
-    return np.where((t >= 0) & (t <= duration), np.sin(np.pi * t / duration) ** 2, 0.0)
-
-
 def pulse_response(model: FETrack, positions: ArrayLike = (0.0, 1.95), *, amplitude: float = 1.0,
                    f_max: float = 1500.0, dt: float = 2e-5, t_end: float = 0.03,
                    f_ref: float | dict | None = None) -> TimeHistory:

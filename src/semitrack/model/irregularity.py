@@ -1,7 +1,7 @@
 """Geometric irregularities fixed on the rail: a dipped weld or joint, or any measured profile.
 
 A profile is the rail surface's vertical position along the rail, ``r(x)`` in metres, downward
-positive (a dip is r > 0, the convention of the roughness, :mod:`semitrack.fe.roughness`), in the
+positive (a dip is r > 0, the convention of the roughness, :mod:`semitrack.model.roughness`), in the
 model's coordinates (m from the central mid-span). Unlike a roughness, which the package treats
 as passing under a wheel, a profile stays where it is: a rolling wheel meets it at ``r(x(t))``.
 

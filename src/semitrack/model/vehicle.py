@@ -34,10 +34,11 @@ from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies, check_nonnegative, check_positive, check_real
 from ..base.errors import InputError, InputTypeError
+from ..dynamics.newmark import Newmark
 from ..dynamics.system import SecondOrderSystem
 from .wheel import Wheel
 
-__all__ = ["Vehicle", "WheelGroup", "Bogie", "as_vehicle"]
+__all__ = ["Vehicle", "WheelGroup", "Bogie", "as_vehicle", "vehicle_step"]
 
 
 class Vehicle:
@@ -361,3 +362,26 @@ def as_vehicle(vehicle: Vehicle | Wheel | Sequence[Wheel], spacing: Sequence[flo
         return WheelGroup(tuple(vehicle), tuple(spacing))
     raise InputTypeError(f"wheel must be a semitrack Wheel (e.g. st.Wheel()), a list of them or a vehicle "
                          f"(st.Bogie()), got {type(vehicle).__name__}")
+
+
+def vehicle_step(vehicle: Vehicle, stepper: Newmark) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The vehicle's mass, damping and effective stiffness's inverse for a Newmark step.
+
+    The routes that hold no model of the track in the loop step the vehicle alone, with the
+    rail under its wheels given by a convolution (:mod:`semitrack.interaction.convolved_run`).
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        The vehicle.
+    stepper : Newmark
+        The scheme and its step.
+
+    Returns
+    -------
+    M, C, inverse : ndarray
+        ``(n_v, n_v)`` each (kg, N s/m and m/N).
+    """
+    M, C, K = vehicle.matrices()
+    a0, a1 = stepper.coefficients[:2]
+    return M, C, np.linalg.inv(K + a1 * C + a0 * M)

@@ -33,14 +33,16 @@ from numpy.typing import ArrayLike
 from scipy.signal import butter, sosfiltfilt
 
 from ..boundary.fitting import BroadbandBoundary
-from ..fe.contact import ContactResponse, contact_transfer, wheel_rail_response
 from ..fe.ends import EXACT, PINNED, BoundaryEnd
 from ..fe.models import TruncatedTrack
-from ..fe.roughness import Roughness
+from ..interaction.fe_model import wheel_rail_response
+from ..interaction.response import ContactResponse
+from ..interaction.transfer import contact_transfer
 from ..methods.decay import track_decay_rate
 from ..methods.impact import jenkins_p2, lumped_track
 from ..methods.receptance import point_receptance
 from ..model.irregularity import DippedWeld
+from ..model.roughness import Roughness
 from ..model.tracks import Track
 from ..model.vehicle import Vehicle
 from ..model.wheel import Wheel

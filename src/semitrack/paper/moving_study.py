@@ -31,13 +31,14 @@ import pandas as pd
 from ..base.bands import third_octave_bands
 from ..boundary.fitting import BroadbandBoundary
 from ..dynamics.factor import factorise
-from ..fe.contact import ContactResponse, wheel_rail_response
 from ..fe.ends import PINNED, BoundaryEnd
 from ..fe.kernelcache import clear_kernel_memo
 from ..fe.kernels import MovingKernels
 from ..fe.models import TruncatedTrack
-from ..fe.moving import moving_green_kernels, moving_green_response
-from ..fe.roughness import ISO3095_ROUGHNESS_LIMIT, Roughness, roughness_from_spectrum
+from ..interaction.fe_model import wheel_rail_response
+from ..interaction.moving_green import moving_green_kernels, moving_green_response
+from ..interaction.response import ContactResponse
+from ..model.roughness import ISO3095_ROUGHNESS_LIMIT, Roughness, roughness_from_spectrum
 from ..model.tracks import Track
 from ..model.vehicle import as_vehicle
 from ..model.wheel import Wheel

@@ -17,12 +17,14 @@ import pandas as pd
 from ..base.checks import as_frequencies
 from ..base.errors import InputError
 from ..boundary.fitting import BroadbandBoundary
-from ..fe.contact import ContactResponse, ContactTransfer, contact_transfer, wheel_rail_response
 from ..fe.ends import BoundaryEnd, End, end_kinds
 from ..fe.models import TruncatedTrack
-from ..fe.roughness import Roughness, corrugation
+from ..interaction.fe_model import wheel_rail_response
+from ..interaction.response import ContactResponse
+from ..interaction.transfer import ContactTransfer, contact_transfer
 from ..methods.receptance import point_receptance
 from ..methods.wheelrail import wheel_rail_force
+from ..model.roughness import Roughness, corrugation
 from ..model.tracks import Track
 from ..model.wheel import Wheel
 

@@ -1,4 +1,4 @@
-"""Stationary wheels on the exact infinite track in time: nothing truncated, the rail by convolution.
+"""The convolution route: stationary wheels on the exact infinite track in time, nothing truncated.
 
 The reference of the stationary time-domain cases: the rail's displacement under the contacts is
 the convolution of the contact forces with the rail's impulse responses between the contact
@@ -25,24 +25,21 @@ over it per wheel pair).
 
 from __future__ import annotations
 
-import time
 import warnings
 from collections.abc import Sequence
 
 import numpy as np
 
-from ..base.checks import check_positive, check_steps
-from ..base.errors import InputError, InputTypeError
-from ..dynamics.newmark import Newmark
-from ..dynamics.simulate import convolved_loop
+from ..base.checks import check_positive
 from ..methods.infinite import InfiniteTrack
+from ..model.roughness import Roughness
 from ..model.tracks import Track
-from ..model.vehicle import Vehicle, as_vehicle
+from ..model.vehicle import Vehicle
 from ..model.wheel import Wheel
-from .contact import ContactResponse
-from .moving import vehicle_step
-from .roughness import Roughness
-from .timedomain import sin2_ramp
+from .convolved_run import convolved_run
+from .excitation import rail_input
+from .inputs import check_run
+from .response import ContactResponse, contact_response
 
 __all__ = ["WRAP_TOLERANCE", "rail_impulse_responses", "convolution_response"]
 
@@ -118,64 +115,36 @@ def convolution_response(track: Track | InfiniteTrack, wheel: Wheel | Vehicle | 
         As an FE run's (``speed = 0``); ``n_dof`` the vehicle's DOFs.
     """
     infinite = track if isinstance(track, InfiniteTrack) else InfiniteTrack(track)
-    vehicle = as_vehicle(wheel)
-    if roughness is not None and not isinstance(roughness, Roughness):
-        raise InputTypeError(f"roughness must be None or a Roughness, got {type(roughness).__name__}")
-    x = vehicle.positions(x_contact, "x_contact")
-    dt, ramp, memory = check_positive("dt", dt), check_positive("ramp", ramp), check_positive("memory", memory)
-    n_steps = check_steps(dt, duration)
-    if not duration > ramp:
-        raise InputError(f"duration must exceed ramp = {ramp!r} s, got {duration!r}")
-    h, static, wrap = rail_impulse_responses(infinite, x, dt, memory)
+    run = check_run(wheel, roughness, x_contact, 0.0, dt, duration, ramp, name="x_contact")
+    memory = check_positive("memory", memory)
+    x = run.x0
+    h, static, wrap = rail_impulse_responses(infinite, x, run.dt, memory)
     if wrap > WRAP_TOLERANCE:
         warnings.warn(f"memory={memory!r} s keeps the rail's impulse responses while they are still {wrap:.1e} of "
                       "their peak over its second half: the convolution cuts off their tail; give a longer memory",
                       RuntimeWarning, stacklevel=2)
-    t = dt * np.arange(n_steps + 1)
-    k = x.size
-    r = np.zeros((t.size, k)) if roughness is None else np.column_stack(
-        [roughness.shifted(x[i] - x[0]).sampled(dt, t.size) * sin2_ramp(t, ramp) for i in range(k)])
-    start = time.perf_counter()
-    force, w_wheel, w_rail = _integrate(vehicle, h, static, r, dt)
-    one = (lambda a: a[:, 0]) if k == 1 else (lambda a: a)
-    return ContactResponse(t=t, force=one(force), w_wheel=one(w_wheel), w_rail=one(w_rail), roughness=one(r),
-                           x=one(np.tile(x, (t.size, 1))), track=infinite.track, wheel=vehicle.wheels[0], speed=0.0,
-                           ramp=ramp, period=None if roughness is None else roughness.period,
-                           n_dof=vehicle.matrices()[0].shape[0], elapsed=time.perf_counter() - start,
-                           wheels=vehicle.wheels, vehicle=vehicle, infinite=infinite)
+    path = run.path()
+    r = rail_input(roughness, path, run.dt, run.ramp)
+    force, w_wheel, w_rail, elapsed = convolved_run(run.vehicle, *_loop_arrays(h, static, run.dt, r.shape[0]),
+                                                    np.zeros(x.size, dtype=np.int64), np.zeros(1), r, run.dt, None)
+    return contact_response(route="convolution", t=run.t, force=force, w_wheel=w_wheel, w_rail=w_rail, roughness=r,
+                            x=path, track=infinite.track, vehicle=run.vehicle, speed=0.0, ramp=run.ramp,
+                            period=None if roughness is None else roughness.period,
+                            n_dof=run.vehicle.matrices()[0].shape[0], elapsed=elapsed, infinite=infinite)
 
 
-def _integrate(vehicle: Vehicle, h: np.ndarray, static: np.ndarray, r: np.ndarray, dt: float
-               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The step loop of :mod:`semitrack.dynamics.convolved` with one phase (stationary wheels).
+def _loop_arrays(h: np.ndarray, static: np.ndarray, dt: float, rows: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The loop's kernels, pairs and release for stationary wheels (one phase).
 
-    Its kernel is ``dt h`` and its release of the standing preloads ``static - dt sum_(k<min(n, L))
+    The kernel is ``dt h`` and the release of the standing preloads ``static - dt sum_(k<min(n, L))
     h[k]`` over the whole run, so that ``w_n = static P0 + dt sum_m h_m (F_(n-m) - P0)`` as the
     module docstring writes it (a constant preload gives the static deflection, the memory's tail
     included).
     """
-    stepper = Newmark(dt)
-    M, C, inverse = vehicle_step(vehicle, stepper)
-    wheels = vehicle.wheels
-    k, rows, L = len(wheels), r.shape[0], h.shape[0]
-    preload = np.array([w.preload for w in wheels])
+    k, L = static.shape[0], h.shape[0]
     kernels = np.ascontiguousarray((dt * h).transpose(1, 2, 0).reshape(k * k, 1, L))  # one phase per pair
     pair = np.arange(k * k, dtype=np.int64).reshape(k, k)
     taken = np.cumsum(dt * h, axis=0).transpose(1, 2, 0)  # (k, k, L): sum over k <= n of dt h
     held = np.concatenate([np.zeros((k, k, 1)), taken, np.repeat(taken[:, :, -1:], max(rows - L - 1, 0), axis=2)],
                           axis=2)[:, :, :rows]  # sum over k < min(n, L): the memory's cut-off tail stays
-    release = static[:, :, None] - held
-    w_rail0 = static @ preload
-    u0 = vehicle.static_state(w_rail0 + np.array([w.static_approach for w in wheels]))
-    force, w_wheel, w_rail = np.tile(preload, (rows, 1)), np.empty((rows, k)), np.empty((rows, k))
-    w_wheel[0], w_rail[0] = u0[:k], w_rail0
-    state = np.zeros((3, u0.size))
-    state[0] = u0
-    failed = convolved_loop(None, k == 1 and u0.size == 1)(
-        kernels, pair, release, preload, np.zeros(k, dtype=np.int64), np.zeros(1),
-        np.array([w.hertz_constant for w in wheels]), np.ascontiguousarray(r), inverse, M, C,
-        np.array(stepper.coefficients), vehicle.static_loads(u0), state, force, w_wheel, w_rail,
-        np.zeros((k, rows - 1 + L)), np.zeros((k, k + 5)))
-    if failed:
-        raise RuntimeError(f"the contact forces did not converge at step {failed}")
-    return force, w_wheel, w_rail
+    return kernels, pair, static[:, :, None] - held

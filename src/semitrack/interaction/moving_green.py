@@ -1,4 +1,4 @@
-"""A vehicle on the periodic FE track in time without truncation: moving Green's functions.
+"""The moving Green's functions route: a vehicle on the periodic FE track in time without truncation.
 
 For wheels rolling at constant speed along a perfectly periodic track, the fastest route
 (WERAN-type codes) holds no model of the track in the loop: the rail under each wheel is the
@@ -32,7 +32,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import time
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
@@ -41,20 +40,22 @@ import numpy as np
 
 from ..base.checks import check_positive, check_real, check_steps, check_work
 from ..base.errors import InputError, InputTypeError
-from ..dynamics.newmark import Newmark
-from ..dynamics.simulate import MAX_RECORDED, convolved_loop
+from ..dynamics.simulate import MAX_RECORDED
 from ..equivalent.cache import canonical
+from ..fe.ends import FREE
+from ..fe.kernelcache import cached_kernels
+from ..fe.kernels import MovingKernels, grid_of, track_key
+from ..fe.models import FETrack
+from ..methods.infinite import InfiniteTrack
 from ..model.irregularity import Irregularity
+from ..model.roughness import Roughness
 from ..model.tracks import Track, require_track
-from ..model.vehicle import Bogie, Vehicle, WheelGroup, as_vehicle
+from ..model.vehicle import Bogie, Vehicle, WheelGroup
 from ..model.wheel import Wheel
-from .contact import ContactResponse, profile_along
-from .ends import FREE
-from .kernelcache import cached_kernels
-from .kernels import MovingKernels, grid_of, track_key
-from .models import FETrack
-from .roughness import Roughness
-from .timedomain import sin2_ramp
+from .convolved_run import convolved_run
+from .excitation import rail_input
+from .inputs import check_roughness_speed, check_run
+from .response import ContactResponse, contact_response
 
 __all__ = ["TAIL_TOLERANCE", "MAX_LOOP_WORK", "DEFAULT_MEMORY", "moving_green_kernels", "moving_green_response",
            "vehicle_on_grid"]
@@ -156,26 +157,6 @@ def vehicle_on_grid(vehicle: Vehicle, kernels: MovingKernels) -> Vehicle:
     return vehicle
 
 
-def vehicle_step(vehicle: Vehicle, stepper: Newmark) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The vehicle's mass, damping and effective stiffness's inverse for a Newmark step.
-
-    Parameters
-    ----------
-    vehicle : Vehicle
-        The vehicle.
-    stepper : Newmark
-        The scheme and its step.
-
-    Returns
-    -------
-    M, C, inverse : ndarray
-        ``(n_v, n_v)`` each.
-    """
-    M, C, K = vehicle.matrices()
-    a0, a1 = stepper.coefficients[:2]
-    return M, C, np.linalg.inv(K + a1 * C + a0 * M)
-
-
 def _start(kernels: MovingKernels, x_contact: float, k: int) -> tuple[np.ndarray, np.ndarray]:
     """The wheels' grid indices and phases at the start (the first wheel's start rounded to the grid)."""
     grid = kernels.grid
@@ -248,36 +229,30 @@ def moving_green_response(track: Track, wheel: Wheel | Vehicle | Sequence[Wheel]
         rounded (:func:`vehicle_on_grid`), which a truncated model takes to run the same.
     """
     track = _require_periodic(track)
-    vehicle = as_vehicle(wheel)
-    k = len(vehicle.wheels)
-    speed, dt = check_positive("speed", speed), check_positive("dt", dt)
-    duration, ramp = check_positive("duration", duration), check_positive("ramp", ramp)
-    x_contact = check_real("x_contact", x_contact)
-    if not (duration > ramp and math.isfinite(x_contact)):
-        raise InputError(f"duration must exceed ramp = {ramp!r} s (the roughness's fade-in) and x_contact be finite, "
-                         f"got duration={duration!r} s and x_contact={x_contact!r} m")
-    n_steps = check_steps(dt, duration)
+    x = check_real("x_contact", x_contact)  # the vehicle's origin: wheel i at x + offsets[i]
+    run = check_run(wheel, roughness, x, check_positive("speed", speed), dt, duration, ramp, name="x_contact",
+                    check_speed=False)  # the roughness's speed is checked against the rounded one too, below
+    vehicle, k, dt, n_steps = run.vehicle, run.k, run.dt, run.n_steps
     settings = {"memory": memory, "elements_per_bay": elements_per_bay, "f_max": f_max, "f_ref": f_ref}
     if kernels is None:
-        kernels = moving_green_kernels(track, speed, dt, vehicle.offsets, x_contact=x_contact, cache=cache,
+        kernels = moving_green_kernels(track, run.speed, dt, vehicle.offsets, x_contact=x, cache=cache,
                                        **{**settings, "memory": DEFAULT_MEMORY if memory is None else memory})
-    _check_kernels(kernels, track, speed, dt, vehicle, settings)
-    _check_roughness(roughness, speed, kernels.grid.speed)
-    g, phase0 = _start(kernels, x_contact, k)
+    _check_kernels(kernels, track, run.speed, dt, vehicle, settings)
+    v = kernels.grid.speed
+    check_roughness_speed(roughness, run.speed, v)
+    g, phase0 = _start(kernels, x, k)
     _check_start(kernels, g, vehicle)
     _check_work(kernels, n_steps, k, f"duration={duration!r} s / dt={dt!r} s with {k} wheel(s)")
-    v = kernels.grid.speed
-    t = dt * np.arange(n_steps + 1)
-    x = (g[None, :] + np.arange(n_steps + 1)[:, None]) * kernels.grid.step
-    r = _roughness_at(roughness, v, x, t, ramp) + (0.0 if profile is None else profile_along(profile, x))
-    force, w_wheel, w_rail, elapsed = _run(kernels, vehicle, g, phase0, r, dt, compiled)
-    one = (lambda a: a[:, 0]) if k == 1 else (lambda a: a)
+    path = (g[None, :] + np.arange(n_steps + 1)[:, None]) * kernels.grid.step
+    r = rail_input(None if roughness is None else roughness.at_speed(v), path, dt, run.ramp, profile)
+    stack, pair, release = _loop_arrays(kernels, g, phase0)
+    force, w_wheel, w_rail, elapsed = convolved_run(vehicle, stack, pair, release, phase0, kernels.flexibility, r,
+                                                    dt, compiled)
     vehicle = vehicle_on_grid(vehicle, kernels)
-    return ContactResponse(t=t, force=one(force), w_wheel=one(w_wheel), w_rail=one(w_rail), roughness=one(r),
-                           x=one(x), track=track, wheel=vehicle.wheels[0], speed=float(v), ramp=ramp,
-                           period=None if roughness is None else roughness.at_speed(v).period,
-                           n_dof=vehicle.matrices()[0].shape[0], elapsed=elapsed, wheels=vehicle.wheels,
-                           vehicle=vehicle, infinite=None)
+    return contact_response(route="moving green", t=run.t, force=force, w_wheel=w_wheel, w_rail=w_rail, roughness=r,
+                            x=path, track=track, vehicle=vehicle, speed=v, ramp=run.ramp,
+                            period=None if roughness is None else roughness.at_speed(v).period,
+                            n_dof=vehicle.matrices()[0].shape[0], elapsed=elapsed, infinite=InfiniteTrack(track))
 
 
 def _check_kernels(kernels: MovingKernels, track: Track, speed: float, dt: float, vehicle: Vehicle,
@@ -307,17 +282,6 @@ def _check_kernels(kernels: MovingKernels, track: Track, speed: float, dt: float
                          "to run with the kernels' own, or compute kernels for these")
 
 
-def _check_roughness(roughness: Roughness | None, speed: float, grid_speed: float) -> None:
-    """A roughness as a rolling wheel meets it: at the wheels' speed (as asked, or as rounded)."""
-    if roughness is None:
-        return
-    if not isinstance(roughness, Roughness):
-        raise InputTypeError(f"roughness must be None (a smooth rail) or a Roughness, got {type(roughness).__name__}")
-    if not any(math.isclose(roughness.speed, v, rel_tol=1e-9) for v in (speed, grid_speed)):
-        raise InputError(f"a rolling wheel passes the roughness at its own speed: roughness.speed must equal "
-                         f"speed={speed!r} m/s (or the rounded {grid_speed!r} m/s), got {roughness.speed!r}")
-
-
 def _check_start(kernels: MovingKernels, g: np.ndarray, vehicle: Vehicle) -> None:
     """The kernels' release must be for this start's position within a spacing."""
     start = int(g[0] - kernels.grid.offsets[0]) % kernels.grid.positions
@@ -339,43 +303,3 @@ def _check_work(kernels: MovingKernels, n_steps: int, k: int, request: str) -> N
         warnings.warn(f"memory={L * kernels.grid.dt:.4g} s keeps the moving Green's functions while they are still "
                       f"{kernels.tail:.1e} of their peak over its last quarter: older forces are dropped; give a "
                       "longer memory", RuntimeWarning, stacklevel=3)
-
-
-def _roughness_at(roughness: Roughness | None, speed: float, x: np.ndarray, t: np.ndarray, ramp: float) -> np.ndarray:
-    """Each wheel's roughness, at the rounded speed, faded in; the first wheel's as given."""
-    k = x.shape[1]
-    if roughness is None:
-        return np.zeros((t.size, k))
-    rough = roughness.at_speed(speed)
-    fade = sin2_ramp(t, ramp)
-    dt = float(t[1] - t[0])
-    return np.column_stack([rough.shifted(x[0, i] - x[0, 0]).sampled(dt, t.size) * fade for i in range(k)])
-
-
-def _run(kernels: MovingKernels, vehicle: Vehicle, g: np.ndarray, phase0: np.ndarray, r: np.ndarray, dt: float,
-         compiled: bool | None) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
-    """The static start and the step loop: forces, wheel and rail displacements, and the loop's wall time."""
-    stepper = Newmark(dt)
-    M, C, inverse = vehicle_step(vehicle, stepper)
-    wheels = vehicle.wheels
-    k = len(wheels)
-    stack, pair, release = _loop_arrays(kernels, g, phase0)
-    preload = np.array([w.preload for w in wheels])
-    flexibility = kernels.flexibility
-    w_rail0 = release[:, :, 0] @ preload + flexibility[phase0] * preload
-    u0 = vehicle.static_state(w_rail0 + np.array([w.static_approach for w in wheels]))
-    loads = vehicle.static_loads(u0)
-    rows = r.shape[0]
-    force, w_wheel, w_rail = np.tile(preload, (rows, 1)), np.empty((rows, k)), np.empty((rows, k))
-    w_wheel[0], w_rail[0] = u0[:k], w_rail0
-    state = np.zeros((3, u0.size))
-    state[0] = u0
-    history = np.zeros((k, rows - 1 + kernels.memory))
-    start = time.perf_counter()
-    failed = convolved_loop(compiled, k == 1 and u0.size == 1)(stack, pair, release, preload, phase0, flexibility,
-                                      np.array([w.hertz_constant for w in wheels]), np.ascontiguousarray(r), inverse,
-                                      M, C, np.array(stepper.coefficients), loads, state, force, w_wheel, w_rail,
-                                      history, np.zeros((k, k + 5)))
-    if failed:
-        raise RuntimeError(f"the contact forces did not converge at step {failed}")
-    return force, w_wheel, w_rail, time.perf_counter() - start

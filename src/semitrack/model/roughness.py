@@ -10,7 +10,7 @@ stated as levels in one-third-octave bands of wavelength, ``L = 20 log10(r_rms /
 
 which is periodic in ``period``: a record of whole periods has all its power on the lines f_k,
 so that the force per roughness on those lines follows from one discrete Fourier transform
-without leakage (:func:`semitrack.fe.contact.contact_transfer`).
+without leakage (:func:`semitrack.contact_transfer`).
 
 :func:`roughness_from_spectrum` spreads each band's mean square over the lines in that band, in
 equal parts, with random phases from a ``seed``; the band levels of the result equal the

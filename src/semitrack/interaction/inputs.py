@@ -1,0 +1,132 @@
+"""The one input check of a vehicle's run on the rail, shared by every route.
+
+:func:`check_run` takes what every route takes (the vehicle or its wheels, the roughness, where
+the wheels start, their speed, the step, the duration and the fade-in) and gives them back
+checked, as a :class:`RunInputs`: the vehicle, the scalars, the number of steps and every
+wheel's path along the rail. A route adds only the checks of what it alone takes.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..base.checks import check_nonnegative, check_positive, check_steps
+from ..base.errors import InputError, InputTypeError
+from ..model.roughness import Roughness
+from ..model.vehicle import Vehicle, as_vehicle
+from ..model.wheel import Wheel
+
+__all__ = ["RunInputs", "check_run", "check_roughness_speed", "DEFAULT_DT"]
+
+#: The time step of every route when none is given (s): the average-acceleration rule shifts a
+#: frequency f to ``tan(pi f dt) / (pi dt)``, +0.8 % at 2.5 kHz.
+DEFAULT_DT = 2e-5
+
+
+@dataclass(frozen=True)
+class RunInputs:
+    """What every route of a vehicle's run takes, checked.
+
+    Attributes
+    ----------
+    vehicle : Vehicle
+        The vehicle (a list of wheels becomes a :class:`semitrack.WheelGroup`).
+    speed : float
+        The wheels' speed along +x (m/s), >= 0.
+    dt, duration, ramp : float
+        Time step, run length and the roughness's fade-in (s).
+    n_steps : int
+        Steps of the run (bounded by :func:`semitrack.base.checks.check_steps`).
+    x0 : ndarray, shape (k,)
+        Where the wheels start (m from the central mid-span).
+    """
+
+    vehicle: Vehicle
+    speed: float
+    dt: float
+    duration: float
+    ramp: float
+    n_steps: int
+    x0: np.ndarray
+
+    @property
+    def t(self) -> np.ndarray:
+        """Times of the steps (s), from 0."""
+        return self.dt * np.arange(self.n_steps + 1)
+
+    def path(self) -> np.ndarray:
+        """Every wheel's position at every step, ``x0 + speed t`` (m), shape ``(n_steps + 1, k)``."""
+        return self.x0[None, :] + self.speed * self.dt * np.arange(self.n_steps + 1)[:, None]
+
+    @property
+    def k(self) -> int:
+        """Number of wheels."""
+        return len(self.vehicle.wheels)
+
+
+def check_roughness_speed(roughness: Roughness | None, speed: float, rounded: float | None = None) -> None:
+    """A rolling wheel meets a roughness at its own speed: ``roughness.speed`` must be ``speed`` (or ``rounded``).
+
+    Parameters
+    ----------
+    roughness : Roughness or None
+        The roughness (None: a smooth rail, nothing to check).
+    speed : float
+        The wheels' speed (m/s); 0 (stationary wheels) accepts any roughness.
+    rounded : float, optional
+        A route's speed as it runs it (the moving Green's functions round it), also accepted.
+    """
+    if roughness is None or speed == 0:
+        return
+    accepted = (speed,) if rounded is None else (speed, rounded)
+    if not any(math.isclose(roughness.speed, v, rel_tol=1e-9) for v in accepted):
+        also = "" if rounded is None else f" (or the rounded {rounded!r} m/s)"
+        raise InputError(f"a rolling wheel passes the roughness at its own speed: roughness.speed must equal "
+                         f"speed={speed!r} m/s{also}, got {roughness.speed!r}")
+
+
+def check_run(wheel: Wheel | Vehicle | Sequence[Wheel], roughness: Roughness | None, x: float | Sequence[float],
+              speed: float, dt: float, duration: float, ramp: float, *, name: str = "x",
+              check_speed: bool = True) -> RunInputs:
+    """The checked inputs of a vehicle's run (see the module docstring).
+
+    Parameters
+    ----------
+    wheel : Wheel, sequence of Wheel, or Vehicle
+        The vehicle, or wheels on their own suspensions.
+    roughness : Roughness or None
+        The roughness under the first wheel; None: a smooth rail. Rolling wheels must meet it at
+        their speed.
+    x : float or sequence of float
+        Where the wheels start (m): one position per wheel, or a vehicle's first wheel's.
+    speed : float
+        The wheels' speed (m/s), >= 0.
+    dt, duration, ramp : float
+        Time step, run length and fade-in (s), positive; ``duration > ramp``.
+    name : str
+        The start's parameter name in messages (``"x_contact"`` where a deprecated name was used).
+    check_speed : bool
+        Check the roughness's speed here (:func:`check_roughness_speed`); False for a route that
+        checks it against the speed it rounds to as well.
+
+    Returns
+    -------
+    RunInputs
+    """
+    vehicle = as_vehicle(wheel)
+    if roughness is not None and not isinstance(roughness, Roughness):
+        raise InputTypeError(f"roughness must be None (a smooth rail) or a Roughness (roughness_from_spectrum, "
+                             f"corrugation), got {type(roughness).__name__}")
+    x0 = vehicle.positions(x, name)
+    speed = check_nonnegative("speed", speed)
+    dt, duration, ramp = check_positive("dt", dt), check_positive("duration", duration), check_positive("ramp", ramp)
+    if not duration > ramp:
+        raise InputError(f"duration must exceed ramp = {ramp!r} s (the roughness's fade-in), got {duration!r}")
+    if check_speed:
+        check_roughness_speed(roughness, speed)
+    return RunInputs(vehicle=vehicle, speed=speed, dt=dt, duration=duration, ramp=ramp,
+                     n_steps=check_steps(dt, duration), x0=x0)
