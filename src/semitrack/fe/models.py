@@ -54,6 +54,7 @@ __all__ = [
     "FETrack",
     "TruncatedTrack",
     "mesh_probe",
+    "elements_per_bay_of",
     "require_model",
     "fe_semi_infinite_receptance",
     "fe_central_receptance",
@@ -153,8 +154,10 @@ class FETrack:
         for name, t in given:
             t.require_constant(f"the finite-element track ({name})", CONSTANT_SUPPORTS_ONLY)
         foundations = tuple(foundation_of(t) for _, t in given)
-        # The exact infinite track with the same changes holds their rules (one place for both)
-        self._infinite = _infinite_of(track, changes, right_track, transition, joints)
+        # The exact infinite track with the same changes holds their rules (one place for both); a
+        # periodic track's is built only when asked for (the Bloch cell of the moving kernels never does)
+        self._periodic = not (changes or right_track is not None or transition is not None or joints)
+        self._infinite = None if self._periodic else _infinite_of(track, changes, right_track, transition, joints)
         self.tracks: tuple[Track, ...] = tuple(t for _, t in given)
         self.track = self.tracks[0]
         self.right_track = None if self._infinite is None else self._infinite.right
@@ -204,12 +207,7 @@ class FETrack:
                                  f"got {x!r}")
 
     def _check_elements(self, elements_per_bay: int | None) -> int:
-        if elements_per_bay is None:
-            ne = elements_for([mesh_probe(t, self.f_max) for t in self.tracks], self.f_max)
-        else:
-            ne = check_int_at_least("elements_per_bay", elements_per_bay, 2)
-        if ne % 2:
-            raise InputError(f"elements_per_bay must be even (mid-spans are nodes), got {ne}")
+        ne = elements_per_bay_of(self.tracks, elements_per_bay, self.f_max)
         n_elements = ne * (self.n_left + self.n_right)
         check_work(n_elements, MAX_ELEMENTS, f"{self.n_left + self.n_right} bays (n_bays, or n_left + n_right) x "
                    f"elements_per_bay = {ne} give {n_elements} elements", "use fewer bays or elements per bay")
@@ -231,6 +229,8 @@ class FETrack:
             does not hold: the model is then the periodic track, whose exact reference is
             ``st.point_receptance(track, f, x - d / 2)`` (x from a support there; x = 0 a joint).
         """
+        if self._infinite is None and self._periodic and not self.track.has_flexible_slab:
+            self._infinite = InfiniteTrack(self.track)
         return self._infinite
 
     def end_track(self, side: str) -> Track:
@@ -755,6 +755,32 @@ def mesh_probe(track: Track, f_max: float) -> MeshProbe:
     True
     """
     return _probe(_rail_only(require_track(track)), float(probe_grid(f_max)[-1]))
+
+
+def elements_per_bay_of(tracks: Sequence[Track], elements_per_bay: int | None, f_max: float | None = None) -> int:
+    """The elements per bay of a model of ``tracks``: as given (checked even and >= 2), or the default for ``f_max``.
+
+    Parameters
+    ----------
+    tracks : sequence of Track
+        The model's tracks (a transition's two).
+    elements_per_bay : int or None
+        As :class:`FETrack` takes it; None: the fewest that keep the mesh's own error under 1 % up
+        to ``f_max`` (:mod:`semitrack.fe.meshsize`).
+    f_max : float, optional
+        The highest frequency of interest (Hz; default :data:`DEFAULT_F_MAX`).
+
+    Returns
+    -------
+    int
+    """
+    if elements_per_bay is None:
+        top = DEFAULT_F_MAX if f_max is None else check_positive("f_max", f_max)
+        return elements_for([mesh_probe(t, top) for t in tracks], top)
+    ne = check_int_at_least("elements_per_bay", elements_per_bay, 2)
+    if ne % 2:
+        raise InputError(f"elements_per_bay must be even (mid-spans are nodes), got {ne}")
+    return ne
 
 
 def require_model(model: object) -> FETrack:

@@ -42,10 +42,9 @@ from ..base.checks import check_positive, check_real, check_steps, check_work
 from ..base.errors import InputError, InputTypeError
 from ..dynamics.simulate import MAX_RECORDED
 from ..equivalent.cache import canonical
-from ..fe.ends import FREE
 from ..fe.kernelcache import cached_kernels
 from ..fe.kernels import MovingKernels, grid_of, track_key
-from ..fe.models import FETrack
+from ..fe.models import elements_per_bay_of
 from ..methods.infinite import InfiniteTrack
 from ..model.irregularity import Irregularity
 from ..model.roughness import Roughness
@@ -272,8 +271,7 @@ def _check_kernels(kernels: MovingKernels, track: Track, speed: float, dt: float
     differ = []
     if memory is not None and check_steps(dt, check_positive("memory", memory)) != kernels.memory:
         differ.append(f"memory={memory!r} s (the kernels': {kernels.memory * dt:.6g} s)")
-    if (ne is not None or f_max is not None) and FETrack(track, 0, 1, FREE, FREE, elements_per_bay=ne, f_max=f_max
-                                                         ).elements_per_bay != kernels.elements_per_bay:
+    if (ne is not None or f_max is not None) and elements_per_bay_of([track], ne, f_max) != kernels.elements_per_bay:
         differ.append(f"elements_per_bay={ne!r}, f_max={f_max!r} (the kernels': {kernels.elements_per_bay} elements)")
     if f_ref is not None and canonical(f_ref) != kernels.key.get("f_ref"):
         differ.append(f"f_ref={f_ref!r}")
