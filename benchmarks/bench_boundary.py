@@ -43,7 +43,7 @@ def time_domain_speedup() -> None:
     for name, make in (("slab", st.slab_track), ("ballasted", st.ballasted_track)):
         track = make(damping="viscous")  # the time-domain rail is viscously damped
         bnd = st.fit_boundary(track, band=BAND)
-        kw = dict(positions=(0.0, 3 * track.spacing), f_max=6000.0, dt=1e-5, t_end=0.1)
+        kw = dict(x=(0.0, 3 * track.spacing), f_max=6000.0, dt=1e-5, duration=0.1)
         ref = pulse_response(st.TruncatedTrack(track, 400, "pinned", elements_per_bay=8), **kw)
         print(f"\n{name} track (viscous), 0.1 s pulse run against a 400-bay reference")
         print(f"{'model':>22} {'DOFs+states':>12} {'time (s)':>9} {'L2 err centre':>14} {'L2 err 3 bays':>14}")

@@ -127,10 +127,10 @@ def time_domain() -> None:
         }
         runs = {}
         for key, m in models.items():
-            t, runs[key] = timed(lambda: pulse_response(m, pos, t_end=0.03))
+            t, runs[key] = timed(lambda: pulse_response(m, pos, duration=0.03))
             print(f"   {track.name:<10} pulse (f_max 1.5 kHz, 30 ms = 1500 steps) {key:<10} n_dof {m.n_dof:5d}: "
                   f"{t:6.2f} s")
-        doubled = pulse_response(TruncatedTrack(track, 200, "pinned", elements_per_bay=8), pos, t_end=0.03)
+        doubled = pulse_response(TruncatedTrack(track, 200, "pinned", elements_per_bay=8), pos, duration=0.03)
         e = relative_l2_error(runs["reference"].u, doubled.u)
         print(f"   {track.name:<10} pulse reference 100 vs 200 bays: {e.max():.1e}")
         for key in ("pinned", "equivalent"):
@@ -138,7 +138,7 @@ def time_domain() -> None:
             print(f"   {track.name:<10} pulse, 10 bays, {key:<10} ends: error at x = 0 {100 * e[0]:5.1f} %, "
                   f"at x = 3d {100 * e[1]:5.1f} %")
         for n_bays, span in ((10, 8), (4, 3)):
-            kw = dict(positions=(0.0,), x_start=-span * d, x_end=span * d)
+            kw = dict(x=(0.0,), x_start=-span * d, x_end=span * d)
             ref_m = TruncatedTrack(track, 60, "pinned", elements_per_bay=8)
             t, ref = timed(lambda: moving_load_response(ref_m, **kw))
             doubled = moving_load_response(TruncatedTrack(track, 120, "pinned", elements_per_bay=8), **kw)

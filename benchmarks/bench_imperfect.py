@@ -32,7 +32,7 @@ WELD_X = 5.0  # m: the 10 m stretch around the middle of the path
 
 def run(model, bogie, dt: float, x0: float, duration: float) -> tuple[object, float]:
     start = time.perf_counter()
-    res = st.wheel_rail_response(model, bogie, x_contact=x0, speed=SPEED_300_KMH, dt=dt, duration=duration,
+    res = st.wheel_rail_response(model, bogie, x=x0, speed=SPEED_300_KMH, dt=dt, duration=duration,
                                  profile=st.DippedWeld(0.01, 0.4, WELD_X), ballast_gaps={HANGING: 5e-4})
     return res, time.perf_counter() - start
 

@@ -36,7 +36,7 @@ def main() -> None:
     xs = np.linspace(-6.0, 6.0, 30)
     wall = best(lambda: inf.receptance(f, 0.0, xs))
     print(f"InfiniteTrack, 20 changed supports, {f.size} frequencies, {xs.size} response points: {wall:.3f} s")
-    periodic = best(lambda: st.point_receptance(track, f))
+    periodic = best(lambda: st.point_receptance(track, f, origin="midspan"))
     print(f"point_receptance of the periodic track, {f.size} frequencies: {periodic:.3f} s")
     for name, make in (("slab", st.slab_track), ("ballasted", st.ballasted_track)):
         wall = best(lambda: st.track_decay_rate(make()))

@@ -3,7 +3,7 @@
 
 For the four study fits (the paper's slab and ballasted tracks, hysteretic and viscous damping,
 3-3000 Hz, the automatic order): the first-order states, the internal DOFs of
-``second_order()`` (masses and massless Maxwell DOFs), the conversion's wall time, the largest
+``matrix_system()`` (masses and massless Maxwell DOFs), the conversion's wall time, the largest
 element error of its receptance against the rational model from 1 mHz to 1 MHz, the smallest
 relative eigenvalue of M, C and K, and a 10-bay track's pulse and moving-load responses with the
 M, C, K ends against ``ends="boundary"`` (relative L2).
@@ -30,7 +30,7 @@ def main() -> None:
     for (name, damping), track in study_tracks().items():
         bnd = st.fit_boundary(track, band=(3.0, 3000.0))
         start = time.perf_counter()
-        mck = bnd.second_order()
+        mck = bnd.matrix_system()
         wall = time.perf_counter() - start
         error = np.max(np.abs(mck.receptance(F) / bnd.receptance(F) - 1))
         eig = min(np.linalg.eigvalsh(X)[0] / np.max(np.abs(np.linalg.eigvalsh(X))) for X in mck.matrices())

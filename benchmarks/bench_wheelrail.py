@@ -208,7 +208,7 @@ def part_scenario(names, repeat: int) -> None:
             for (label, model), t_model in zip(models.items(), (t_pinned, t_boundary + fit_time)):
                 wheels = [st.Wheel()] * len(offsets)
                 x0 = [x_start - o for o in offsets]
-                wall, res = best(repeat, lambda: st.wheel_rail_response(model, wheels, rough, x_contact=x0,
+                wall, res = best(repeat, lambda: st.wheel_rail_response(model, wheels, rough, x=x0,
                                                                         speed=SCENARIO_SPEED, dt=SCENARIO_DT,
                                                                         duration=1.0))
                 size = model_size(model, len(offsets))

@@ -36,7 +36,7 @@ def check_second_order(bnd, name):
     # CPU time of this process: the conversion runs on one BLAS thread, so on an idle machine it is
     # the wall time, and other jobs on a busy one do not count
     start = time.process_time()
-    system = bnd.second_order()
+    system = bnd.matrix_system()
     elapsed = time.process_time() - start
     M, C, K = system.matrices()
     ss = bnd.state_space()

@@ -2,8 +2,8 @@
 
 Layers, lowest first: ``base`` (checks, conventions, the paper's numbers) -> ``dynamics`` (second-order
 systems in time, knowing nothing of tracks) -> ``model`` ->
-``methods`` -> ``equivalent`` -> ``boundary`` -> ``fe`` -> ``interaction`` -> ``paper`` -> the top-level modules (``cli``,
-``plotting``, ``progress`` and the flat namespace). A module may import from its own subpackage
+``methods`` -> ``equivalent`` -> ``boundary`` -> ``fe`` -> ``interaction`` -> ``paper`` -> the top-level
+modules (``cli``, ``plotting``, ``progress`` and the flat namespace). A module may import from its own subpackage
 and from lower layers only. The test reads the source with :mod:`ast`, so it also sees imports
 inside functions, and it fails on a module that no layer claims, so ARCHITECTURE.md and this
 table stay complete together.

@@ -138,7 +138,7 @@ def test_fitted_boundary_is_proven_passive_and_keeps_the_limits(fitted, name):
     bnd = fitted[name]
     track = st.slab_track() if name == "slab" else st.ballasted_track()
     assert bnd.is_passive() and bnd.passivity.stable
-    assert np.all(bnd.model.poles.real < 0)
+    assert np.all(bnd.rational.poles.real < 0)
     K0, D = track_end_limits(track)
     exact_static = np.linalg.inv(st.semi_infinite_receptance(track, [1e-3])[0]).real
     assert np.allclose(bnd.dynamic_stiffness([1e-6])[0], exact_static, rtol=0.01)
@@ -335,7 +335,7 @@ def test_long_run_with_an_enforced_passive_boundary_stays_bounded(fitted):
     model rings down over 1 s (a non-passive end would feed energy in and grow)."""
     bnd = fitted["ballasted"]
     model = st.TruncatedTrack(st.ballasted_track(), 2, ends="boundary", system=bnd, elements_per_bay=4)
-    hist = pulse_response(model, positions=(0.0,), f_max=3000.0, dt=5e-5, t_end=1.0)
+    hist = pulse_response(model, x=(0.0,), f_max=3000.0, dt=5e-5, duration=1.0)
     u = np.abs(hist.u[:, 0])
     assert np.all(np.isfinite(u))
     assert u[-2000:].max() < 1e-6 * u.max()
@@ -349,8 +349,8 @@ def test_time_domain_pulse_against_a_long_reference(viscous_fits, name):
     pinned 25 % / 49 % and 16 % / 45 %."""
     track = (st.slab_track if name == "slab" else st.ballasted_track)(damping="viscous")
     out = truncation_errors(track, None, n_bays=10, reference_bays=100, ends=("pinned", "boundary"),
-                            boundary=viscous_fits[name], elements_per_bay=8, positions=(0.0, 3 * track.spacing),
-                            f_max=6000.0, dt=1e-5, t_end=0.03)
+                            boundary=viscous_fits[name], elements_per_bay=8, x=(0.0, 3 * track.spacing),
+                            f_max=6000.0, dt=1e-5, duration=0.03)
     assert np.all(out["errors"]["boundary"] < 0.015)
     assert np.all(out["errors"]["pinned"] > 10 * out["errors"]["boundary"])
 
@@ -389,7 +389,7 @@ def test_moving_load_with_boundary_ends(viscous_fits):
     track = st.slab_track(damping="viscous")
     out = truncation_errors(track, None, n_bays=10, reference_bays=100, excitation="moving",
                             ends=("pinned", "boundary"), boundary=viscous_fits["slab"], elements_per_bay=8,
-                            positions=(0.0,), speed=100.0, x_start=-2.0, x_end=2.0, dt=2e-5)
+                            x=(0.0,), speed=100.0, x_start=-2.0, x_end=2.0, dt=2e-5)
     assert np.all(out["errors"]["boundary"] < 1e-5)
     assert np.all(out["errors"]["pinned"] > 100 * out["errors"]["boundary"])
 

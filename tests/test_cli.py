@@ -402,7 +402,7 @@ def test_decay_writes_the_rates_and_a_plot(tmp_path):
                  "--plot", tmp_path / "tdr.png")
     assert result.returncode == 0, result.stderr
     table = pd.read_csv(tmp_path / "tdr.csv", comment="#")
-    expected = st.track_decay_rate(st.ballasted_track(), bands=(500, 1000), df=5.0)
+    expected = st.track_decay_rate(st.ballasted_track(), band=(500, 1000), df=5.0)
     np.testing.assert_allclose(table["decay_rate_dB_per_m"], expected.decay_rate, rtol=1e-5)
     assert (tmp_path / "tdr.png").stat().st_size > 1000
     slab = tmp_path / "floating.toml"

@@ -211,7 +211,7 @@ def test_a_rolling_wheel_shows_the_support_passing_frequency(boundaries, kmh):
     track = st.slab_track(damping="viscous")
     speed = kmh / 3.6
     model = st.TruncatedTrack(track, 10, "boundary", system=boundaries["slab"])
-    res = st.wheel_rail_response(model, st.Wheel(), speed=speed, x_contact=-6.0, dt=2e-5, duration=12.0 / speed)
+    res = st.wheel_rail_response(model, st.Wheel(), speed=speed, x=-6.0, dt=2e-5, duration=12.0 / speed)
     assert res.x[-1] == pytest.approx(6.0) and not res.lost_contact
     f, spectrum = res.force_spectrum(after=0.02)  # past the start, where the wheel's bounce (64 Hz) is set off
     band = (f > 100.0) & (f < 1000.0)
@@ -232,8 +232,8 @@ def small_model():
     ({"roughness": np.zeros(10)}, TypeError, "roughness must be None"),
     ({"dt": 0.0}, ValueError, "dt must be positive"),
     ({"duration": 0.01, "ramp": 0.02}, ValueError, "duration must exceed ramp"),
-    ({"x_contact": 5.0}, ValueError, "x_contact must lie on the rail"),
-    ({"speed": 100.0, "duration": 0.05}, ValueError, r"x_contact \+ speed \* duration must lie on the rail"),
+    ({"x": 5.0}, ValueError, "x must lie on the rail"),
+    ({"speed": 100.0, "duration": 0.05}, ValueError, r"x \+ speed \* duration must lie on the rail"),
     ({"speed": -1.0}, ValueError, "speed must be non-negative"),
     ({"speed": 10.0, "roughness": st.corrugation(20.0, 0.1, 1e-6)}, ValueError, "roughness.speed must equal"),
 ])
@@ -268,7 +268,7 @@ def test_force_spectrum_reads_a_line_s_amplitude():
 
 
 def test_wheel_rail_response_needs_an_fe_model():
-    with pytest.raises(TypeError, match="model must be an FETrack"):
+    with pytest.raises(TypeError, match="track must be an FETrack"):
         st.wheel_rail_response(st.slab_track(), st.Wheel())
 
 
@@ -315,14 +315,14 @@ def test_several_wheels_start_quietly_and_one_in_a_list_is_one():
     single-wheel run; a roughness reaches a wheel s ahead s / v earlier."""
     model = st.TruncatedTrack(st.slab_track(damping="viscous"), 4, elements_per_bay=6)
     wheels = [st.Wheel(), st.Wheel(preload=5e4, primary_stiffness=1e6, primary_damping=1e4)]
-    res = st.wheel_rail_response(model, wheels, x_contact=[-0.4, 0.9], dt=5e-5, duration=0.05)
+    res = st.wheel_rail_response(model, wheels, x=[-0.4, 0.9], dt=5e-5, duration=0.05)
     assert res.force.shape == (1001, 2) and res.n_dof == model.n_dof + 2
     np.testing.assert_allclose(res.force, np.tile([1e5, 5e4], (1001, 1)), rtol=1e-9)
     rough = st.corrugation(SPEED, 0.2, 1e-6)
     one = st.wheel_rail_response(model, st.Wheel(), rough, dt=5e-5, duration=0.05)
     listed = st.wheel_rail_response(model, [st.Wheel()], rough, dt=5e-5, duration=0.05)
     np.testing.assert_array_equal(one.force, listed.force)
-    two = st.wheel_rail_response(model, [st.Wheel(), st.Wheel()], rough, x_contact=[0.0, 0.05], dt=5e-5,
+    two = st.wheel_rail_response(model, [st.Wheel(), st.Wheel()], rough, x=[0.0, 0.05], dt=5e-5,
                                  duration=0.05, ramp=1e-3)
     late = two.t > 2e-3
     ahead = 1e-6 * np.cos(2 * np.pi * SPEED / 0.2 * (two.t[late] + 0.05 / SPEED))
@@ -334,5 +334,5 @@ def test_several_wheels_start_quietly_and_one_in_a_list_is_one():
     for j in range(2):
         np.testing.assert_allclose(dataclasses.replace(two, force=two.force[:, j]).force_spectrum(after=0.01)[1],
                                    amplitude[:, j], rtol=0, atol=1e-9 * amplitude.max())
-    with pytest.raises(ValueError, match=r"x_contact must give one position per wheel \(2\)"):
+    with pytest.raises(ValueError, match=r"x must give one position per wheel \(2\)"):
         st.wheel_rail_response(model, wheels, dt=5e-5, duration=0.05)

@@ -24,7 +24,7 @@ def test_the_convolution_follows_the_linear_theory(small):
     """One wheel and two wheels 2.5 m apart: every band within 0.05 dB (measured 0.015 and 0.019 dB)."""
     one = convolution_response(TRACK, st.Wheel(), small, dt=2e-5, duration=0.42)
     assert np.max(np.abs(st.contact_transfer(one).error_db)) < 0.05
-    two = convolution_response(TRACK, [st.Wheel(), st.Wheel()], small, x_contact=[1.25, -1.25], dt=2e-5,
+    two = convolution_response(TRACK, [st.Wheel(), st.Wheel()], small, x=[1.25, -1.25], dt=2e-5,
                                duration=0.42)
     for i in range(2):
         transfer = st.contact_transfer(two, wheel=i)
@@ -35,8 +35,8 @@ def test_the_truncated_model_against_the_reference_that_truncates_nothing(small)
     """The 10-bay FE model with broadband ends and a bogie: the force's fluctuation within 5 % rms of the
     convolution on the exact track (measured 3.2 %), each band within 0.3 dB of it."""
     model = st.TruncatedTrack(TRACK, 10, "boundary", system=st.fit_boundary(TRACK))
-    fe = st.wheel_rail_response(model, st.Bogie(), small, x_contact=1.25, dt=2e-5, duration=0.42)
-    exact = convolution_response(TRACK, st.Bogie(), small, x_contact=1.25, dt=2e-5, duration=0.42)
+    fe = st.wheel_rail_response(model, st.Bogie(), small, x=1.25, dt=2e-5, duration=0.42)
+    exact = convolution_response(TRACK, st.Bogie(), small, x=1.25, dt=2e-5, duration=0.42)
     late = fe.t > 0.05
     fluctuation = exact.force[late] - exact.force[late].mean(axis=0)
     rms = np.sqrt(np.mean((fe.force[late] - exact.force[late]) ** 2, axis=0) / np.mean(fluctuation**2, axis=0))

@@ -40,7 +40,7 @@ def test_decay_rate_against_an_fe_route_with_exact_ends(name):
     10 Hz apart (the FE solve's cost)."""
     track = st.slab_track() if name == "slab" else st.ballasted_track()
     df = 10.0
-    exact = st.track_decay_rate(track, bands=(100, 3150), df=df)
+    exact = st.track_decay_rate(track, band=(100, 3150), df=df)
     centres, lower, upper = _band_edges((100, 3150))
     lines = [np.arange(np.ceil(lo / df), np.ceil(hi / df)) * df for lo, hi in zip(lower, upper)]
     f = np.concatenate(lines)
@@ -69,15 +69,15 @@ def test_the_least_attenuated_bloch_wave_is_the_far_field_decay(f):
 
 def test_the_standard_s_checks_and_the_frf_kinds():
     slab = st.slab_track()
-    tdr = st.track_decay_rate(slab, bands=(500, 2000), df=5.0)
+    tdr = st.track_decay_rate(slab, band=(500, 2000), df=5.0)
     assert np.all(tdr.far_point_drop > 0) and np.all(tdr.suitable)
     np.testing.assert_array_equal(tdr.valid, tdr.suitable & (tdr.far_point_drop >= 10.0))
     assert not np.all(tdr.valid)  # the soft-pad slab track: too little drop by 66 bays near 800 Hz
-    rates = {kind: st.track_decay_rate(slab, bands=(1000, 1000), frf=kind, df=5.0).decay_rate[0] for kind in FRF_KINDS}
+    rates = {kind: st.track_decay_rate(slab, band=(1000, 1000), frf=kind, df=5.0).decay_rate[0] for kind in FRF_KINDS}
     assert max(rates.values()) / min(rates.values()) < 1.05  # in one band the kinds weigh the lines alike
     table = tdr.table()
     assert list(table.columns)[:2] == ["band (Hz)", "decay rate (dB/m)"] and len(table) == 7
-    changed = st.track_decay_rate(st.InfiniteTrack(slab, {3: None}), bands=(1000, 1000), df=5.0)
+    changed = st.track_decay_rate(st.InfiniteTrack(slab, {3: None}), band=(1000, 1000), df=5.0)
     assert np.isnan(changed.wave_attenuation).all()
 
 
@@ -85,7 +85,7 @@ def test_bad_input():
     with pytest.raises(ValueError, match="frf must be one of"):
         st.track_decay_rate(st.slab_track(), frf="velocity")
     with pytest.raises(ValueError, match="leaves a band without a line"):
-        st.track_decay_rate(st.slab_track(), bands=(100, 200), df=50.0)
-    with pytest.raises(TypeError, match="bands must be a pair"):
-        st.track_decay_rate(st.slab_track(), bands=100)
+        st.track_decay_rate(st.slab_track(), band=(100, 200), df=50.0)
+    with pytest.raises(TypeError, match="band must be a pair"):
+        st.track_decay_rate(st.slab_track(), band=100)
     assert st.ISO3095_TDR_LIMIT[1000] == 0.8

@@ -30,7 +30,7 @@ def test_change_ratio_table_takes_the_largest_ratio_in_each_range():
 
 
 def test_pinned_length_table_is_twenty_db_over_the_lowest_rate_above_the_range():
-    rates = {"slab": st.track_decay_rate(st.slab_track(), bands=(100.0, 1000.0), df=5.0)}
+    rates = {"slab": st.track_decay_rate(st.slab_track(), band=(100.0, 1000.0), df=5.0)}
     table = study.pinned_length_table(rates, {"slab": 0.65})
     tdr = rates["slab"]
     keep = tdr.centres > 240

@@ -255,7 +255,7 @@ def test_compiled_loop_takes_a_contact_on_a_pinned_end_node():
     model = st.TruncatedTrack(st.slab_track(damping="viscous"), 3, elements_per_bay=4)
     for x0, speed in ((model.x[0], 0.0), (model.x[-1] - 0.5, 50.0)):
         duration = 0.01
-        runs = [st.wheel_rail_response(model, st.Wheel(), x_contact=x0, speed=speed, dt=2e-5, duration=duration,
+        runs = [st.wheel_rail_response(model, st.Wheel(), x=x0, speed=speed, dt=2e-5, duration=duration,
                                        ramp=0.005, compiled=c) for c in (False, True)]
         np.testing.assert_allclose(runs[1].force, runs[0].force, rtol=0, atol=1e-9 * np.abs(runs[0].force).max())
         np.testing.assert_allclose(runs[1].w_wheel, runs[0].w_wheel, rtol=0, atol=1e-11 * np.abs(runs[0].w_wheel).max())

@@ -47,7 +47,7 @@ def _close(alpha, ref, tol=1e-9):
 def _written(boundary):
     """The receptance of what is written: the end's M, C, K (to the rational model itself it is
     1e-12 to 1e-9, the synthesis's own accuracy, checked in test_synthesis)."""
-    return _port_receptance(*boundary.second_order().matrices())
+    return _port_receptance(*boundary.matrix_system().matrices())
 
 
 def _check_conventions(conv, track=None):
@@ -62,7 +62,7 @@ def _check_conventions(conv, track=None):
 
 
 def test_matrix_files_round_trip(boundary, tmp_path):
-    system = boundary.second_order()
+    system = boundary.matrix_system()
     ref = _written(boundary)
     for suffix in (".json", ".csv", ".mat"):
         path = st.export_system(system, tmp_path / f"end{suffix}")
@@ -117,7 +117,7 @@ def _dense(entries, labels):
 
 
 def test_nastran_dmig_reproduces_the_receptance(boundary, tmp_path):
-    system = boundary.second_order()
+    system = boundary.matrix_system()
     text = st.export_system(system, tmp_path / "end.bdf").read_text()
     assert "K2GG = KEND, KENDR" in text and "to the right of a cut" in text
     assert max(len(line) for line in text.splitlines()) <= 80  # Nastran reads 80 columns
@@ -153,7 +153,7 @@ def _parse_inp(text):
 
 
 def test_abaqus_matrix_input_reproduces_the_receptance(boundary, tmp_path):
-    system = boundary.second_order()
+    system = boundary.matrix_system()
     text = st.export_system(system, tmp_path / "end.inp").read_text()
     assert "*MATRIX ASSEMBLE, STIFFNESS=END_K, MASS=END_M, VISCOUS DAMPING=END_C" in text
     conv = json.loads("".join(line[3:] for line in text.splitlines() if line.startswith("**|")))
@@ -169,7 +169,7 @@ def test_abaqus_matrix_input_reproduces_the_receptance(boundary, tmp_path):
 
 def test_paper_system_files_carry_conventions(tmp_path):
     system = st.paper_table4()
-    data = json.loads(st.export_system(system, tmp_path / "t4.json", track="slab", band_hz=(3, 900)).read_text())
+    data = json.loads(st.export_system(system, tmp_path / "t4.json", track="slab", band=(3, 900)).read_text())
     _check_conventions(data["conventions"], "slab")
     assert st.load_system_json(tmp_path / "t4.json") == system
     st.export_system(system, tmp_path / "t4.csv")
@@ -191,7 +191,7 @@ def test_boundary_files_carry_conventions_and_mck(boundary, tmp_path):
     st.save_boundary(boundary, tmp_path / "b.json")
     data = json.loads((tmp_path / "b.json").read_text())
     _check_conventions(data["conventions"], boundary.track_name)
-    assert np.array_equal(data["K0"], boundary.model.K0)  # repr-exact
+    assert np.array_equal(data["K0"], boundary.rational.K0)  # repr-exact
     st.save_boundary(boundary, tmp_path / "b.mat")
     raw = scipy.io.loadmat(tmp_path / "b.mat", simplify_cells=True)
     second = raw["second_order"]
@@ -257,5 +257,5 @@ def test_a_third_party_newmark_code_attaches_the_exported_end(boundary, tmp_path
     t = dt * np.arange(int(round(t_end / dt)) + 1)
     u = _newmark(*(sp.csc_matrix(X) for X in big), rail.dof(0.0, "w"), hann_pulse(t, 2.0 / f_max), dt)
     ref = pulse_response(st.TruncatedTrack(track, n_bays, ends="boundary", system=boundary), [0.0],
-                         dt=dt, t_end=t_end, f_max=f_max)
+                         dt=dt, duration=t_end, f_max=f_max)
     assert relative_l2_error(u[:, [rail.dof(0.0, "w")]], ref.u)[0] < 1e-6

@@ -198,7 +198,7 @@ def test_output_matrix_and_dofs():
         m.dof(0.01)
     with pytest.raises(ValueError, match="removed by a pinned end"):
         m.dof(m.x[0], "w")
-    with pytest.raises(ValueError, match="positions must lie on the rail"):
+    with pytest.raises(ValueError, match="x must lie on the rail"):
         m.output_matrix([10.0])
 
 
@@ -276,7 +276,7 @@ def test_finite_track_against_transfer_chain(track, ends):
 
 def test_exact_ends_reproduce_the_infinite_track(track):
     """Two bays each side closed by the exact end stiffness: the infinite track's 2x2 at mid-span."""
-    ref = st.point_receptance(track, PAPER_GRID, track.spacing / 2)
+    ref = st.point_receptance(track, PAPER_GRID, 0.0, origin="midspan")
     h = TruncatedTrack(track, 2, "exact", elements_per_bay=12).central_receptance(PAPER_GRID)
     e11 = np.abs(h[:, 0, 0] / ref[:, 0, 0] - 1)
     e22 = np.abs(h[:, 1, 1] / ref[:, 1, 1] - 1)
@@ -429,7 +429,7 @@ def test_pulse_truncated_against_long_reference(name):
     make_track, make_system, _ = CASES[name]
     track = make_track()
     res = truncation_errors(track, make_system(), n_bays=10, reference_bays=100, excitation="pulse",
-                            positions=(0.0, 3 * track.spacing))
+                            x=(0.0, 3 * track.spacing))
     e_eq, e_pin = res["errors"]["equivalent"], res["errors"]["pinned"]
     assert np.all(e_eq < [0.05, 0.15])
     assert np.all(e_pin > 2 * e_eq)
@@ -446,7 +446,7 @@ def test_moving_load_truncated_against_long_reference(name):
     track = make_track()
     d = track.spacing
     res = truncation_errors(track, make_system(), n_bays=4, reference_bays=60, excitation="moving",
-                            positions=(0.0,), x_start=-3 * d, x_end=3 * d)
+                            x=(0.0,), x_start=-3 * d, x_end=3 * d)
     e_eq, e_pin = res["errors"]["equivalent"], res["errors"]["pinned"]
     assert np.all(e_eq < 0.005)
     assert e_pin[0] > 0.01 and np.all(e_pin > 5 * e_eq)
@@ -468,7 +468,7 @@ def test_relative_l2_error():
     assert relative_l2_error([1.0, 2.0], [1.0, 2.0]) == 0.0
     with pytest.raises(ValueError, match="same shape"):
         relative_l2_error([1.0], [1.0, 2.0])
-    with pytest.raises(TypeError, match="model must be an FETrack"):
+    with pytest.raises(TypeError, match="track must be an FETrack"):
         pulse_response("model")
     m = TruncatedTrack(st.slab_track(), 2, "pinned", elements_per_bay=4)
     with pytest.raises(ValueError, match="x_end must lie on the rail"):

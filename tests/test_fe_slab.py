@@ -6,7 +6,7 @@ of a rigid slab bouncing on its layer, equilibrium of the static load, and the m
 ``M, C, K`` for the viscous frequency domain. The floating slab is the shipped example (10
 fasteners on a 6.45 m slab on a soft mat, its bounce at 26 Hz); in the model's x the slab
 joints sit at multiples of 10 d (x = 0 a joint, supports at (k + 1/2) d), so the exact
-reference at the model's x is ``point_receptance(track, f, x - d / 2)``.
+reference at the model's x is ``point_receptance(track, f, x, origin="midspan")``.
 """
 
 from __future__ import annotations
@@ -95,7 +95,7 @@ def test_exact_ends_reproduce_the_infinite_floating_slab_track(floating):
     d = floating.spacing
     model = st.TruncatedTrack(floating, 10, "exact", elements_per_bay=48)
     for x in (0.0, d / 2, d, 5 * d):
-        h, ref = model.receptance(GRID, x), st.point_receptance(floating, GRID, x - d / 2)
+        h, ref = model.receptance(GRID, x), st.point_receptance(floating, GRID, x, origin="midspan")
         err = _rel(np.diagonal(h, axis1=1, axis2=2), np.diagonal(ref, axis1=1, axis2=2))
         assert np.median(err[:, 0]) < 5e-4 and err[:, 0].max() < 0.025, x
         assert err[:, 1].max() < 0.01, x  # measured 0.3-0.45 %
@@ -112,7 +112,7 @@ def test_ten_bays_with_broadband_ends_are_the_infinite_floating_slab_track(visco
     closed = st.TruncatedTrack(track, 10, "boundary", system=bnd, elements_per_bay=48)
     pinned = st.TruncatedTrack(track, 10, "pinned", elements_per_bay=48)
     for x in (0.0, d):
-        ref = st.point_receptance(track, GRID, x - d / 2)[:, 0, 0]
+        ref = st.point_receptance(track, GRID, x, origin="midspan")[:, 0, 0]
         err = _rel(closed.receptance(GRID, x)[:, 0, 0], ref)
         assert np.median(err) < 0.01 and err.max() < 0.05, (x, np.median(err), err.max())
         far = _rel(pinned.receptance(GRID, x)[:, 0, 0], ref)
@@ -171,10 +171,10 @@ def test_a_pulse_on_the_floating_slab_in_time(viscous):
     7e-5 / 6e-5; the 10-bay pinned model 15 % / 7.7 %."""
     track, bnd = viscous
     d = track.spacing
-    ref = pulse_response(st.TruncatedTrack(track, 60, "pinned", elements_per_bay=24), (0.0, d), t_end=0.02)
+    ref = pulse_response(st.TruncatedTrack(track, 60, "pinned", elements_per_bay=24), (0.0, d), duration=0.02)
     closed = pulse_response(st.TruncatedTrack(track, 10, "boundary", system=bnd, elements_per_bay=24), (0.0, d),
-                            t_end=0.02)
-    pinned = pulse_response(st.TruncatedTrack(track, 10, "pinned", elements_per_bay=24), (0.0, d), t_end=0.02)
+                            duration=0.02)
+    pinned = pulse_response(st.TruncatedTrack(track, 10, "pinned", elements_per_bay=24), (0.0, d), duration=0.02)
     assert np.all(relative_l2_error(closed.u, ref.u) < 1e-3)
     assert np.all(relative_l2_error(pinned.u, ref.u) > 0.05)
 
@@ -183,7 +183,7 @@ def test_a_wheel_on_a_small_roughness_over_the_floating_slab_is_the_linear_theor
     """A wheel standing at the slab joint (x = 0) on a small moving roughness (100 m/s, 4 cm-2 m,
     -10 dB), 10 bays each side with broadband ends: the contact force per one-third-octave band
     50 Hz-2.5 kHz against the linear theory -1 / (alpha_W + alpha_C + alpha_R) of the exact
-    infinite track at the joint (``wheel_rail_force(track, f, wheel, -d / 2)``, x from a support,
+    infinite track at the joint (``wheel_rail_force(track, f, wheel, 0.0, origin="midspan")``,
     which ``contact_transfer`` takes within the slab's period). Measured within 0.04 dB in every
     band; pinned ends 5.8 dB off. The rail seats report their forces (the slab's DOFs under the
     pads), no ballast."""
@@ -198,8 +198,9 @@ def test_a_wheel_on_a_small_roughness_over_the_floating_slab_is_the_linear_theor
         res = st.wheel_rail_response(model, st.Wheel(), rough, dt=4e-5, duration=0.82, watch_supports=[-1, 0])
         assert not res.lost_contact
         transfer = st.contact_transfer(res, band=(50.0, 2500.0))
-        np.testing.assert_allclose(transfer.linear, st.wheel_rail_force(track, transfer.f, st.Wheel(), -d / 2),
-                                   rtol=1e-9)  # the contact's place within the slab, not within a bay
+        linear = st.wheel_rail_force(track, transfer.f, st.Wheel(), 0.0, origin="midspan")
+        # the contact's place within the slab, not within a bay
+        np.testing.assert_allclose(transfer.linear, linear, rtol=1e-9)
         assert transfer.centres.size == lower.size
         worst[ends] = np.max(np.abs(transfer.error_db))
         forces = res.track_forces

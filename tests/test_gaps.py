@@ -29,7 +29,7 @@ def hanging():
 
 
 def _roll(model, **kw):
-    return st.wheel_rail_response(model, st.Wheel(), x_contact=-3.0, speed=V, dt=2e-5, duration=5.0 / V, **kw)
+    return st.wheel_rail_response(model, st.Wheel(), x=-3.0, speed=V, dt=2e-5, duration=5.0 / V, **kw)
 
 
 def test_a_gap_that_never_closes_is_the_linear_hanging_sleeper(hanging):
@@ -46,7 +46,7 @@ def test_a_closed_zero_gap_is_the_linear_support():
     plain = st.TruncatedTrack(track, 4, elements_per_bay=12)
     hanging = st.TruncatedTrack(track, 4, elements_per_bay=12, changes={0: {"kb": 0.0}})
     rough = st.corrugation(50.0, 0.1, 2e-6)
-    kw = dict(x_contact=0.3, dt=2e-5, duration=0.05, ramp=0.01)
+    kw = dict(x=0.3, dt=2e-5, duration=0.05, ramp=0.01)
     a = st.wheel_rail_response(plain, st.Wheel(), rough, **kw)
     b = st.wheel_rail_response(hanging, st.Wheel(), rough, ballast_gaps={0: 0.0}, **kw)
     assert np.all(b.gaps.force > 0)  # compressed throughout
@@ -105,7 +105,7 @@ def test_compiled_and_numpy_loops_agree_with_a_gap():
     """The gap's contact has no rail part (a weight-0 point), which the compiled contact solve allows."""
     model = st.TruncatedTrack(st.ballasted_track(damping="viscous"), 6, "pinned", changes={0: {"kb": 0.0}},
                               elements_per_bay=12)
-    runs = [st.wheel_rail_response(model, st.Wheel(), x_contact=-2.0, speed=V, dt=2e-5, duration=3.0 / V,
+    runs = [st.wheel_rail_response(model, st.Wheel(), x=-2.0, speed=V, dt=2e-5, duration=3.0 / V,
                                    ballast_gaps={0: 3e-4}, compiled=compiled) for compiled in (True, False)]
     assert runs[1].gaps.force.max() > 1e4  # the gap closes
     np.testing.assert_allclose(runs[0].force, runs[1].force, rtol=1e-10)

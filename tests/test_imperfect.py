@@ -48,7 +48,7 @@ def test_a_dipped_weld_on_ten_bays_with_broadband_ends_is_the_long_pinned_track(
     runs = {}
     for label, model in (("short", st.TruncatedTrack(track, 10, "boundary", system=boundaries[name])),
                          ("long", st.TruncatedTrack(track, bays, "pinned"))):
-        runs[label] = st.wheel_rail_response(model, WHEEL, profile=WELD, x_contact=-3.0, speed=v, dt=1e-5,
+        runs[label] = st.wheel_rail_response(model, WHEEL, profile=WELD, x=-3.0, speed=v, dt=1e-5,
                                              duration=5.0 / v)
     short, long = runs["short"].force, runs["long"].force
     assert long.max() > 1.3 * WHEEL.preload  # the weld matters
@@ -62,7 +62,7 @@ def test_p1_and_p2_converge_as_the_time_step_halves(boundaries):
     model = st.TruncatedTrack(track, 10, "boundary", system=boundaries["ballasted"])
     peaks = []
     for dt in (2e-5, 1e-5, 5e-6):
-        res = st.wheel_rail_response(model, WHEEL, profile=WELD, x_contact=-1.0, speed=200 / 3.6, dt=dt,
+        res = st.wheel_rail_response(model, WHEEL, profile=WELD, x=-1.0, speed=200 / 3.6, dt=dt,
                                      duration=2.0 / (200 / 3.6))
         peaks.append(p1_p2(res, WELD))
     peaks = np.array(peaks)
@@ -82,7 +82,7 @@ def test_jenkins_p2_beside_the_time_domain_where_it_applies(boundaries):
     model = st.TruncatedTrack(track, 10, "boundary", system=boundaries["slab"])
     long_dip = st.DippedWeld(angle=0.004, length=3.0, x=0.0)
     v = 80 / 3.6
-    res = st.wheel_rail_response(model, WHEEL, profile=long_dip, x_contact=-2.0, speed=v, dt=2e-5, duration=4.0 / v)
+    res = st.wheel_rail_response(model, WHEEL, profile=long_dip, x=-2.0, speed=v, dt=2e-5, duration=4.0 / v)
     assert not res.lost_contact
     p2 = p1_p2(res, long_dip)[1]
     assert jenkins_p2(WHEEL, long_dip.angle, v, lumped) == pytest.approx(p2, rel=0.15)
@@ -106,7 +106,7 @@ def test_track_forces_carry_the_static_load():
 def test_a_profile_must_start_off_the_wheels():
     model = st.TruncatedTrack(st.slab_track(damping="viscous"), 3, elements_per_bay=8)
     with pytest.raises(st.BadInput, match="start off the profile"):
-        st.wheel_rail_response(model, st.Wheel(), profile=WELD, x_contact=0.05, speed=10.0, dt=1e-4, duration=0.05)
+        st.wheel_rail_response(model, st.Wheel(), profile=WELD, x=0.05, speed=10.0, dt=1e-4, duration=0.05)
     with pytest.raises(TypeError, match="profile must be an Irregularity"):
         st.wheel_rail_response(model, st.Wheel(), profile=lambda x: 0 * x, speed=10.0, dt=1e-4, duration=0.05)
 

@@ -79,8 +79,8 @@ def test_boundary_refinement_matches_minpack():
     bnd = st.fit_boundary(st.slab_track(), band=(3.0, 3000.0), n_poles=24)
     f = np.geomspace(3.0, 3000.0, 300)
     alpha = st.semi_infinite_receptance(st.slab_track(), f)
-    problem = _AlphaProblem(bnd.model, f, alpha, np.ones((f.size, 3)))
-    c0 = bnd.model.coefficients.ravel() * 1.05  # off the minimum, as a vector fit leaves it
+    problem = _AlphaProblem(bnd.rational, f, alpha, np.ones((f.size, 3)))
+    c0 = bnd.rational.coefficients.ravel() * 1.05  # off the minimum, as a vector fit leaves it
     ours = levenberg_marquardt(problem.fun, problem.jac, c0, max_nfev=40)
     ref = least_squares(problem.fun, c0, jac=problem.jac, method="lm", max_nfev=40)
     assert ours.cost <= ref.cost * (1 + 1e-6)

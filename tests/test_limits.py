@@ -66,11 +66,11 @@ def test_bands_must_be_pairs_of_numbers(band):
 @pytest.mark.parametrize("x", [np.nan, np.inf, -np.inf, 1e308])
 def test_point_receptance_refuses_positions_it_cannot_resolve(x):
     with pytest.raises(ValueError, match=r"x must be finite and within 1e9 periods"):
-        st.point_receptance(SLAB, [100.0], x=x)
+        st.point_receptance(SLAB, [100.0], x=x, origin="support")
     # Far but resolvable positions are periodic images.
     far = 1e6 * SLAB.spacing + 0.1
-    np.testing.assert_allclose(st.point_receptance(SLAB, [100.0], x=far),
-                               st.point_receptance(SLAB, [100.0], x=far % SLAB.spacing), rtol=1e-6)
+    np.testing.assert_allclose(st.point_receptance(SLAB, [100.0], x=far, origin="support"),
+                               st.point_receptance(SLAB, [100.0], x=far % SLAB.spacing, origin="support"), rtol=1e-6)
 
 
 @pytest.mark.parametrize("case", [dict(kappa=1e300), dict(E=2e211), dict(A=1e-300), dict(G=1e-300)])

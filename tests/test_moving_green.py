@@ -116,7 +116,7 @@ def _truncated(res, boundary, duration, rough="broadband", profile=None):
                               elements_per_bay=NE)
     x0 = res.x[0] if res.x.ndim == 1 else res.x[0, 0]
     return st.wheel_rail_response(model, res.vehicle, _rough(res.speed) if rough == "broadband" else rough,
-                                  x_contact=float(x0), speed=res.speed, dt=res.dt, duration=duration, profile=profile)
+                                  x=float(x0), speed=res.speed, dt=res.dt, duration=duration, profile=profile)
 
 
 def test_one_wheel_and_two_agree_with_the_truncated_model(boundary):
@@ -124,7 +124,7 @@ def test_one_wheel_and_two_agree_with_the_truncated_model(boundary):
     (measured 3e-4 on this coarse mesh: the truncated model's own reflections, 3e-6 with 120 bays to spare),
     for one wheel and for two 0.5 m apart."""
     for vehicle in (st.Wheel(), st.WheelGroup((st.Wheel(), st.Wheel()), spacing=(0.0, -0.5))):
-        res = st.moving_green_response(SLAB, vehicle, _rough(SPEED), x_contact=-1.0, speed=SPEED, dt=DT,
+        res = st.moving_green_response(SLAB, vehicle, _rough(SPEED), x=-1.0, speed=SPEED, dt=DT,
                                        duration=0.1, memory=0.15, elements_per_bay=NE)
         ref = _truncated(res, boundary, 0.1)
         F, Fr = res.force.reshape(res.t.size, -1), ref.force.reshape(ref.t.size, -1)
@@ -136,7 +136,7 @@ def test_one_wheel_and_two_agree_with_the_truncated_model(boundary):
 def test_loss_of_contact_as_in_the_truncated_model(boundary):
     """A 0.2 mm corrugation of 0.1 m at 50 m/s: the wheel leaves the rail in both, at the same steps."""
     rough = st.corrugation(speed=grid_of(SLAB, SPEED, DT).speed, wavelength=0.1, amplitude=2e-4)
-    res = st.moving_green_response(SLAB, st.Wheel(), rough, x_contact=-1.0, speed=SPEED, dt=DT, duration=0.1,
+    res = st.moving_green_response(SLAB, st.Wheel(), rough, x=-1.0, speed=SPEED, dt=DT, duration=0.1,
                                    memory=0.15, elements_per_bay=NE)
     ref = _truncated(res, boundary, 0.1, rough)
     assert res.lost_contact and ref.lost_contact
@@ -148,7 +148,7 @@ def test_a_dipped_weld_as_in_the_truncated_model(boundary):
     """A profile fixed on the rail (a dipped weld) is the rail's shape, not the track's: both routes meet it alike,
     the P1 peak within 1e-3."""
     weld = st.DippedWeld(angle=0.01, length=0.4, x=0.5)
-    res = st.moving_green_response(SLAB, st.Wheel(), None, x_contact=-1.0, speed=SPEED, dt=DT, duration=0.06,
+    res = st.moving_green_response(SLAB, st.Wheel(), None, x=-1.0, speed=SPEED, dt=DT, duration=0.06,
                                    memory=0.15, elements_per_bay=NE, profile=weld)
     ref = _truncated(res, boundary, 0.06, None, weld)
     assert res.force.max() > 1.2 * st.Wheel().preload
@@ -158,7 +158,7 @@ def test_a_dipped_weld_as_in_the_truncated_model(boundary):
 def test_a_smooth_rail_shows_the_support_passing_line(boundary):
     """No roughness: the force's line at speed / spacing (tens of N) is the truncated model's within 1e-3,
     and so is the whole spectrum (the wheel's bounce set off by the start among it)."""
-    res = st.moving_green_response(SLAB, st.Wheel(), None, x_contact=-1.0, speed=SPEED, dt=DT, duration=0.2,
+    res = st.moving_green_response(SLAB, st.Wheel(), None, x=-1.0, speed=SPEED, dt=DT, duration=0.2,
                                    memory=0.15, elements_per_bay=NE)
     ref = _truncated(res, boundary, 0.2, None)
     f, amp = res.force_spectrum(after=0.05)
@@ -173,12 +173,12 @@ def test_the_python_loops_are_the_compiled_one(slab_kernels):
     """The general Python loop, the one-wheel loop in floats and the compiled loop give the same run."""
     pytest.importorskip("numba")
     rough = _rough(SPEED)
-    one = [st.moving_green_response(SLAB, st.Wheel(), rough, x_contact=-1.0, speed=SPEED, dt=DT, duration=0.03,
+    one = [st.moving_green_response(SLAB, st.Wheel(), rough, x=-1.0, speed=SPEED, dt=DT, duration=0.03,
                                     memory=0.15, elements_per_bay=NE, compiled=c) for c in (False, True)]
     assert np.allclose(one[0].force, one[1].force, rtol=1e-12, atol=1e-9)
     grid, kernels = slab_kernels
     group = st.WheelGroup((st.Wheel(), st.Wheel()), spacing=(0.0, -0.5))
-    two = [st.moving_green_response(SLAB, group, rough, x_contact=3 * grid.step, speed=SPEED, dt=DT, duration=0.03,
+    two = [st.moving_green_response(SLAB, group, rough, x=3 * grid.step, speed=SPEED, dt=DT, duration=0.03,
                                     kernels=kernels, compiled=c) for c in (False, True)]
     assert np.allclose(two[0].force, two[1].force, rtol=1e-12, atol=1e-9)
 
@@ -210,13 +210,13 @@ def test_what_the_route_does_not_hold_is_refused(slab_kernels):
         st.moving_green_response(slab, st.Wheel(), speed=SPEED, dt=DT, duration=0.03)
     with pytest.raises(ValueError, match="phase"):  # the kernels' release is for another start
         st.moving_green_response(SLAB, st.WheelGroup((st.Wheel(), st.Wheel()), spacing=(0.0, -0.5)), speed=SPEED,
-                                 dt=DT, duration=0.03, x_contact=0.0, kernels=kernels)
+                                 dt=DT, duration=0.03, x=0.0, kernels=kernels)
     with pytest.raises(ValueError, match="steps per spacing"):
         st.moving_green_response(SLAB, st.Wheel(), speed=SPEED, dt=2 * DT, duration=0.03, kernels=kernels)
     with pytest.raises(ValueError, match="another track"):
         st.moving_green_response(SLAB.replace(kv=2 * SLAB.kv), st.WheelGroup((st.Wheel(), st.Wheel()),
                                                                              spacing=(0.0, -0.5)),
-                                 speed=SPEED, dt=DT, duration=0.03, x_contact=3 * kernels.grid.step, kernels=kernels)
+                                 speed=SPEED, dt=DT, duration=0.03, x=3 * kernels.grid.step, kernels=kernels)
 
 
 def test_work_beyond_reason_is_refused_before_it_starts(tmp_path):
@@ -249,19 +249,19 @@ def test_kernels_are_used_only_where_they_hold(slab_kernels):
     refused; another preload and a vehicle whose first wheel is not at its origin use them."""
     grid, kernels = slab_kernels
     group = st.WheelGroup((st.Wheel(), st.Wheel()), spacing=(0.0, -0.5))
-    run = {"speed": SPEED, "dt": DT, "duration": 0.03, "x_contact": 3 * grid.step, "kernels": kernels}
+    run = {"speed": SPEED, "dt": DT, "duration": 0.03, "x": 3 * grid.step, "kernels": kernels}
     for wrong in ({"elements_per_bay": 16}, {"f_ref": 10.0}, {"memory": 0.3}):
         with pytest.raises(ValueError, match="other settings"):
             st.moving_green_response(SLAB, group, **run, **wrong)
     with pytest.raises(ValueError, match="roughness.speed"):
         st.moving_green_response(SLAB, group, _rough(80.0), **run)
-    for bad in ({"speed": 0.0}, {"speed": float("nan")}, {"x_contact": float("inf")}):
+    for bad in ({"speed": 0.0}, {"speed": float("nan")}, {"x": float("inf")}):
         with pytest.raises(ValueError):
             st.moving_green_response(SLAB, group, **{**run, **bad})
     heavy = st.WheelGroup((st.Wheel(preload=1.5e5), st.Wheel()), spacing=(0.0, -0.5))
     assert st.moving_green_response(SLAB, heavy, **run).force[-1, 0] > 1.4e5
     shifted = st.WheelGroup((st.Wheel(), st.Wheel()), spacing=(0.1, -0.4))
-    own = st.moving_green_kernels(SLAB, SPEED, DT, shifted.offsets, x_contact=0.0, memory=0.15, elements_per_bay=NE)
+    own = st.moving_green_kernels(SLAB, SPEED, DT, shifted.offsets, x=0.0, memory=0.15, elements_per_bay=NE)
     res = st.moving_green_response(SLAB, shifted, speed=SPEED, dt=DT, duration=0.03, kernels=own)
     assert np.allclose(res.x[0], [0.1, -0.4], atol=grid.step)
 

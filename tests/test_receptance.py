@@ -10,7 +10,7 @@ def test_shapes():
     t = st.slab_track()
     assert st.semi_infinite_receptance(t, 100.0).shape == (2, 2)
     assert st.semi_infinite_receptance(t, [100.0, 200.0, 300.0]).shape == (3, 2, 2)
-    assert st.point_receptance(t, np.array([[10.0, 20.0]]), x=0.1).shape == (1, 2, 2, 2)
+    assert st.point_receptance(t, np.array([[10.0, 20.0]]), x=0.1, origin="support").shape == (1, 2, 2, 2)
     r = st.central_response(t, [10.0, 20.0])
     assert r.w1.shape == r.psi2.shape == r.Q2.shape == r.M1.shape == r.det.shape == (2,)
 
@@ -34,7 +34,7 @@ def test_bad_arguments():
     with pytest.raises(TypeError, match="Track or PeriodicCell"):
         st.semi_infinite_receptance({"kv": 1}, 10.0)
     with pytest.raises(TypeError, match="x"):
-        st.point_receptance(t, 10.0, x="mid")
+        st.point_receptance(t, 10.0, x="mid", origin="support")
 
 
 def test_closed_form_matches_quadrature():
@@ -65,7 +65,7 @@ def test_dense_supports_tend_to_continuous_foundation():
     errors = []
     for n in (4, 16, 64):
         t = base.replace(spacing=base.spacing / n, kv=base.kv / n, kphi=base.kphi / n)
-        h = st.point_receptance(t, f, x=0.5 * t.spacing)
+        h = st.point_receptance(t, f, x=0.5 * t.spacing, origin="support")
         errors.append(np.max(np.abs(h - ref) / np.abs(ref).max(axis=(1, 2))[:, None, None]))
     # Second-order convergence in d (measured 16x per 4x refinement); 1e-4 at n = 64.
     assert errors[0] / errors[1] > 10 and errors[1] / errors[2] > 10

@@ -47,7 +47,7 @@ def test_receptance_limits_and_definiteness(boundaries):
 def test_second_order_is_a_mechanical_system(boundaries):
     """The same receptance, passivity and natural-frequency methods as the paper's systems."""
     bnd = boundaries["slab viscous"]
-    system = bnd.second_order()
+    system = bnd.matrix_system()
     assert isinstance(system, st.MechanicalSystem) and isinstance(st.paper_table4(), st.MechanicalSystem)
     f = np.geomspace(1.0, 1e4, 50)
     assert np.allclose(system.receptance(f), bnd.receptance(f), rtol=1e-7)
@@ -65,7 +65,7 @@ def test_second_order_is_a_mechanical_system(boundaries):
 def test_reciprocity_matrix_satisfies_its_equations(boundaries):
     bnd = boundaries["ballasted hysteretic"]
     A, B, C, _ = bnd.state_space()
-    T = reciprocity_matrix(bnd.model)
+    T = reciprocity_matrix(bnd.rational)
     assert np.allclose(T @ A, A.T @ T, rtol=0, atol=1e-12 * np.abs(T).max() * np.abs(A).max())
     assert np.allclose(T @ B, C.T, rtol=0, atol=1e-12 * np.abs(C).max())
 
@@ -74,13 +74,13 @@ def test_a_state_space_that_is_not_minimal_is_reduced_exactly(boundaries):
     """A real pole with a rank-1 residue r r^T (positive real: passivity kept) adds two states to the
     state space but one DOF at most to the network: the unobservable state is projected out."""
     bnd = boundaries["slab viscous"]
-    model = bnd.model
+    model = bnd.rational
     r = np.array([np.sqrt(model.D[0, 0]), 0.5 * np.sqrt(model.D[1, 1])]) * 2 * np.pi * 700.0
     extra = [[r[0] * r[0], r[0] * r[1], r[1] * r[1]]]
     wider = type(model)(np.r_[model.poles, -2 * np.pi * 700.0 + 0j], np.vstack([model.coefficients, extra]),
                         model.K0, model.D)
     system = second_order_system(wider)
-    assert system.n_internal <= bnd.second_order().n_internal + 1
+    assert system.n_internal <= bnd.matrix_system().n_internal + 1
     f = np.geomspace(1e-3, 1e6, 200)
     assert np.max(np.abs(system.receptance(f) / wider.receptance(f) - 1)) < 1e-6  # measured 1.3e-7
     assert np.max(np.abs(wider.receptance(f) / model.receptance(f) - 1)) > 1e-2  # the pole matters
@@ -89,7 +89,7 @@ def test_a_state_space_that_is_not_minimal_is_reduced_exactly(boundaries):
 def test_an_active_model_is_refused():
     """A model whose real part of Z turns negative has no passive network."""
     bnd = st.fit_boundary(st.slab_track(damping="viscous"), band=BAND, n_poles=24)
-    model = bnd.model
+    model = bnd.rational
     active = type(model)(model.poles, -model.coefficients, model.K0, model.D)
     with pytest.raises(SynthesisError):
         second_order_system(active)
@@ -100,7 +100,7 @@ def test_ten_bay_track_in_time_matches_the_boundary_end(boundaries, name):
     bnd = boundaries[name]
     track = study_tracks()[tuple(name.split())]
     by_states = st.TruncatedTrack(track, 10, ends="boundary", system=bnd)
-    by_matrices = st.TruncatedTrack(track, 10, ends="equivalent", system=bnd.second_order())
+    by_matrices = st.TruncatedTrack(track, 10, ends="equivalent", system=bnd.matrix_system())
     for run in (pulse_response, moving_load_response):
         ref, got = run(by_states), run(by_matrices)
         assert np.all(relative_l2_error(got.u, ref.u) < 1e-6), (name, run.__name__)

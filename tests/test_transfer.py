@@ -58,16 +58,17 @@ def test_point_receptance_periodic_and_symmetric(track):
     f = np.array([50.0, 183.0, 700.0, 1500.0])
     d = track.spacing
     for x in (0.0, 0.13, 0.5 * d):
-        h = st.point_receptance(track, f, x)
+        h = st.point_receptance(track, f, x, origin="support")
         # Off-diagonal terms vanish at a support and at mid-span, so compare against the largest
         # entry per frequency: 1e-9 of it is far above rounding and far below any real asymmetry.
         tol = 1e-9 * np.abs(h).max()
-        np.testing.assert_allclose(st.point_receptance(track, f, x + 3 * d), h, rtol=1e-9, atol=tol)
+        np.testing.assert_allclose(st.point_receptance(track, f, x + 3 * d, origin="support"), h, rtol=1e-9, atol=tol)
         # Mirror symmetry about a support: H(d - x) = P H(x) P.
-        np.testing.assert_allclose(st.point_receptance(track, f, d - x), MIRROR @ h @ MIRROR, rtol=1e-8, atol=tol)
+        mirrored = st.point_receptance(track, f, d - x, origin="support")
+        np.testing.assert_allclose(mirrored, MIRROR @ h @ MIRROR, rtol=1e-8, atol=tol)
     # At mid-span the point receptance holds the central responses w1 and psi2.
     r = st.central_response(track, f)
-    h = st.point_receptance(track, f, 0.5 * d)
+    h = st.point_receptance(track, f, 0.5 * d, origin="support")
     np.testing.assert_allclose(h[:, 0, 0], r.w1, rtol=1e-10)
     np.testing.assert_allclose(h[:, 1, 1], r.psi2, rtol=1e-10)
     np.testing.assert_allclose(h[:, 0, 1], 0, atol=1e-9 * np.abs(r.w1).max())

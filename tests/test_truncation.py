@@ -41,7 +41,7 @@ def test_exact_ends_leave_only_the_mesh_error():
 def test_bays_needed():
     study = pd.DataFrame({"ends": ["a", "a", "a", "b", "b"], "n_bays": [1, 5, 10, 1, 5],
                           "median error": [0.2, 0.04, 0.01, 0.2, 0.1], "max error": [0.5, 0.2, 0.05, 0.9, 0.3]})
-    needed = bays_needed(study, median=0.05, maximum=0.10)
+    needed = bays_needed(study, median_error=0.05, max_error=0.10)
     assert needed["a"] == 10 and np.isnan(needed["b"])
 
 

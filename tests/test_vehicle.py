@@ -56,31 +56,32 @@ def test_bogie_static_state_leaves_every_spring_unstretched():
 def test_several_wheel_theory_reduces_to_one_wheel_and_is_reciprocal():
     f = np.array([40.0, 300.0, 1200.0])
     slab = st.slab_track()
-    one = st.wheel_rail_force(slab, f, st.Wheel(), 0.1)
-    listed = st.wheel_rail_force(slab, f, [st.Wheel()], [0.1])
+    one = st.wheel_rail_force(slab, f, st.Wheel(), 0.1, origin="support")
+    listed = st.wheel_rail_force(slab, f, [st.Wheel()], [0.1], origin="support")
     np.testing.assert_allclose(listed[:, 0, 0], one, rtol=1e-10)
-    H = st.wheel_rail_force(slab, f, [st.Wheel(), st.Wheel(mass=400.0)], [0.1, 1.3])
+    H = st.wheel_rail_force(slab, f, [st.Wheel(), st.Wheel(mass=400.0)], [0.1, 1.3], origin="support")
     np.testing.assert_allclose(H[:, 0, 1], H[:, 1, 0], rtol=1e-9)  # rail and wheels are reciprocal
     assert np.min(np.abs(H[:, 0, 1] / H[:, 0, 0])) > 1e-3  # coupled through the rail
     # far apart on the well-damped ballasted track the coupling vanishes above the sleeper resonance
-    far = st.wheel_rail_force(st.ballasted_track(), f[1:], [st.Wheel(), st.Wheel()], [0.1, 30.1])
-    np.testing.assert_allclose(far[:, 0, 0], st.wheel_rail_force(st.ballasted_track(), f[1:], st.Wheel(), 0.1),
-                               rtol=1e-3)
-    bogie = st.wheel_rail_force(slab, f, st.Bogie(), x=0.2)
-    np.testing.assert_allclose(bogie, st.wheel_rail_force(slab, f, st.Bogie(), x=[0.2, -2.3]), rtol=1e-12)
+    far = st.wheel_rail_force(st.ballasted_track(), f[1:], [st.Wheel(), st.Wheel()], [0.1, 30.1], origin="support")
+    alone = st.wheel_rail_force(st.ballasted_track(), f[1:], st.Wheel(), 0.1, origin="support")
+    np.testing.assert_allclose(far[:, 0, 0], alone, rtol=1e-3)
+    bogie = st.wheel_rail_force(slab, f, st.Bogie(), x=0.2, origin="support")
+    listed = st.wheel_rail_force(slab, f, st.Bogie(), x=[0.2, -2.3], origin="support")
+    np.testing.assert_allclose(bogie, listed, rtol=1e-12)
     changed = st.InfiniteTrack(slab, changes={0: None})
-    assert not np.allclose(st.wheel_rail_force(changed, f, st.Bogie(), x=0.325), bogie)
+    assert not np.allclose(st.wheel_rail_force(changed, f, st.Bogie(), x=0.2, origin="support"), bogie)
 
 
 def test_vehicle_positions_are_checked():
     with pytest.raises(st.BadInput, match="one position per wheel"):
-        st.wheel_rail_force(st.slab_track(), 100.0, [st.Wheel(), st.Wheel()], 0.0)
+        st.wheel_rail_force(st.slab_track(), 100.0, [st.Wheel(), st.Wheel()], 0.0, origin="support")
     with pytest.raises(st.BadInput, match="follow the vehicle's wheel offsets"):
-        st.wheel_rail_force(st.slab_track(), 100.0, st.Bogie(), [0.0, -2.0])
+        st.wheel_rail_force(st.slab_track(), 100.0, st.Bogie(), [0.0, -2.0], origin="support")
     with pytest.raises(st.BadInput, match="primary suspensions"):
         st.Bogie(wheel=st.Wheel())
     with pytest.raises(TypeError, match="a list of them or a vehicle"):
-        st.wheel_rail_force(st.slab_track(), 100.0, "bogie")
+        st.wheel_rail_force(st.slab_track(), 100.0, "bogie", origin="support")
 
 
 def test_local_flexibility_is_the_element_under_a_point_force():
@@ -110,21 +111,21 @@ def test_two_wheels_and_a_bogie_follow_the_several_wheel_theory(name, roughness)
     dt, duration = RUNS[name]
     model = st.TruncatedTrack(track, 10, "boundary", system=st.fit_boundary(track, band=(3, 3000), n_poles=24))
     for vehicle, x in (([st.Wheel(), st.Wheel()], [1.25, -1.25]), (st.Bogie(), 1.25)):
-        res = st.wheel_rail_response(model, vehicle, roughness, x_contact=x, dt=dt, duration=duration)
+        res = st.wheel_rail_response(model, vehicle, roughness, x=x, dt=dt, duration=duration)
         assert not res.lost_contact and res.force.shape[1] == 2
         for i in range(2):
             transfer = st.contact_transfer(res, band=BANDS, wheel=i)
             assert transfer.centres.size == 18
             assert np.max(np.abs(transfer.error_db)) < 0.3, (vehicle, i, transfer.error_db)
     if name == "slab":
-        bare = st.wheel_rail_response(model, [st.Wheel(), st.Wheel()], roughness, x_contact=[1.25, -1.25], dt=dt,
+        bare = st.wheel_rail_response(model, [st.Wheel(), st.Wheel()], roughness, x=[1.25, -1.25], dt=dt,
                                       duration=duration, element_flexibility=False)
         assert np.max(np.abs(st.contact_transfer(bare, band=BANDS, wheel=0).error_db)) > 0.25
 
 
 def test_a_bogie_stands_still_on_a_smooth_rail_and_contact_transfer_needs_a_wheel():
     model = st.TruncatedTrack(st.ballasted_track(damping="viscous"), 4, elements_per_bay=8)
-    res = st.wheel_rail_response(model, st.Bogie(body_mass=8e3), x_contact=1.1, dt=5e-5, duration=0.05)
+    res = st.wheel_rail_response(model, st.Bogie(body_mass=8e3), x=1.1, dt=5e-5, duration=0.05)
     np.testing.assert_allclose(res.force, 1e5, rtol=1e-9)
     np.testing.assert_allclose(res.x[0], [1.1, -1.4])
     assert res.n_dof == model.n_dof + 5
@@ -144,14 +145,14 @@ def test_the_element_flexibility_removes_most_of_the_mesh_line_of_a_rolling_whee
     v = 300 / 3.6
     lines = {}
     for flexible in (False, True):
-        res = st.wheel_rail_response(model, st.Wheel(), x_contact=-5.0, speed=v, dt=2e-5, duration=0.12,
+        res = st.wheel_rail_response(model, st.Wheel(), x=-5.0, speed=v, dt=2e-5, duration=0.12,
                                      element_flexibility=flexible)
         f, amplitude = res.force_spectrum(after=0.03)
         lines[flexible] = [amplitude[np.abs(f - line) < 3 * (f[1] - f[0])].max()
                            for line in (v / track.spacing, v / model.element_length)]
     assert lines[True][0] == pytest.approx(lines[False][0], rel=0.01)
     assert lines[True][1] < lines[False][1] / 8
-    runs = [st.wheel_rail_response(model, st.Bogie(), x_contact=-5.0, speed=v, dt=2e-5, duration=0.03,
+    runs = [st.wheel_rail_response(model, st.Bogie(), x=-5.0, speed=v, dt=2e-5, duration=0.03,
                                    compiled=compiled) for compiled in (True, False)]
     motion = np.max(np.abs(runs[1].force - 1e5))
     assert np.max(np.abs(runs[0].force - runs[1].force)) < 1e-10 * motion
@@ -163,6 +164,6 @@ def test_several_wheels_on_a_flexible_slab_are_refused_by_the_linear_theory():
     track = st.example_track("floating-slab").replace(damping="viscous")
     model = st.TruncatedTrack(track, 10, "pinned", elements_per_bay=8)
     res = st.wheel_rail_response(model, [st.Wheel(), st.Wheel()], st.corrugation(100.0, 0.1, 1e-7),
-                                 x_contact=[0.0, -2.5], dt=5e-5, duration=0.03, ramp=0.005)
+                                 x=[0.0, -2.5], dt=5e-5, duration=0.03, ramp=0.005)
     with pytest.raises(st.BadInput, match="several wheels needs the exact InfiniteTrack"):
         st.contact_transfer(res, band=(1000.0, 1000.0), wheel=0)

@@ -13,12 +13,12 @@ F = np.array([20.0, 100.0, 245.0, 600.0, 945.0, 2500.0])
 def test_the_force_is_the_series_formula_of_the_three_receptances(track):
     wheel = Wheel(mass=600.0, preload=1e5, primary_stiffness=1e6, primary_damping=1e4)
     x = 0.2
-    alpha_r = st.point_receptance(track, F, x)[:, 0, 0]
+    alpha_r = st.point_receptance(track, F, x, origin="midspan")[:, 0, 0]
     omega = 2 * np.pi * F
     alpha_w = 1 / (1e6 + 1j * omega * 1e4 - omega**2 * 600.0)
     k_h = 1.5 * DEFAULT_HERTZ_CONSTANT ** (2 / 3) * 1e5 ** (1 / 3)
     expected = -1 / (alpha_w + 1 / k_h + alpha_r)
-    np.testing.assert_allclose(wheel_rail_force(track, F, wheel, x), expected, rtol=1e-13)
+    np.testing.assert_allclose(wheel_rail_force(track, F, wheel, x, origin="midspan"), expected, rtol=1e-13)
 
 
 def test_on_a_rigid_track_the_wheel_bounces_on_its_contact_spring():
@@ -31,34 +31,35 @@ def test_on_a_rigid_track_the_wheel_bounces_on_its_contact_spring():
     f = F[F != 245.0]
     omega2, k_h = (2 * np.pi * f) ** 2, wheel.contact_stiffness
     closed = wheel.mass * omega2 * k_h / (k_h - wheel.mass * omega2)
-    np.testing.assert_allclose(wheel_rail_force(rigid, f, wheel), closed, rtol=1e-4)  # measured 1.4e-5
+    force = wheel_rail_force(rigid, f, wheel, origin="midspan")
+    np.testing.assert_allclose(force, closed, rtol=1e-4)  # measured 1.4e-5
     assert np.sqrt(k_h / wheel.mass) / (2 * np.pi) == pytest.approx(245.6, abs=0.1)
 
 
 def test_a_stiff_contact_and_an_immovable_wheel_impose_the_roughness_on_the_rail(track):
     """alpha_W -> 0 (a wheel 1e12 times heavier) and alpha_C -> 0 (C_H x 1e12): F/r -> -1/alpha_R."""
     wheel = Wheel(mass=6e14, hertz_constant=DEFAULT_HERTZ_CONSTANT * 1e12)
-    alpha_r = st.point_receptance(track, F)[:, 0, 0]
-    np.testing.assert_allclose(wheel_rail_force(track, F, wheel), -1 / alpha_r, rtol=1e-6)
+    alpha_r = st.point_receptance(track, F, origin="midspan")[:, 0, 0]
+    np.testing.assert_allclose(wheel_rail_force(track, F, wheel, origin="midspan"), -1 / alpha_r, rtol=1e-6)
 
 
 def test_a_massless_free_wheel_transmits_no_force(track):
     """With nothing behind the contact (no mass, no suspension) the roughness only moves the wheel."""
-    force = wheel_rail_force(track, F, Wheel(mass=1e-9))
-    assert np.all(np.abs(force) < 1e-3 * np.abs(wheel_rail_force(track, F, Wheel())))
+    force = wheel_rail_force(track, F, Wheel(mass=1e-9), origin="midspan")
+    assert np.all(np.abs(force) < 1e-3 * np.abs(wheel_rail_force(track, F, Wheel(), origin="midspan")))
 
 
 def test_the_force_follows_the_rail_between_and_over_the_supports():
     """At the pinned-pinned frequency the rail is soft at mid-span and stiff over a support."""
     track, wheel = st.slab_track(), Wheel()
-    over, mid = (abs(wheel_rail_force(track, [945.0], wheel, x)[0]) for x in (0.0, 0.325))
+    over, mid = (abs(wheel_rail_force(track, [945.0], wheel, x, origin="midspan")[0]) for x in (0.325, 0.0))
     assert over > 2 * mid  # measured 2.6x
 
 
 def test_a_flexible_slab_track_takes_the_wheel_too():
     slab = st.Slab(length=6.45, fasteners=10, E=3.6e10, I=2.869e-3, mass_per_length=956.25,
                    support_stiffness=2.55e7, eta_support=0.15, eta_slab=0.02)
-    force = wheel_rail_force(st.slab_track(slab=slab), F, Wheel(), x=1.3)
+    force = wheel_rail_force(st.slab_track(slab=slab), F, Wheel(), x=1.3, origin="midspan")
     assert force.shape == F.shape and np.all(np.isfinite(force))
 
 

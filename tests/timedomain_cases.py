@@ -45,13 +45,13 @@ def cases() -> dict:
 
     def pulse_boundary(name):
         model = st.TruncatedTrack(tracks[name], 3, "boundary", system=boundary(name), elements_per_bay=8)
-        h = pulse_response(model, (0.0, 1.2), dt=2e-5, t_end=0.03)
+        h = pulse_response(model, (0.0, 1.2), dt=2e-5, duration=0.03)
         return {"u": h.u}
 
     def pulse_equivalent():
         model = st.TruncatedTrack(st.ballasted_track(), 4, "equivalent", system=st.paper_table7(),
                                   elements_per_bay=6)
-        return {"u": pulse_response(model, (0.0, 0.6), dt=2e-5, t_end=0.02).u}
+        return {"u": pulse_response(model, (0.0, 0.6), dt=2e-5, duration=0.02).u}
 
     def moving_boundary():
         model = st.TruncatedTrack(slab, 4, "boundary", system=boundary("slab"), elements_per_bay=8)
@@ -72,13 +72,13 @@ def cases() -> dict:
         model = st.TruncatedTrack(ballasted, 5, "pinned", elements_per_bay=6)
         r = st.roughness_from_spectrum(300 / 3.6, lam, np.full(lam.size, -5.0), period=0.02, seed=2)
         res = st.wheel_rail_response(model, st.Wheel(primary_stiffness=1e6, primary_damping=1e4), r,
-                                     x_contact=-1.5, speed=300 / 3.6, dt=2e-5, duration=0.03, ramp=0.01,
+                                     x=-1.5, speed=300 / 3.6, dt=2e-5, duration=0.03, ramp=0.01,
                                      element_flexibility=False)
         return contact(res)
 
     def wheel_rolling_boundary():
         model = st.TruncatedTrack(slab, 4, "boundary", system=boundary("slab"), elements_per_bay=8)
-        res = st.wheel_rail_response(model, st.Wheel(), x_contact=-2.0, speed=300 / 3.6, dt=2e-5, duration=0.045,
+        res = st.wheel_rail_response(model, st.Wheel(), x=-2.0, speed=300 / 3.6, dt=2e-5, duration=0.045,
                                      element_flexibility=False)
         return contact(res)
 

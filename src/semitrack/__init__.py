@@ -11,7 +11,7 @@ from its first moment, and a name costs its module's import only when it is used
 
 from importlib import import_module
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 #: Every public name: ``{name: (module, attribute in it)}``, in the order of ``__all__``.
 _EXPORTS: dict[str, tuple[str, str]] = {

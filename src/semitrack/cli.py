@@ -360,7 +360,7 @@ def cmd_decay(args: argparse.Namespace) -> int:
     if track.has_flexible_slab:
         raise InputError("semitrack decay takes a track without a flexible slab ([slab]): the decay rate's exact "
                          "transfer functions are InfiniteTrack's, which holds pads on a rigid foundation or sleepers")
-    tdr = track_decay_rate(track, bands=(fmin, fmax), df=args.df, frf=args.frf)
+    tdr = track_decay_rate(track, band=(fmin, fmax), df=args.df, frf=args.frf)
     text = decay_csv(track, tdr)
     if out is None:
         stdout()
@@ -397,7 +397,7 @@ def cmd_fit(args: argparse.Namespace) -> int:
                          constrained=not args.unconstrained)
     progress.update(1)
     progress.close()
-    save_system_json(fit.system, out, track=track.name, band_hz=(fmin, fmax))
+    save_system_json(fit.system, out, track=track.name, band=(fmin, fmax))
     bars = f"{args.bars} bar" + "s" * (args.bars != 1)
     print(f"fitted a {layout} equivalent system with {bars} to '{printable(track.name)}' ({track_kind(track)}) "
           f"over {fmin:g}-{fmax:g} Hz")
@@ -584,7 +584,7 @@ def cmd_export(args: argparse.Namespace) -> int:
         conventions = _file_header(args.system)[1]  # the track and band it was fitted on, carried on
         band = conventions.get("band_hz")
         export_system(source, out, format=fmt, track=conventions.get("track") or None,
-                      band_hz=band if isinstance(band, list) and len(band) == 2 else None)
+                      band=band if isinstance(band, list) and len(band) == 2 else None)
         what = f"a {source.kind} system with {source.n_dof} DOFs"
     print(f"{fmt} export of {what} written to {out}")
     return 0

@@ -32,6 +32,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..base.checks import check_band, check_int_at_least, check_positive, check_positive_pair, check_work
+from ..base.deprecation import deprecated_alias
 from ..base.errors import InputError
 from ..base.threads import serial_blas
 from ..equivalent.mechanical import MatrixSystem
@@ -115,7 +116,7 @@ class BroadbandBoundary:
 
     Attributes
     ----------
-    model : RationalEndStiffness
+    rational : RationalEndStiffness
         The rational end stiffness (poles, coefficients, ``K0``, ``D``).
     band : tuple of float
         The fit band (Hz).
@@ -135,7 +136,7 @@ class BroadbandBoundary:
         Wall time of the fit (s).
     """
 
-    model: RationalEndStiffness
+    rational: RationalEndStiffness
     band: tuple[float, float]
     errors: ErrorSummary
     passivity: BoundaryPassivityReport
@@ -157,7 +158,7 @@ class BroadbandBoundary:
     @property
     def n_poles(self) -> int:
         """Number of poles (pairs counted twice); the model has ``2 n_poles`` states."""
-        return self.model.n_poles
+        return self.rational.n_poles
 
     def dynamic_stiffness(self, f: ArrayLike) -> np.ndarray:
         """End dynamic stiffness ``K(f)``, shape ``(n, 2, 2)``, at any positive frequencies.
@@ -167,7 +168,7 @@ class BroadbandBoundary:
         f : array_like
             Frequencies (Hz).
         """
-        return self.model.dynamic_stiffness(f)
+        return self.rational.dynamic_stiffness(f)
 
     def receptance(self, f: ArrayLike) -> np.ndarray:
         """End receptance ``alpha(f) = K(f)^-1``, shape ``(n, 2, 2)``, at any positive frequencies.
@@ -177,13 +178,13 @@ class BroadbandBoundary:
         f : array_like
             Frequencies (Hz).
         """
-        return self.model.receptance(f)
+        return self.rational.receptance(f)
 
     def state_space(self) -> BoundaryStateSpace:
         """Real state space with the end velocity as input; unpacks as ``A, B, C, D``."""
-        return self.model.state_space()
+        return self.rational.state_space()
 
-    def second_order(self) -> MatrixSystem:
+    def matrix_system(self) -> MatrixSystem:
         """The end as symmetric positive semi-definite ``M, C, K``: exact, by reciprocal passive synthesis.
 
         The first two DOFs are the ports, the rail's ``(w, psi)`` at the cut (m, rad; psi the
@@ -192,7 +193,7 @@ class BroadbandBoundary:
         the semi-infinite track to the right of the cut; ``(Q, M)`` is the load applied to the
         ports (the force on the user's end node is ``-(Q, M)``); a left end takes
         ``P = diag(1, -1)`` on the ports. It is accepted wherever an equivalent system is:
-        ``TruncatedTrack(track, n, ends="equivalent", system=bnd.second_order())``, the time
+        ``TruncatedTrack(track, n, ends="equivalent", system=bnd.matrix_system())``, the time
         domain and :func:`~semitrack.export_system`.
 
         Limits:
@@ -219,18 +220,21 @@ class BroadbandBoundary:
         --------
         >>> import semitrack as st
         >>> bnd = st.fit_boundary(st.slab_track(damping="viscous"), band=(3, 3000), n_poles=24)
-        >>> sys2 = bnd.second_order()
+        >>> sys2 = bnd.matrix_system()
         >>> M, C, K = sys2.matrices()
         >>> bool(sys2.is_passive([1.0, 100.0, 1e4])), sys2.n_internal <= 2 * bnd.n_poles
         (True, True)
         """
-        return second_order_system(self.model, info={
+        return second_order_system(self.rational, info={
             "origin": "broadband boundary (fit_boundary), reciprocal passive synthesis", "track": self.track_name,
             "band_hz": [float(b) for b in self.band], "n_poles": self.n_poles})
 
+    model = deprecated_alias("rational", "model")
+    second_order = deprecated_alias("matrix_system", "second_order")
+
     def is_passive(self) -> BoundaryPassivityReport:
         """The exact (Hamiltonian) passivity test, re-run on the model; truthy only if passive."""
-        return passivity_report(self.model)
+        return passivity_report(self.rational)
 
     def __repr__(self) -> str:
         p = "passive (proven)" if self.passivity else "NOT passive"
@@ -396,7 +400,7 @@ def fit_boundary(track: Track, band: tuple[float, float] = (3.0, 3000.0), n_pole
     if not report:
         warnings.warn(f"fit_boundary: passivity could not be enforced ({report}); the model may "
                       "generate energy in a time-domain simulation", RuntimeWarning, stacklevel=2)
-    return BroadbandBoundary(model=model, band=band, errors=err, passivity=report, track_name=track.name,
+    return BroadbandBoundary(rational=model, band=band, errors=err, passivity=report, track_name=track.name,
                              enforcement_rounds=rounds,
                              orders_tried={n: OrderTrial(r[1].median, r[1].max, bool(passivity_report(r[0])),
                                                          r[2], r[3]) for n, r in results.items()},

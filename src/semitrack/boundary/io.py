@@ -11,7 +11,7 @@ Both also carry the conventions of every end file (:func:`semitrack.equivalent.e
 the semi-infinite track to the right of the cut, ``(Q, M)`` applied to the end so that the force
 on the user's node is ``-(Q, M)``, psi, the mirror ``P = diag(1, -1)`` of a left end, the ports,
 units, the track and band), in fields and in words; the .mat file also holds the end's M, C, K
-(:meth:`~.fitting.BroadbandBoundary.second_order`) in the struct ``second_order`` (its ``C`` is the
+(:meth:`~.fitting.BroadbandBoundary.matrix_system`) in the struct ``second_order`` (its ``C`` is the
 state space's output matrix); the M, C, K form alone, ``export_boundary(b, "end.mat", mck=True)``,
 holds them as ``M``, ``C``, ``K``.
 :func:`export_boundary` writes a boundary in any format, the M, C, K ones (``.csv``, Nastran
@@ -74,8 +74,8 @@ def boundary_to_dict(boundary: BroadbandBoundary) -> dict:
     return {
         "format": FORMAT, "version": VERSION, "track": b.track_name, "band_hz": list(b.band),
         "median_error": b.median_error, "max_error": b.max_error, "enforcement_rounds": b.enforcement_rounds,
-        "poles": [[p.real, p.imag] for p in b.model.poles],
-        "coefficients": b.model.coefficients.tolist(), "K0": b.model.K0.tolist(), "D": b.model.D.tolist(),
+        "poles": [[p.real, p.imag] for p in b.rational.poles],
+        "coefficients": b.rational.coefficients.tolist(), "K0": b.rational.K0.tolist(), "D": b.rational.D.tolist(),
         "state_space": {"A": ss.A.tolist(), "B": ss.B.tolist(), "C": ss.C.tolist(), "D": ss.D.tolist(),
                         "K0": ss.K0.tolist(), "dofs": list(ss.dofs)},
         "units": UNITS,
@@ -123,7 +123,7 @@ def boundary_from_dict(data: dict, source: str = "data", check: bool = True) -> 
     if check:
         check_boundary_physics(model, passivity, source)
     errors = ErrorSummary(median=v["median_error"], max=v["max_error"], per_element={})
-    return BroadbandBoundary(model=model, band=v["band"], errors=errors, passivity=passivity,
+    return BroadbandBoundary(rational=model, band=v["band"], errors=errors, passivity=passivity,
                              track_name=v["track"], enforcement_rounds=v["enforcement_rounds"])
 
 
@@ -146,8 +146,8 @@ def save_boundary(boundary: BroadbandBoundary, path, format: str | None = None) 
     if suffix == ".mat":
         ss = data["state_space"]
         mat = {"A": np.array(ss["A"]), "B": np.array(ss["B"]), "C": np.array(ss["C"]), "D": np.array(ss["D"]),
-               "K0": np.array(ss["K0"]), "poles": boundary.model.poles[:, None],
-               "coefficients": boundary.model.coefficients, "band_hz": np.array(data["band_hz"]),
+               "K0": np.array(ss["K0"]), "poles": boundary.rational.poles[:, None],
+               "coefficients": boundary.rational.coefficients, "band_hz": np.array(data["band_hz"]),
                "median_error": data["median_error"], "max_error": data["max_error"],
                "enforcement_rounds": data["enforcement_rounds"],
                "format": FORMAT, "units": json.dumps(UNITS), "track": data["track"],
@@ -162,12 +162,12 @@ def _second_order_variables(boundary: BroadbandBoundary) -> dict:
     second-order form (``C`` at the top level is the state space's output matrix), or only a note
     for a model that has none (one that is not passive)."""
     try:
-        system = boundary.second_order()
+        system = boundary.matrix_system()
     except SynthesisError as exc:
         return {"second_order": {"note": f"no M, C, K: {exc}"}}
     M, C, K = system.matrices()
     return {"second_order": {"M": M, "C": C, "K": K, "dof_names": np.array(system.dof_names(), dtype=object),
-                             "note": "the end in second-order form (BroadbandBoundary.second_order): ports (w, psi) "
+                             "note": "the end in second-order form (BroadbandBoundary.matrix_system): ports (w, psi) "
                                      "first; implicit integrators only (massless DOFs)"}}
 
 
@@ -183,7 +183,7 @@ def export_boundary(boundary: BroadbandBoundary, path, format: str | None = None
     format : {"json", "mat", "csv", "bdf", "inp"}, optional
         The format; default: from the suffix of ``path``.
     mck : bool
-        Write the second-order form (:meth:`~.fitting.BroadbandBoundary.second_order`) also as
+        Write the second-order form (:meth:`~.fitting.BroadbandBoundary.matrix_system`) also as
         ``.json`` or ``.mat``; ``.csv``, ``.bdf`` and ``.inp`` always hold it.
 
     Returns
@@ -197,7 +197,7 @@ def export_boundary(boundary: BroadbandBoundary, path, format: str | None = None
                          f"suffix), got {format if format is not None else Path(path).suffix!r}")
     if key in STATE_SPACE_SUFFIXES and not mck:
         return save_boundary(b, path, format=key)
-    return save_matrix_system(b.second_order(), path, format=key)
+    return save_matrix_system(b.matrix_system(), path, format=key)
 
 
 def load_boundary(path, check: bool = True) -> BroadbandBoundary:

@@ -31,7 +31,7 @@ none); states that are not minimal (a residue of lower rank) are projected out f
 The synthesis runs on the model scaled by ``D^-1/2`` at the ports (as the passivity test does),
 so that ``w`` and ``psi`` weigh alike.
 
-**Limits**, stated where the system is made (:meth:`semitrack.BroadbandBoundary.second_order`):
+**Limits**, stated where the system is made (:meth:`semitrack.BroadbandBoundary.matrix_system`):
 implicit integrators only (the Maxwell DOFs are massless); the internal DOFs have no spring path
 to the ground, so a static or preload step closes the cut with ``K0`` (the system's
 :meth:`~semitrack.equivalent.mechanical.MechanicalSystem.static_stiffness`), and the dynamic step

@@ -70,14 +70,14 @@ CODE_AXES = {"w": {"dof": 2, "sign": -1.0, "note": "w = -u_y (downward deflectio
 FIRST_INTERNAL_LABEL = 9_000_001
 
 
-def end_conventions(track: str = "", band_hz=None) -> dict:
+def end_conventions(track: str = "", band=None) -> dict:
     """The conventions record of an end file (module docstring), with the track and band fitted on.
 
     Parameters
     ----------
     track : str
         Name of the track the system models ("" if not known).
-    band_hz : sequence of two floats, optional
+    band : sequence of two floats, optional
         Band of the fit (Hz), if any.
 
     Returns
@@ -85,7 +85,7 @@ def end_conventions(track: str = "", band_hz=None) -> dict:
     dict
         Plain data (JSON-ready), with a ``text`` entry saying it in words.
     """
-    band = None if band_hz is None else [float(b) for b in band_hz]
+    band = None if band is None else [float(b) for b in band]
     return {
         "side": "right", "load_convention": "applied_to_end", "port_dofs": list(PORT_DOFS), "port_indices": [0, 1],
         "w": "vertical deflection of the rail at the cut, downward positive (m)",
@@ -100,18 +100,18 @@ def end_conventions(track: str = "", band_hz=None) -> dict:
     }
 
 
-def conventions_text(track: str = "", band_hz=None) -> str:
+def conventions_text(track: str = "", band=None) -> str:
     """The conventions in words, as every file states them.
 
     Parameters
     ----------
     track : str
         Name of the track the system models.
-    band_hz : sequence of two floats, optional
+    band : sequence of two floats, optional
         Band of the fit (Hz).
     """
     fitted = f" It was fitted on the track {track!r}" if track else " The track it models is not recorded"
-    fitted += f" over {band_hz[0]:g}-{band_hz[1]:g} Hz." if band_hz is not None else "."
+    fitted += f" over {band[0]:g}-{band[1]:g} Hz." if band is not None else "."
     return ("This file models the semi-infinite track to the right of a cut. Its first two DOFs (the ports) are "
             "the rail's w (m, downward) and psi (rad, the clockwise rotation of the cross-section from bending "
             "alone) at the cut; (Q, M) are the force and moment applied to that end, so the force on your end "
@@ -122,19 +122,19 @@ def conventions_text(track: str = "", band_hz=None) -> str:
 def _check_system(system) -> MechanicalSystem:
     if not isinstance(system, MechanicalSystem):
         raise InputTypeError(f"system must be a MechanicalSystem (an EquivalentSystem, or "
-                             f"BroadbandBoundary.second_order()), got {type(system).__name__}")
+                             f"BroadbandBoundary.matrix_system()), got {type(system).__name__}")
     return system
 
 
-def _info(system: MechanicalSystem, track: str | None, band_hz) -> tuple[str, object]:
+def _info(system: MechanicalSystem, track: str | None, band) -> tuple[str, object]:
     """The track and band of a system: given, or from a MatrixSystem's info."""
     info = system.info if isinstance(system, MatrixSystem) else {}
     return (track if track is not None else str(info.get("track", ""))), \
-        (band_hz if band_hz is not None else info.get("band_hz"))
+        (band if band is not None else info.get("band_hz"))
 
 
 # --- JSON, CSV, MAT of a MatrixSystem --------------------------------------------------------------
-def matrix_system_to_dict(system: MechanicalSystem, track: str | None = None, band_hz=None) -> dict:
+def matrix_system_to_dict(system: MechanicalSystem, track: str | None = None, band=None) -> dict:
     """Plain data of any end system's matrices, with its conventions (format :data:`MATRIX_FORMAT`).
 
     Parameters
@@ -143,14 +143,14 @@ def matrix_system_to_dict(system: MechanicalSystem, track: str | None = None, ba
         The system.
     track : str, optional
         The track it models (default: the system's ``info``).
-    band_hz : sequence of two floats, optional
+    band : sequence of two floats, optional
         The band it was fitted on (Hz; default: the system's ``info``).
     """
     system = _check_system(system)
-    track, band_hz = _info(system, track, band_hz)
+    track, band = _info(system, track, band)
     M, C, K = system.matrices()
     info = dict(system.info) if isinstance(system, MatrixSystem) else {"origin": f"{system.kind} equivalent system"}
-    return {"format": MATRIX_FORMAT, "version": MATRIX_VERSION, "conventions": end_conventions(track, band_hz),
+    return {"format": MATRIX_FORMAT, "version": MATRIX_VERSION, "conventions": end_conventions(track, band),
             "info": info, "dof_names": system.dof_names(),
             "static_stiffness": system.static_stiffness().tolist(),
             "limits": ("implicit integrators only when M is singular (massless DOFs); a static or preload step "
@@ -228,7 +228,7 @@ def _csv_data(text: str, source: str) -> dict:
 
 
 def save_matrix_system(system: MechanicalSystem, path: str | os.PathLike, track: str | None = None,
-                       band_hz=None, format: str | None = None) -> Path:
+                       band=None, format: str | None = None) -> Path:
     """Write any end system's M, C, K with its conventions: ``.json``, ``.csv``, ``.mat``, ``.bdf``, ``.inp``.
 
     Parameters
@@ -239,7 +239,7 @@ def save_matrix_system(system: MechanicalSystem, path: str | os.PathLike, track:
         The file; its suffix selects the format. Written atomically.
     track : str, optional
         The track it models (default: the system's ``info``).
-    band_hz : sequence of two floats, optional
+    band : sequence of two floats, optional
         The band it was fitted on (Hz; default: the system's ``info``).
     format : {"json", "csv", "mat", "bdf", "inp"}, optional
         The format; default: from the suffix of ``path``.
@@ -250,10 +250,10 @@ def save_matrix_system(system: MechanicalSystem, path: str | os.PathLike, track:
     """
     suffix = f".{format.lower().lstrip('.')}" if format is not None else Path(path).suffix.lower()
     if suffix == ".bdf":
-        return save_nastran_dmig(system, path, track, band_hz)
+        return save_nastran_dmig(system, path, track, band)
     if suffix == ".inp":
-        return save_abaqus_matrix(system, path, track, band_hz)
-    data = matrix_system_to_dict(system, track, band_hz)
+        return save_abaqus_matrix(system, path, track, band)
+    data = matrix_system_to_dict(system, track, band)
     if suffix == ".json":
         return atomic_write(path, lambda fh: json.dump(data, fh, indent=1), binary=False)
     if suffix == ".csv":
@@ -341,11 +341,11 @@ def _labels(system: MechanicalSystem, port_node: int) -> list[tuple[int, int]]:
     return ports + [(FIRST_INTERNAL_LABEL + j, 0) for j in range(system.n_internal)]
 
 
-def _header(system: MechanicalSystem, comment: str, track, band_hz, port_node: int) -> list[str]:
+def _header(system: MechanicalSystem, comment: str, track, band, port_node: int) -> list[str]:
     """Comment lines of at most 72 characters (Nastran reads 80 columns, Abaqus 256): the conventions
     in words, the node mapping and limits, then the conventions as JSON split over lines ``<comment>|``
     (a reader joins them)."""
-    conv = end_conventions(*_info(system, track, band_hz))
+    conv = end_conventions(*_info(system, track, band))
     last = FIRST_INTERNAL_LABEL + system.n_internal - 1
     words = (f"semitrack end system: {system.n_dof} DOFs ({system.n_internal} internal), SI units. "
              + conv["text"] + f" Ports on node {port_node}: {CODE_AXES['w']['note']} (DOF 2), "
@@ -389,7 +389,7 @@ def _dmig_lines(name: str, X: np.ndarray, labels: list[tuple[int, int]]) -> list
 
 
 def save_nastran_dmig(system: MechanicalSystem, path: str | os.PathLike, track: str | None = None,
-                      band_hz=None, port_node: int = 1) -> Path:
+                      band=None, port_node: int = 1) -> Path:
     """Write M, C, K as Nastran ``DMIG`` bulk data for ``K2GG``, ``B2GG``, ``M2GG`` (module docstring).
 
     Parameters
@@ -400,7 +400,7 @@ def save_nastran_dmig(system: MechanicalSystem, path: str | os.PathLike, track: 
         The ``.bdf`` file, written atomically.
     track : str, optional
         The track it models (default: the system's ``info``).
-    band_hz : sequence of two floats, optional
+    band : sequence of two floats, optional
         The band it was fitted on (Hz).
     port_node : int
         The grid of the user's end node that carries the ports.
@@ -411,7 +411,7 @@ def save_nastran_dmig(system: MechanicalSystem, path: str | os.PathLike, track: 
     """
     system = _check_system(system)
     labels = _labels(system, port_node)
-    lines = _header(system, "$", track, band_hz, port_node)
+    lines = _header(system, "$", track, band, port_node)
     lines += ["$ Case Control: K2GG = KEND, KENDR   B2GG = BEND, BENDR   M2GG = MEND, MENDR",
               "$ (each matrix is a leading part and its remainder: their sum is the double)"]
     if system.n_internal:
@@ -424,7 +424,7 @@ def save_nastran_dmig(system: MechanicalSystem, path: str | os.PathLike, track: 
 
 
 def save_abaqus_matrix(system: MechanicalSystem, path: str | os.PathLike, track: str | None = None,
-                       band_hz=None, port_node: int = 1) -> Path:
+                       band=None, port_node: int = 1) -> Path:
     """Write M, C, K as Abaqus ``*MATRIX INPUT`` keywords for ``*MATRIX ASSEMBLE`` (module docstring).
 
     Parameters
@@ -435,7 +435,7 @@ def save_abaqus_matrix(system: MechanicalSystem, path: str | os.PathLike, track:
         The ``.inp`` file, written atomically (to ``*INCLUDE`` in the model).
     track : str, optional
         The track it models (default: the system's ``info``).
-    band_hz : sequence of two floats, optional
+    band : sequence of two floats, optional
         The band it was fitted on (Hz).
     port_node : int
         The label of the user's end node that carries the ports.
@@ -446,7 +446,7 @@ def save_abaqus_matrix(system: MechanicalSystem, path: str | os.PathLike, track:
     """
     system = _check_system(system)
     labels = [(node, max(dof, 1)) for node, dof in _labels(system, port_node)]  # internal DOFs: DOF 1 of a node
-    lines = _header(system, "**", track, band_hz, port_node)
+    lines = _header(system, "**", track, band, port_node)
     if system.n_internal:
         lines.append("*NODE, NSET=SEMITRACK_END_INTERNAL")
         lines += [f"{node}, 0., 0., 0." for node, _ in labels[2:]]

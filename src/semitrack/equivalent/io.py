@@ -68,6 +68,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from ..base.deprecation import renamed_keywords
 from ..base.errors import BadInput, InputError, InputTypeError
 from ..base.files import atomic_write, read_json, read_mat, read_text
 from .exchange import MATRIX_SUFFIXES, end_conventions, mat_conventions, save_matrix_system
@@ -165,7 +166,7 @@ def time_step_metadata(system: EquivalentSystem) -> dict[str, dict[str, Any]]:
 
 
 # --- dict / JSON ----------------------------------------------------------------------------------
-def system_to_dict(system: EquivalentSystem, *, track: str = "", band_hz=None) -> dict[str, Any]:
+def system_to_dict(system: EquivalentSystem, *, track: str = "", band=None) -> dict[str, Any]:
     """Plain-Python description of a system (the JSON layout above), with its conventions.
 
     Parameters
@@ -174,7 +175,7 @@ def system_to_dict(system: EquivalentSystem, *, track: str = "", band_hz=None) -
         The system.
     track : str
         The track it was fitted on (recorded in the conventions; "" if not known).
-    band_hz : sequence of two floats, optional
+    band : sequence of two floats, optional
         The band it was fitted on (Hz).
     """
     system = _check_system(system)
@@ -196,7 +197,7 @@ def system_to_dict(system: EquivalentSystem, *, track: str = "", band_hz=None) -
             "K": {"values": K.tolist(), "entry_units": _entry_units(names, "")},
         },
         "metadata": time_step_metadata(system),
-        "conventions": end_conventions(track, band_hz),
+        "conventions": end_conventions(track, band),
     }
 
 
@@ -257,7 +258,7 @@ def system_from_dict(data: dict[str, Any], source: str = "data") -> EquivalentSy
     return system
 
 
-def save_system_json(system: EquivalentSystem, path: str | os.PathLike, *, track: str = "", band_hz=None) -> Path:
+def save_system_json(system: EquivalentSystem, path: str | os.PathLike, *, track: str = "", band=None) -> Path:
     """Write ``system`` to a JSON file (atomically).
 
     Parameters
@@ -268,14 +269,14 @@ def save_system_json(system: EquivalentSystem, path: str | os.PathLike, *, track
         The file.
     track : str
         The track it was fitted on (recorded in the conventions).
-    band_hz : sequence of two floats, optional
+    band : sequence of two floats, optional
         The band it was fitted on (Hz).
 
     Returns
     -------
     Path
     """
-    data = system_to_dict(system, track=track, band_hz=band_hz)
+    data = system_to_dict(system, track=track, band=band)
     return atomic_write(path, lambda fh: json.dump(data, fh, indent=1), binary=False)
 
 
@@ -313,7 +314,7 @@ def _fmt(x: float) -> str:
     return repr(float(x))
 
 
-def save_system_csv(system: EquivalentSystem, path: str | os.PathLike, *, track: str = "", band_hz=None) -> Path:
+def save_system_csv(system: EquivalentSystem, path: str | os.PathLike, *, track: str = "", band=None) -> Path:
     """Write ``system`` to one sectioned CSV file (format in the module docstring), atomically.
 
     Parameters
@@ -324,7 +325,7 @@ def save_system_csv(system: EquivalentSystem, path: str | os.PathLike, *, track:
         The file.
     track : str
         The track it was fitted on (recorded in the conventions).
-    band_hz : sequence of two floats, optional
+    band : sequence of two floats, optional
         The band it was fitted on (Hz).
 
     Returns
@@ -350,7 +351,7 @@ def save_system_csv(system: EquivalentSystem, path: str | os.PathLike, *, track:
         w.writerow([name, PARAMETER_UNITS[name]] + cells + [""] * (N - len(cells)))
     w.writerow(["[conventions]"])
     w.writerow(["key", "value"])
-    w.writerows([key, json.dumps(value)] for key, value in end_conventions(track, band_hz).items())
+    w.writerows([key, json.dumps(value)] for key, value in end_conventions(track, band).items())
     for label, X in zip("MCK", system.matrices()):
         w.writerow([f"[{label}]"])
         w.writerow(["dof"] + names)
@@ -432,7 +433,7 @@ def _csv_number(cell: str, path: Path, where: str) -> float | int:
 
 
 # --- MAT --------------------------------------------------------------------------------------------
-def save_system_mat(system: EquivalentSystem, path: str | os.PathLike, *, track: str = "", band_hz=None) -> Path:
+def save_system_mat(system: EquivalentSystem, path: str | os.PathLike, *, track: str = "", band=None) -> Path:
     """Write ``system`` to a MATLAB .mat file (format 5) with :func:`scipy.io.savemat`, atomically.
 
     Parameters
@@ -443,7 +444,7 @@ def save_system_mat(system: EquivalentSystem, path: str | os.PathLike, *, track:
         The file.
     track : str
         The track it was fitted on (recorded in the conventions).
-    band_hz : sequence of two floats, optional
+    band : sequence of two floats, optional
         The band it was fitted on (Hz).
 
     Returns
@@ -452,7 +453,7 @@ def save_system_mat(system: EquivalentSystem, path: str | os.PathLike, *, track:
     """
     system = _check_system(system)
     M, C, K = system.matrices()
-    conventions = end_conventions(track, band_hz)
+    conventions = end_conventions(track, band)
     content = {
         "format": FORMAT_NAME,
         "version": FORMAT_VERSION,
@@ -516,15 +517,16 @@ def load_system_mat(path: str | os.PathLike) -> EquivalentSystem:
 _WRITERS = {".json": save_system_json, ".csv": save_system_csv, ".mat": save_system_mat}
 
 
+@renamed_keywords({"band_hz": "band"})
 def export_system(system: MechanicalSystem, path: str | os.PathLike,
                   format: Literal["json", "csv", "mat", "bdf", "inp"] | None = None, *, track: str | None = None,
-                  band_hz=None) -> Path:
+                  band=None) -> Path:
     """Write an end system as JSON, CSV, MAT, Nastran ``.bdf`` or Abaqus ``.inp``, atomically.
 
     A paper-style system (:class:`~.systems.EquivalentSystem`) is written with its parameters
     (formats in the module docstring) as JSON, CSV or MAT; any other
     :class:`~.mechanical.MechanicalSystem` (a broadband end's
-    :meth:`~semitrack.BroadbandBoundary.second_order`), and every system as ``.bdf`` or ``.inp``,
+    :meth:`~semitrack.BroadbandBoundary.matrix_system`), and every system as ``.bdf`` or ``.inp``,
     by its matrices (:mod:`.exchange`). Every file states its conventions.
 
     Parameters
@@ -537,8 +539,8 @@ def export_system(system: MechanicalSystem, path: str | os.PathLike,
         The format; default: from the suffix of ``path``.
     track : str, optional
         The track it was fitted on (default: the system's own record, if any).
-    band_hz : sequence of two floats, optional
-        The band it was fitted on (Hz).
+    band : sequence of two floats, optional
+        The band it was fitted on (Hz); until 0.3 also ``band_hz=``.
 
     Returns
     -------
@@ -565,8 +567,8 @@ def export_system(system: MechanicalSystem, path: str | os.PathLike,
         raise InputError(f"format must be one of {', '.join(x[1:] for x in MATRIX_SUFFIXES)} (or a path with that "
                          f"suffix), got {format if format is not None else path.suffix!r}")
     if isinstance(system, EquivalentSystem) and key in _WRITERS:
-        return _WRITERS[key](system, path, track=track or "", band_hz=band_hz)
+        return _WRITERS[key](system, path, track=track or "", band=band)
     if not isinstance(system, MechanicalSystem):
         raise InputTypeError(f"system must be a MechanicalSystem (an EquivalentSystem or "
-                             f"BroadbandBoundary.second_order()), got {type(system).__name__}")
-    return save_matrix_system(system, path, track, band_hz, format=key)
+                             f"BroadbandBoundary.matrix_system()), got {type(system).__name__}")
+    return save_matrix_system(system, path, track, band, format=key)

@@ -3,7 +3,7 @@
 Every end that a finite-element code attaches as matrices is one of these: the paper's
 multi-rigid-body systems (:class:`~.systems.EquivalentSystem`, Tables 4 and 7 and the fitted
 N = 5 systems) and the broadband boundary in second-order form
-(:meth:`semitrack.BroadbandBoundary.second_order`, a :class:`MatrixSystem`). Their DOFs are the
+(:meth:`semitrack.BroadbandBoundary.matrix_system`, a :class:`MatrixSystem`). Their DOFs are the
 rail's ``(w, psi)`` at the cut (the ports: w downward in m, psi the clockwise rotation of the
 cross-section in rad), then internal DOFs. Each describes the semi-infinite track to the right of
 the cut; ``(Q, M)`` is the load applied to its ports (the force on the user's end node is
@@ -343,7 +343,7 @@ class MechanicalSystem:
         ``omega_max = 2 pi`` :meth:`highest_natural_frequency`; damping lowers the limit a
         little. ``inf`` for a system without inertia. Massless DOFs are condensed statically
         here; where they carry dashpots (the broadband end's Maxwell DOFs,
-        :meth:`semitrack.BroadbandBoundary.second_order`) no explicit scheme steps them at all:
+        :meth:`semitrack.BroadbandBoundary.matrix_system`) no explicit scheme steps them at all:
         integrate such a system implicitly.
         """
         f_max = self.highest_natural_frequency()

@@ -10,7 +10,7 @@ users write, ``"pinned"``, ``"free"``, ``"equivalent"``, ``"boundary"``, ``"exac
 ``EquivalentEnd``
     any end system's ``M, C, K`` (a :class:`~semitrack.equivalent.mechanical.MechanicalSystem`:
     the paper's multi-rigid-body :class:`~semitrack.EquivalentSystem`, or a broadband boundary in
-    second-order form, :meth:`~semitrack.BroadbandBoundary.second_order`): its first two DOFs are
+    second-order form, :meth:`~semitrack.BroadbandBoundary.matrix_system`): its first two DOFs are
     the rail's ``(w, psi)`` at the end node, the others become DOFs of the model. One code path
     attaches every such system.
 ``BoundaryEnd``
@@ -229,7 +229,7 @@ class BoundaryEnd(End):
     def __post_init__(self):
         super().__post_init__()
         _require_system(self, self.boundary)
-        check_boundary_physics(self.boundary.model, self.boundary.passivity, "the boundary end's model")
+        check_boundary_physics(self.boundary.rational, self.boundary.passivity, "the boundary end's model")
 
     @property
     def system(self) -> BroadbandBoundary:
@@ -243,13 +243,13 @@ class BoundaryEnd(End):
         track : Track
             The track of the model.
         """
-        check_boundary_track(self.boundary.model, track, f"the boundary (fitted to {self.boundary.track_name!r})")
+        check_boundary_track(self.boundary.rational, track, f"the boundary (fitted to {self.boundary.track_name!r})")
 
     def stiffness(self, track: Track, omega: np.ndarray, side: Side) -> np.ndarray:
         return mirrored(self.boundary.dynamic_stiffness(omega / (2 * np.pi)), side)
 
     def time_matrices(self, side: Side) -> tuple[np.ndarray, np.ndarray]:
-        model = self.boundary.model
+        model = self.boundary.rational
         return mirrored(model.K0, side), mirrored(model.D, side)
 
     def states(self, dofs: np.ndarray, side: Side) -> list[StateBlock]:
@@ -302,7 +302,7 @@ def _require_system(end: End, system) -> None:
     if not isinstance(system, kind):
         # The paper's name for what an 'equivalent' end takes; any MechanicalSystem (M, C, K) will do.
         shown = "EquivalentSystem" if kind is MechanicalSystem else kind.__name__
-        also = (" (or any MechanicalSystem, e.g. BroadbandBoundary.second_order())"
+        also = (" (or any MechanicalSystem, e.g. BroadbandBoundary.matrix_system())"
                 if kind is MechanicalSystem else "")
         article = "an" if shown[0] in "AEIOU" else "a"
         raise InputTypeError(f"system must be {article} {shown} for {article} {end.name!r} end{also}, "

@@ -24,6 +24,7 @@ their viscous equivalents (``damping="viscous"``), which are exactly the dampers
 
 from __future__ import annotations
 
+import functools
 import warnings
 from collections.abc import Mapping, Sequence
 from functools import lru_cache
@@ -33,6 +34,7 @@ import scipy.sparse as sp
 from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies, check_choice, check_int_at_least, check_positive, check_real, check_work
+from ..base.deprecation import deprecated_alias, renamed_keywords, warn_renamed
 from ..base.errors import InputError, InputTypeError
 from ..base.threads import serial_blas
 from ..boundary.fitting import BroadbandBoundary
@@ -66,6 +68,26 @@ DEFAULT_F_MAX = 3000.0
 #: Most rail elements of one model: ~400 k DOFs, whose sparse factorisation takes ~0.5 s per
 #: frequency (the book's longest reference track has 19 200).
 MAX_ELEMENTS = 200_000
+def _old_end_keywords(init):
+    """FETrack's ends were ``left=``/``right=`` and its second track ``right_track=`` until 0.2 (kept until 0.3)."""
+    @functools.wraps(init)
+    def wrapper(self, *args, **kwargs):
+        if isinstance(kwargs.get("right"), (str, End)):  # an end under its old name, not a second track
+            if "right_end" in kwargs:
+                raise InputTypeError("FETrack got both right= naming an end and right_end=: give right_end only")
+            warn_renamed("right", "right_end", "FETrack (an end)")
+            kwargs["right_end"] = kwargs.pop("right")
+        for old, new in (("left", "left_end"), ("right_track", "right")):
+            if old in kwargs:
+                if new in kwargs:
+                    raise InputTypeError(f"FETrack got both {old}= and {new}=, which is its new name: give {new} only")
+                warn_renamed(old, new, "FETrack")
+                kwargs[new] = kwargs.pop(old)
+        init(self, *args, **kwargs)
+
+    return wrapper
+
+
 class FETrack:
     """A finite FE model of the rail on discrete supports between two mid-span cuts.
 
@@ -80,8 +102,9 @@ class FETrack:
     n_left, n_right : int
         Number of bays left and right of x = 0 (>= 0, at least one bay in all unless both ends
         are "equivalent" or "exact").
-    left, right : {"pinned", "free", "equivalent", "boundary", "exact"}
-        End conditions, see the module docstring.
+    left_end, right_end : {"pinned", "free", "equivalent", "boundary", "exact"} or End
+        End conditions, see the module docstring (until 0.3 also ``left=``, and ``right=`` naming
+        an end).
     system : EquivalentSystem, BroadbandBoundary or a pair of them, optional
         The equivalent system attached at an ``"equivalent"`` end, or the broadband boundary
         at a ``"boundary"`` end (required then); ``(left_system, right_system)`` gives each end
@@ -100,14 +123,14 @@ class FETrack:
         (at ``x = (k + 1/2) d``, as :class:`semitrack.InfiniteTrack` numbers them; ``kb=0`` a
         hanging sleeper); ``{k: None}`` removes its pad (its sleeper, if any, stays on the
         ballast, off the rail). Supports outside the model are ignored.
-    right_track : Track, optional
-        A second track from the mid-span ``x_t = transition d`` on (its rail, spacing, supports
-        and loss factors; the same kind of damping): bays ``kt, kt + 1, ...`` are its bays, their
-        supports numbered on as :class:`semitrack.InfiniteTrack` numbers them, and the right end
-        closes its semi-infinite track. A slab-to-ballast transition is ``right_track=
-        st.ballasted_track()``.
+    right : Track, optional
+        A second track from the mid-span ``x_t = transition d`` on (until 0.3 also ``right_track=``):
+        its rail, spacing, supports and loss factors, the same kind of damping. Bays ``kt, kt + 1,
+        ...`` are its bays, their supports numbered on as :class:`semitrack.InfiniteTrack` numbers
+        them, and the right end closes its semi-infinite track. A slab-to-ballast transition is
+        ``right=st.ballasted_track()``.
     transition : int, optional
-        ``kt``, with ``right_track``: ``-n_left <= kt <= n_right``.
+        ``kt``, with ``right``: ``-n_left <= kt <= n_right``.
     joints : mapping of float to float, optional
         ``{x: k_rot}``: the rail is cut at x (m, inside the model, not at a support) and joined by
         a rotational spring of ``k_rot`` N m/rad (0: a hinge); the node at x gets a second
@@ -127,7 +150,7 @@ class FETrack:
         internal DOFs of attached equivalent systems; pinned DOFs removed.
     end_models : dict
         ``{"left": End, "right": End}``: the ends as objects of :mod:`semitrack.fe.ends`
-        (:attr:`left` and :attr:`right` are their names).
+        (:attr:`left_end` and :attr:`right_end` are their names; ``left`` and ``right`` until 0.3).
     support_values : dict
         Each support's ``kv``, ``kphi``, ``sleeper_mass``, ``kb`` and ``present``, in the order
         of ``mesh.support_index`` (:func:`semitrack.fe.supports.support_values`).
@@ -142,31 +165,33 @@ class FETrack:
     (2, 2)
     """
 
-    def __init__(self, track: Track, n_left: int, n_right: int, left: EndName | End = PINNED,
-                 right: EndName | End = PINNED, system: EquivalentSystem | BroadbandBoundary | Sequence | None = None,
+    @_old_end_keywords
+    def __init__(self, track: Track, n_left: int, n_right: int, left_end: EndName | End = PINNED,
+                 right_end: EndName | End = PINNED,
+                 system: EquivalentSystem | BroadbandBoundary | Sequence | None = None,
                  elements_per_bay: int | None = None, changes: Mapping[int, Mapping[str, float] | None] | None = None,
-                 *, right_track: Track | None = None, transition: int | None = None,
+                 *, right: Track | None = None, transition: int | None = None,
                  joints: Mapping[float, float] | None = None, f_max: float | None = None):
         self.n_left = check_int_at_least("n_left", n_left, 0)
         self.n_right = check_int_at_least("n_right", n_right, 0)
-        given = [(name, require_track(t, name)) for name, t in (("track", track), ("right", right_track))
+        given = [(name, require_track(t, name)) for name, t in (("track", track), ("right", right))
                  if t is not None or name == "track"]
         for name, t in given:
             t.require_constant(f"the finite-element track ({name})", CONSTANT_SUPPORTS_ONLY)
         foundations = tuple(foundation_of(t) for _, t in given)
         # The exact infinite track with the same changes holds their rules (one place for both); a
         # periodic track's is built only when asked for (the Bloch cell of the moving kernels never does)
-        self._periodic = not (changes or right_track is not None or transition is not None or joints)
-        self._infinite = None if self._periodic else _infinite_of(track, changes, right_track, transition, joints)
+        self._periodic = not (changes or right is not None or transition is not None or joints)
+        self._infinite = None if self._periodic else _infinite_of(track, changes, right, transition, joints)
         self.tracks: tuple[Track, ...] = tuple(t for _, t in given)
         self.track = self.tracks[0]
         self.right_track = None if self._infinite is None else self._infinite.right
         self.transition = None if self._infinite is None else self._infinite.transition
         self._check_layout()
-        self.end_models: dict[str, End] = model_ends(left, right, system, self.n_left + self.n_right)
+        self.end_models: dict[str, End] = model_ends(left_end, right_end, system, self.n_left + self.n_right)
         for side, end in self.end_models.items():  # a boundary must belong to the track it closes
             end.check_track(self.end_track(side))
-        self.left, self.right = self.end_models["left"].name, self.end_models["right"].name
+        self.left_end, self.right_end = self.end_models["left"].name, self.end_models["right"].name
         self.f_max = DEFAULT_F_MAX if f_max is None else check_positive("f_max", f_max)
         self.elements_per_bay = self._check_elements(elements_per_bay)
         # Up to where the mesh's own error is known to be within MESH_TOLERANCE (Hz; grown as asked)
@@ -188,6 +213,9 @@ class FETrack:
                                              self.changes)
         self._parts: TrackMatrices = assemble(self.tracks, self.mesh, self.dofs, self.foundations, self.end_models,
                                               self.support_values, [self.joints[x] for x in sorted(self.joints)])
+
+    left = deprecated_alias("left_end", "left")
+    right = deprecated_alias("right_end", "right")
 
     def _check_layout(self) -> None:
         """A transition inside the model, one kind of damping on both sides, joints on the rail inside."""
@@ -227,7 +255,7 @@ class FETrack:
             Nothing truncated, no mesh (:class:`semitrack.InfiniteTrack`); the same positions and
             support numbering as the model. None for a flexible-slab track, which InfiniteTrack
             does not hold: the model is then the periodic track, whose exact reference is
-            ``st.point_receptance(track, f, x - d / 2)`` (x from a support there; x = 0 a joint).
+            ``st.point_receptance(track, f, x, origin="midspan")`` (x = 0 a slab joint there).
         """
         if self._infinite is None and self._periodic and not self.track.has_flexible_slab:
             self._infinite = InfiniteTrack(self.track)
@@ -371,18 +399,18 @@ class FETrack:
         dofs, weights = self._weights(np.array([x], dtype=float), kind, name)
         return dofs[0], weights[0]
 
-    def points(self, positions: ArrayLike, kind: Kind = "w", *, moving: bool = False, name: str = "x") -> PointSet:
+    @renamed_keywords({"positions": "x"})
+    def points(self, x: ArrayLike, kind: Kind = "w", *, moving: bool = False, name: str = "x") -> PointSet:
         """Points of the rail as a :class:`~semitrack.dynamics.points.PointSet` (loads act, responses are read).
 
         Parameters
         ----------
-        positions : array_like
-            Positions on the rail (m from the centre), ``x[0] <= x <= x[-1]``.
+        x : array_like
+            Positions on the rail (m from the centre), within the model's rail.
         kind : {"w", "psi"}
             The displacement (a vertical force acts there) or the rotation (a moment).
         moving : bool
-            False: one fixed point per position. True: one point that moves, at ``positions[k]``
-            at step k.
+            False: one fixed point per position. True: one point that moves, at ``x[k]`` at step k.
         name : str
             The parameter name quoted in errors.
 
@@ -391,15 +419,16 @@ class FETrack:
         PointSet
             DOFs removed by a pinned end carry weight 0.
         """
-        xs = np.atleast_1d(np.asarray(positions, dtype=float)).ravel()
+        xs = np.atleast_1d(np.asarray(x, dtype=float)).ravel()
         dofs, weights = self._weights(xs, kind, name)
         removed = dofs < 0
         dofs, weights = np.where(removed, 0, dofs), np.where(removed, 0.0, weights)
         if moving:
             return PointSet(dofs[:, None, :], weights[:, None, :], (f"{kind} on the moving point",))
-        return PointSet(dofs[None], weights[None], tuple(f"{kind}(x={x:g} m)" for x in xs))
+        return PointSet(dofs[None], weights[None], tuple(f"{kind}(x={xi:g} m)" for xi in xs))
 
-    def local_flexibility(self, positions: ArrayLike, *, name: str = "x") -> np.ndarray:
+    @renamed_keywords({"positions": "x"})
+    def local_flexibility(self, x: ArrayLike, *, name: str = "x") -> np.ndarray:
         """The rail element's own deflection under a unit vertical force at each position (m/N).
 
         What the mesh's interpolation misses under a point force between nodes
@@ -408,7 +437,7 @@ class FETrack:
 
         Parameters
         ----------
-        positions : array_like
+        x : array_like
             Positions on the rail (m), any shape.
         name : str
             The parameter name quoted in errors.
@@ -416,9 +445,9 @@ class FETrack:
         Returns
         -------
         ndarray
-            The shape of ``positions``.
+            The shape of ``x``.
         """
-        xs = np.asarray(positions, dtype=float)
+        xs = np.asarray(x, dtype=float)
         self._weights(xs.ravel(), "w", name)  # checks they lie on the rail
         e, xi = self.mesh.locate(xs.ravel())
         rail = [self.tracks[p] for p in range(len(self.tracks))]
@@ -426,21 +455,22 @@ class FETrack:
         kAG = np.array([t.kappa * t.A * t.G for t in rail])[self.mesh.part[e]]
         return point_flexibility(EI, kAG, self.mesh.lengths[e], xi).reshape(xs.shape)
 
-    def output_matrix(self, positions: ArrayLike, kind: Kind = "w") -> sp.csr_matrix:
+    @renamed_keywords({"positions": "x"})
+    def output_matrix(self, x: ArrayLike, kind: Kind = "w") -> sp.csr_matrix:
         """Sparse matrix mapping the DOF vector to ``w`` (or ``psi``) at arbitrary positions.
 
         Uses the element shape functions, so between nodes it is the FE interpolation.
 
         Parameters
         ----------
-        positions : array_like
-            Positions on the rail (m), ``x[0] <= x <= x[-1]``; one row each, in this order.
+        x : array_like
+            Positions on the rail (m), within the model's rail; one row each, in this order.
         kind : {"w", "psi"}
             Output the displacement (m) or the rotation (rad).
 
         Returns
         -------
-        scipy.sparse.csr_matrix, shape (n_positions, n_dof)
+        scipy.sparse.csr_matrix, shape (n_x, n_dof)
 
         Examples
         --------
@@ -449,7 +479,7 @@ class FETrack:
         >>> model.output_matrix([0.0, 0.1]).shape == (2, model.n_dof)
         True
         """
-        return self.points(positions, kind, name="positions").matrix(self.n_dof)
+        return self.points(x, kind).matrix(self.n_dof)
 
     # --------------------------------------------------------------------------------------------
     def complex_stiffness(self, f: float | None = None) -> sp.csc_matrix:
@@ -676,8 +706,8 @@ class FETrack:
 
     def __repr__(self):
         names = " | ".join(repr(t.name) for t in self.tracks)
-        return (f"{type(self).__name__}({names}, bays {self.n_left}+{self.n_right}, ends "
-                f"({self.left!r}, {self.right!r}), elements_per_bay={self.elements_per_bay}, n_dof={self.n_dof})")
+        return (f"{type(self).__name__}({names}, bays {self.n_left}+{self.n_right}, ends ({self.left_end!r}, "
+                f"{self.right_end!r}), elements_per_bay={self.elements_per_bay}, n_dof={self.n_dof})")
 
 
 def _infinite_of(track: Track, changes: Mapping | None, right: Track | None, transition: int | None,
@@ -783,10 +813,10 @@ def elements_per_bay_of(tracks: Sequence[Track], elements_per_bay: int | None, f
     return ne
 
 
-def require_model(model: object) -> FETrack:
-    """``model`` if it is an :class:`FETrack`, else a TypeError that names it."""
+def require_model(model: object, name: str = "model") -> FETrack:
+    """``model`` if it is an :class:`FETrack`, else a TypeError that names it (as ``name``)."""
     if not isinstance(model, FETrack):
-        raise InputTypeError(f"model must be an FETrack (e.g. TruncatedTrack), got {type(model).__name__}")
+        raise InputTypeError(f"{name} must be an FETrack (e.g. TruncatedTrack), got {type(model).__name__}")
     return model
 
 
@@ -845,7 +875,7 @@ class TruncatedTrack(FETrack):
         if n == 0 and not kind.closes_alone:
             raise InputError(f"n_bays must be >= 1 with ends={kind.name!r}, got 0")
         self.n_bays = n
-        super().__init__(track, n, n, ends, ends, system, elements_per_bay, changes, right_track=right,
+        super().__init__(track, n, n, ends, ends, system, elements_per_bay, changes, right=right,
                          transition=transition, joints=joints, f_max=f_max)
         self.ends = kind.name  # the end condition's name; the end objects are end_models
 

@@ -40,6 +40,7 @@ import scipy.sparse as sp
 from numpy.typing import ArrayLike
 
 from ..base.checks import check_int_at_least, check_positive, check_real, check_steps, check_work
+from ..base.deprecation import renamed_keywords
 from ..base.errors import InputError, InputTypeError
 from ..dynamics.newmark import Newmark
 from ..dynamics.points import PointSet
@@ -197,23 +198,24 @@ def newmark(M: ArrayLike | sp.spmatrix, C: ArrayLike | sp.spmatrix, K: ArrayLike
 # ------------------------------------------------------------------------------------------------
 # Loads on an FE track
 # ------------------------------------------------------------------------------------------------
-def pulse_response(model: FETrack, positions: ArrayLike = (0.0, 1.95), *, amplitude: float = 1.0,
-                   f_max: float = 1500.0, dt: float = 2e-5, t_end: float = 0.03,
+@renamed_keywords({"model": "track", "positions": "x", "t_end": "duration"})
+def pulse_response(track: FETrack, x: ArrayLike = (0.0, 1.95), *, amplitude: float = 1.0,
+                   f_max: float = 1500.0, dt: float = 2e-5, duration: float = 0.03,
                    f_ref: float | dict | None = None) -> TimeHistory:
     """Rail displacement after a Hann force pulse at the central cross-section (x = 0).
 
     Parameters
     ----------
-    model : FETrack
-        The track model (not with ``"exact"`` ends).
-    positions : array_like
+    track : FETrack
+        The FE model (not with ``"exact"`` ends).
+    x : array_like
         Where to record the rail's vertical displacement (m from the centre).
     amplitude : float
         Peak force (N), downward.
     f_max : float
         The pulse lasts ``2 / f_max`` s; its spectrum's first zero is at ``f_max`` (Hz).
-    dt, t_end : float
-        Time step and window length (s).
+    dt, duration : float
+        Time step and the run's length (s).
     f_ref : None, float or dict
         Reference frequencies of the viscous damping model (Hz), see :meth:`FETrack.matrices`.
 
@@ -222,21 +224,21 @@ def pulse_response(model: FETrack, positions: ArrayLike = (0.0, 1.95), *, amplit
     TimeHistory
         ``u`` has one column per position (m); labels "w(x=...)".
     """
-    require_model(model)
-    positions = np.atleast_1d(np.asarray(positions, dtype=float))
+    model = require_model(track, "track")
+    xs = np.atleast_1d(np.asarray(x, dtype=float))
     amplitude = check_real("amplitude", amplitude)
-    duration = 2.0 / check_positive("f_max", f_max)
+    pulse_length = 2.0 / check_positive("f_max", f_max)
     stepper = Newmark(check_positive("dt", dt))
-    n_steps = check_steps(stepper.dt, t_end, ("dt", "t_end"))
-    check_limits(n_steps, model.n_dof, positions.size, 1, f"t_end={t_end!r} s / dt={dt!r} s")
-    pulse = amplitude * hann_pulse(stepper.dt * np.arange(n_steps + 1), duration)
+    n_steps = check_steps(stepper.dt, duration)
+    check_limits(n_steps, model.n_dof, xs.size, 1, f"duration={duration!r} s / dt={dt!r} s")
+    pulse = amplitude * hann_pulse(stepper.dt * np.arange(n_steps + 1), pulse_length)
     res = simulate(model.time_domain_system(f_ref), stepper, n_steps,
-                   loads=[(PointSet.on_dofs([model.dof(0.0, "w")]), pulse)],
-                   probes={"w": model.points(positions, name="positions")})
-    return TimeHistory(res.t, res["w"], tuple(f"w(x={x:g} m)" for x in positions))
+                   loads=[(PointSet.on_dofs([model.dof(0.0, "w")]), pulse)], probes={"w": model.points(xs)})
+    return TimeHistory(res.t, res["w"], tuple(f"w(x={xi:g} m)" for xi in xs))
 
 
-def moving_load_response(model: FETrack, positions: ArrayLike = (0.0,), *, load: float = 1.0,
+@renamed_keywords({"model": "track", "positions": "x"})
+def moving_load_response(track: FETrack, x: ArrayLike = (0.0,), *, load: float = 1.0,
                          speed: float = SPEED_300_KMH, x_start: float = -2.0, x_end: float = 2.0,
                          ramp: float = 0.01, dt: float = 2e-5, f_ref: float | dict | None = None) -> TimeHistory:
     """Rail displacement under and near a constant vertical force moving along the rail.
@@ -247,9 +249,9 @@ def moving_load_response(model: FETrack, positions: ArrayLike = (0.0,), *, load:
 
     Parameters
     ----------
-    model : FETrack
-        The track model (not with ``"exact"`` ends).
-    positions : array_like
+    track : FETrack
+        The FE model (not with ``"exact"`` ends).
+    x : array_like
         Fixed points where the rail's vertical displacement is also recorded (m from the
         centre); may be empty.
     load : float
@@ -268,29 +270,30 @@ def moving_load_response(model: FETrack, positions: ArrayLike = (0.0,), *, load:
     Returns
     -------
     TimeHistory
-        Column 0: the rail displacement under the load (m); then w at each of ``positions``.
+        Column 0: the rail displacement under the load (m); then w at each of ``x``.
     """
-    require_model(model)
+    model = require_model(track, "track")
     load = check_real("load", load)
     speed = check_positive("speed", speed)
     x_start, x_end = check_real("x_start", x_start), check_real("x_end", x_end)
     if not x_end > x_start:
         raise InputError(f"x_end must be greater than x_start={x_start!r}, got {x_end!r}")
-    for name, x in (("x_start", x_start), ("x_end", x_end)):
-        if not model.x[0] <= x <= model.x[-1]:
-            raise InputError(f"{name} must lie on the rail, {model.x[0]:.6g} <= x <= {model.x[-1]:.6g} m, got {x!r}")
+    for name, end in (("x_start", x_start), ("x_end", x_end)):
+        if not model.x[0] <= end <= model.x[-1]:
+            raise InputError(f"{name} must lie on the rail, {model.x[0]:.6g} <= x <= {model.x[-1]:.6g} m, "
+                             f"got {end!r}")
     ramp = check_positive("ramp", ramp)
     stepper = Newmark(check_positive("dt", dt))
     n_steps = check_steps(stepper.dt, (x_end - x_start) / speed, ("dt", "(x_end - x_start) / speed"), ceil=True)
-    positions = np.atleast_1d(np.asarray(positions, dtype=float))
-    check_limits(n_steps, model.n_dof, 1 + positions.size, 9,
+    xs = np.atleast_1d(np.asarray(x, dtype=float))
+    check_limits(n_steps, model.n_dof, 1 + xs.size, 9,
                  f"(x_end - x_start) / speed = {(x_end - x_start) / speed:.6g} s / dt={dt!r} s")
     t = stepper.dt * np.arange(n_steps + 1)
     path = model.points(np.minimum(x_start + speed * t, x_end), moving=True)
-    probes = {"under": path, "fixed": model.points(positions, name="positions")}
+    probes = {"under": path, "fixed": model.points(xs)}
     res = simulate(model.time_domain_system(f_ref), stepper, n_steps, loads=[(path, load * sin2_ramp(t, ramp))],
                    probes=probes)
-    labels = ("w under the load",) + tuple(f"w(x={x:g} m)" for x in positions)
+    labels = ("w under the load",) + tuple(f"w(x={xi:g} m)" for xi in xs)
     return TimeHistory(res.t, np.hstack([res["under"], res["fixed"]]), labels)
 
 

@@ -26,6 +26,7 @@ import pandas as pd
 from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies, check_choice
+from ..base.deprecation import renamed_keywords
 from ..base.errors import InputTypeError
 from ..boundary.fitting import BroadbandBoundary
 from ..equivalent.assembly import scaled_solve
@@ -218,15 +219,17 @@ def _with_ends(track: Track, D: np.ndarray, omega: np.ndarray, end: End) -> np.n
     return scaled_solve(Z, load)[:, 0, 0]
 
 
-def bays_needed(study: pd.DataFrame, median: float = 0.05, maximum: float = 0.10) -> pd.Series:
+@renamed_keywords({"median": "median_error", "maximum": "max_error"})
+def bays_needed(study: pd.DataFrame, median_error: float = 0.05, max_error: float = 0.10) -> pd.Series:
     """Fewest bays (each side) in ``study`` meeting both error targets, per end condition.
 
     Parameters
     ----------
     study : pandas.DataFrame
         A table of :func:`truncation_study`.
-    median, maximum : float
-        Targets for the median and the maximum relative error of w1 (fractions).
+    median_error, max_error : float
+        Targets for the median and the maximum relative error of w1 (fractions; ``median=`` and
+        ``maximum=`` until 0.3).
 
     Returns
     -------
@@ -234,7 +237,7 @@ def bays_needed(study: pd.DataFrame, median: float = 0.05, maximum: float = 0.10
         Bays per label of ``study["ends"]``, in the study's order; NaN where no length in the
         study meets the targets.
     """
-    ok = study[(study["median error"] <= median) & (study["max error"] <= maximum)]
+    ok = study[(study["median error"] <= median_error) & (study["max error"] <= max_error)]
     needed = ok.groupby("ends", sort=False)["n_bays"].min()
     return needed.reindex(study["ends"].unique())
 
@@ -371,8 +374,9 @@ class TimeDomainStudy:
     errors: pd.DataFrame
 
 
+@renamed_keywords({"t_end": "duration"})
 def time_domain_study(track: Track, system: EquivalentSystem, n_bays: int = 10, reference_bays: int = 100,
-                      t_end: float = 0.03, moving_bays: int = 4) -> TimeDomainStudy:
+                      duration: float = 0.03, moving_bays: int = 4) -> TimeDomainStudy:
     """Truncated models with pinned and equivalent ends in the time domain (the book's two cases).
 
     Parameters
@@ -383,8 +387,8 @@ def time_domain_study(track: Track, system: EquivalentSystem, n_bays: int = 10, 
         The system of the equivalent ends.
     n_bays, reference_bays : int
         Bays on each side of the truncated models and of the pinned reference (8 elements per bay).
-    t_end : float
-        Window of the pulse (s).
+    duration : float
+        The pulse run's length (s).
     moving_bays : int
         The load moves from ``-moving_bays d`` to ``moving_bays d``.
 
@@ -394,7 +398,7 @@ def time_domain_study(track: Track, system: EquivalentSystem, n_bays: int = 10, 
     """
     d = track.spacing
     common = dict(n_bays=n_bays, reference_bays=reference_bays)
-    pulse = truncation_errors(track, system, excitation="pulse", positions=(0.0, 3 * d), t_end=t_end, **common)
+    pulse = truncation_errors(track, system, excitation="pulse", x=(0.0, 3 * d), duration=duration, **common)
     moving = truncation_errors(track, system, excitation="moving", x_start=-moving_bays * d, x_end=moving_bays * d,
                                **common)
     cases = (("pulse, x = 0", pulse, 0), ("pulse, 3 bays away", pulse, 1), ("moving load, under the load", moving, 0))

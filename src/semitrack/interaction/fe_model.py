@@ -45,6 +45,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import scipy.sparse as sp
 
+from ..base.deprecation import renamed_keywords
 from ..base.errors import InputError
 from ..dynamics.contact import HertzContacts
 from ..dynamics.factor import factorise
@@ -60,7 +61,7 @@ from ..model.roughness import Roughness
 from ..model.vehicle import Vehicle
 from ..model.wheel import Wheel
 from .excitation import rail_input
-from .inputs import RunInputs, check_run
+from .inputs import DEFAULT_DT, RunInputs, check_run
 from .response import ContactResponse, contact_response
 
 __all__ = ["wheel_rail_response"]
@@ -71,7 +72,7 @@ def _on_rail(model: FETrack, run: RunInputs) -> np.ndarray:
     k = run.k  # per step and wheel: 3 outputs, a moving point (4 DOFs, 4 weights), roughness, load, x
     check_limits(run.n_steps, model.n_dof + k, 3 * k, 11 * k, f"duration={run.duration!r} s / dt={run.dt!r} s")
     x = run.path()
-    for name, value in (("x_contact", x[0]), ("x_contact + speed * duration", x[-1])):
+    for name, value in (("x", x[0]), ("x + speed * duration", x[-1])):
         off = (value < model.x[0]) | (value > model.x[-1])
         if np.any(off):
             raise InputError(f"{name} must lie on the rail, {model.x[0]:.6g} <= x <= {model.x[-1]:.6g} m, "
@@ -123,12 +124,13 @@ def _gap_response(res, gaps: SleeperGaps, k: int, dt: float) -> GapResponse:
 def _contact_points(model: FETrack, x: np.ndarray, moving: bool) -> PointSet:
     """The wheels' contact points: fixed at ``x[0]``, or along their paths ``x`` (steps, wheels)."""
     if not moving:
-        return model.points(x[0], name="x_contact")
-    return PointSet.stacked(model.points(x[:, i], moving=True, name="x_contact") for i in range(x.shape[1]))
+        return model.points(x[0])
+    return PointSet.stacked(model.points(x[:, i], moving=True) for i in range(x.shape[1]))
 
 
-def wheel_rail_response(model: FETrack, wheel: Wheel | Sequence[Wheel], roughness: Roughness | None = None, *,
-                        x_contact: float | Sequence[float] = 0.0, speed: float = 0.0, dt: float = 1e-5,
+@renamed_keywords({"model": "track", "x_contact": "x"})
+def wheel_rail_response(track: FETrack, wheel: Wheel | Vehicle | Sequence[Wheel], roughness: Roughness | None = None,
+                        *, x: float | Sequence[float] = 0.0, speed: float = 0.0, dt: float = DEFAULT_DT,
                         duration: float = 0.1, ramp: float = 0.02, f_ref: float | dict | None = None,
                         compiled: bool | None = None, element_flexibility: bool = True,
                         profile: Irregularity | None = None, watch_supports: Sequence[int] = (),
@@ -138,26 +140,29 @@ def wheel_rail_response(model: FETrack, wheel: Wheel | Sequence[Wheel], roughnes
 
     Parameters
     ----------
-    model : FETrack
-        The track model (e.g. :class:`semitrack.TruncatedTrack` with ``"boundary"``, ``"pinned"``
-        or ``"equivalent"`` ends; not ``"exact"``).
-    wheel : Wheel or sequence of Wheel
+    track : FETrack
+        The FE model the wheels run on (e.g. :class:`semitrack.TruncatedTrack` with
+        ``"boundary"``, ``"pinned"`` or ``"equivalent"`` ends; not ``"exact"``). Until 0.3 also
+        ``model=``.
+    wheel : Wheel, sequence of Wheel, or Vehicle
         Unsprung mass, primary suspension (to a bogie held still), preload and Hertz constant; a
-        list for several wheels, each on its own suspension, coupled through the rail.
+        list for several wheels, each on its own suspension, coupled through the rail; or a
+        vehicle (:class:`semitrack.Bogie`, :class:`semitrack.WheelGroup`).
     roughness : Roughness, optional
         The roughness along the rail (:func:`semitrack.roughness_from_spectrum`,
         :func:`semitrack.corrugation`) as the first wheel sees it, faded in over ``ramp``; None
         for a smooth rail. A wheel a distance ``s`` ahead of the first sees it ``s / v`` earlier
         (:meth:`Roughness.shifted`). With rolling wheels its speed must be theirs.
-    x_contact : float or sequence of float
-        The contact positions (m, model coordinates: 0 is the central mid-span), one per wheel,
-        or rolling wheels' starts.
+    x : float or sequence of float
+        The contact positions (m from the central mid-span), one per wheel or a vehicle's first
+        wheel's; rolling wheels' starts. Until 0.3 also ``x=``.
     speed : float
         The wheels' speed along the model (m/s), >= 0; 0 holds them still while the roughness
         passes (moving-irregularity model). The contacts must stay on the rail.
     dt : float
         Time step (s). The average-acceleration rule shifts a frequency f to
-        ``tan(pi f dt) / (pi dt)``: +0.2 % at 2.5 kHz with the default 10 us.
+        ``tan(pi f dt) / (pi dt)``: +0.8 % at 2.5 kHz with the default 20 us (every route's,
+        :data:`semitrack.interaction.inputs.DEFAULT_DT`; 10 us until 0.2: +0.2 %).
     duration : float
         Simulated time (s), more than ``ramp``. Steps times DOFs are limited as in
         :func:`semitrack.dynamics.simulate.simulate`.
@@ -204,18 +209,18 @@ def wheel_rail_response(model: FETrack, wheel: Wheel | Sequence[Wheel], roughnes
     >>> bool(abs(res.force[-1] / 1e5 - 1) < 0.01), res.lost_contact
     (True, False)
     """
-    require_model(model)
-    run = check_run(wheel, roughness, x_contact, speed, dt, duration, ramp, name="x_contact")
+    model = require_model(track, "track")
+    run = check_run(wheel, roughness, x, speed, dt, duration, ramp)
     vehicle, wheels, k = run.vehicle, run.vehicle.wheels, run.k
     dt, n_steps = run.dt, run.n_steps
-    x = _on_rail(model, run)
-    track = model.time_domain_system(f_ref)
-    system = union({"track": track, "vehicle": vehicle.system()})
-    points = _contact_points(model, x, speed > 0)
-    flexibility = model.local_flexibility(x if speed > 0 else x[:1], name="x_contact") * bool(element_flexibility)
+    path = _on_rail(model, run)
+    rail = model.time_domain_system(f_ref)
+    system = union({"track": rail, "vehicle": vehicle.system()})
+    points = _contact_points(model, path, speed > 0)
+    flexibility = model.local_flexibility(path if speed > 0 else path[:1]) * bool(element_flexibility)
     gaps = sleeper_gaps(model, ballast_gaps) if ballast_gaps else None
-    u0, vehicle_loads = _static_start(model, vehicle, track.K, points, flexibility[0], gaps)
-    r = rail_input(roughness, x, dt, run.ramp, profile)
+    u0, vehicle_loads = _static_start(model, vehicle, rail.K, points, flexibility[0], gaps)
+    r = rail_input(roughness, path, dt, run.ramp, profile)
     watch = watched_dofs(model, watch_supports, bending_at)
     vehicle_dofs = model.n_dof + np.arange(vehicle_loads.size)
     contacts = _all_contacts(vehicle_dofs[:k], points, wheels, r, flexibility, gaps)
@@ -227,7 +232,7 @@ def wheel_rail_response(model: FETrack, wheel: Wheel | Sequence[Wheel], roughnes
         for j, k_gap in enumerate(gaps.supports):  # a hanging sleeper's ballast is its gap's contact
             forces.ballast[:, forces.supports == k_gap] = res["contact force"][:, [k + j]]
     return contact_response(route="fe model", t=run.t, force=res["contact force"], w_wheel=res["wheel"],
-                            w_rail=res["rail"], roughness=r, x=x, track=model.track, vehicle=vehicle,
+                            w_rail=res["rail"], roughness=r, x=path, track=model.track, vehicle=vehicle,
                             speed=run.speed, ramp=run.ramp, period=None if roughness is None else roughness.period,
                             n_dof=model.n_dof + vehicle_loads.size, elapsed=res.elapsed,
                             infinite=model.infinite_track(), track_forces=forces,

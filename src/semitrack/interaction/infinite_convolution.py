@@ -31,6 +31,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..base.checks import check_positive
+from ..base.deprecation import renamed_keywords
 from ..methods.infinite import InfiniteTrack
 from ..model.roughness import Roughness
 from ..model.tracks import Track
@@ -38,7 +39,7 @@ from ..model.vehicle import Vehicle
 from ..model.wheel import Wheel
 from .convolved_run import convolved_run
 from .excitation import rail_input
-from .inputs import check_run
+from .inputs import DEFAULT_DT, check_run
 from .response import ContactResponse, contact_response
 
 __all__ = ["WRAP_TOLERANCE", "rail_impulse_responses", "convolution_response"]
@@ -88,9 +89,10 @@ def rail_impulse_responses(infinite: InfiniteTrack, x: np.ndarray, dt: float, me
     return kept, H[0].real, float(tail)
 
 
+@renamed_keywords({"x_contact": "x"})
 def convolution_response(track: Track | InfiniteTrack, wheel: Wheel | Vehicle | Sequence[Wheel],
-                         roughness: Roughness | None = None, *, x_contact: float | Sequence[float] = 0.0,
-                         dt: float = 2e-5, duration: float = 0.1, ramp: float = 0.02,
+                         roughness: Roughness | None = None, *, x: float | Sequence[float] = 0.0,
+                         dt: float = DEFAULT_DT, duration: float = 0.1, ramp: float = 0.02,
                          memory: float = 0.4) -> ContactResponse:
     """Stationary wheels or a vehicle on the exact infinite track, in time (see the module docstring).
 
@@ -102,8 +104,9 @@ def convolution_response(track: Track | InfiniteTrack, wheel: Wheel | Vehicle | 
         As :func:`semitrack.wheel_rail_response` takes it.
     roughness : Roughness, optional
         The roughness passing under the first wheel (faded in over ``ramp``); None: a smooth rail.
-    x_contact : float or sequence of float
-        The contact positions (m), one per wheel (or a vehicle's first wheel's).
+    x : float or sequence of float
+        The contact positions (m), one per wheel (or a vehicle's first wheel's); until 0.3 also
+        ``x=``.
     dt, duration, ramp : float
         Time step, duration and fade-in (s).
     memory : float
@@ -115,10 +118,9 @@ def convolution_response(track: Track | InfiniteTrack, wheel: Wheel | Vehicle | 
         As an FE run's (``speed = 0``); ``n_dof`` the vehicle's DOFs.
     """
     infinite = track if isinstance(track, InfiniteTrack) else InfiniteTrack(track)
-    run = check_run(wheel, roughness, x_contact, 0.0, dt, duration, ramp, name="x_contact")
+    run = check_run(wheel, roughness, x, 0.0, dt, duration, ramp)
     memory = check_positive("memory", memory)
-    x = run.x0
-    h, static, wrap = rail_impulse_responses(infinite, x, run.dt, memory)
+    h, static, wrap = rail_impulse_responses(infinite, run.x0, run.dt, memory)
     if wrap > WRAP_TOLERANCE:
         warnings.warn(f"memory={memory!r} s keeps the rail's impulse responses while they are still {wrap:.1e} of "
                       "their peak over its second half: the convolution cuts off their tail; give a longer memory",
@@ -126,7 +128,7 @@ def convolution_response(track: Track | InfiniteTrack, wheel: Wheel | Vehicle | 
     path = run.path()
     r = rail_input(roughness, path, run.dt, run.ramp)
     force, w_wheel, w_rail, elapsed = convolved_run(run.vehicle, *_loop_arrays(h, static, run.dt, r.shape[0]),
-                                                    np.zeros(x.size, dtype=np.int64), np.zeros(1), r, run.dt, None)
+                                                    np.zeros(run.k, dtype=np.int64), np.zeros(1), r, run.dt, None)
     return contact_response(route="convolution", t=run.t, force=force, w_wheel=w_wheel, w_rail=w_rail, roughness=r,
                             x=path, track=infinite.track, vehicle=run.vehicle, speed=0.0, ramp=run.ramp,
                             period=None if roughness is None else roughness.period,

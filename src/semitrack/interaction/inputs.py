@@ -108,7 +108,7 @@ def check_run(wheel: Wheel | Vehicle | Sequence[Wheel], roughness: Roughness | N
     dt, duration, ramp : float
         Time step, run length and fade-in (s), positive; ``duration > ramp``.
     name : str
-        The start's parameter name in messages (``"x_contact"`` where a deprecated name was used).
+        The start's parameter name in messages.
     check_speed : bool
         Check the roughness's speed here (:func:`check_roughness_speed`); False for a route that
         checks it against the speed it rounds to as well.

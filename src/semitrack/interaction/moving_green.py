@@ -39,6 +39,7 @@ from pathlib import Path
 import numpy as np
 
 from ..base.checks import check_positive, check_real, check_steps, check_work
+from ..base.deprecation import renamed_keywords
 from ..base.errors import InputError, InputTypeError
 from ..dynamics.simulate import MAX_RECORDED
 from ..equivalent.cache import canonical
@@ -53,7 +54,7 @@ from ..model.vehicle import Bogie, Vehicle, WheelGroup
 from ..model.wheel import Wheel
 from .convolved_run import convolved_run
 from .excitation import rail_input
-from .inputs import check_roughness_speed, check_run
+from .inputs import DEFAULT_DT, check_roughness_speed, check_run
 from .response import ContactResponse, contact_response
 
 __all__ = ["TAIL_TOLERANCE", "MAX_LOOP_WORK", "DEFAULT_MEMORY", "moving_green_kernels", "moving_green_response",
@@ -81,8 +82,9 @@ def _require_periodic(track: Track) -> Track:
     return track
 
 
-def moving_green_kernels(track: Track, speed: float, dt: float, offsets: Sequence[float] = (0.0,), *,
-                         x_contact: float = 0.0, memory: float = DEFAULT_MEMORY, elements_per_bay: int | None = None,
+@renamed_keywords({"x_contact": "x"})
+def moving_green_kernels(track: Track, speed: float, dt: float = DEFAULT_DT, offsets: Sequence[float] = (0.0,), *,
+                         x: float = 0.0, memory: float = DEFAULT_MEMORY, elements_per_bay: int | None = None,
                          f_max: float | None = None, f_ref: float | dict | None = None,
                          cache: str | Path | None = None) -> MovingKernels:
     """The moving Green's functions of a periodic track for wheels at ``offsets`` rolling at ``speed``.
@@ -98,8 +100,8 @@ def moving_green_kernels(track: Track, speed: float, dt: float, offsets: Sequenc
     offsets : sequence of float
         The wheels' positions along +x from the first wheel (m), as :attr:`semitrack.Bogie.offsets`;
         rounded to whole steps ``speed dt``.
-    x_contact : float
-        Where the vehicle starts (m; wheel i at ``x_contact + offsets[i]``): the kernels hold the
+    x : float
+        Where the vehicle starts (m; wheel i at ``x + offsets[i]``; until 0.3 also ``x=``): the kernels hold the
         release of the standing preloads for that start's position within a spacing (any start a
         whole number of spacings away shares them).
     memory : float
@@ -122,10 +124,10 @@ def moving_green_kernels(track: Track, speed: float, dt: float, offsets: Sequenc
     speed, dt, memory = check_positive("speed", speed), check_positive("dt", dt), check_positive("memory", memory)
     grid = grid_of(track, speed, dt, offsets)
     steps = check_steps(dt, memory)
-    x_contact = check_real("x_contact", x_contact)
-    if not math.isfinite(x_contact):
-        raise InputError(f"x_contact must be finite (m), got {x_contact!r}")
-    start = int(round(x_contact / grid.step)) % grid.positions
+    x = check_real("x", x)
+    if not math.isfinite(x):
+        raise InputError(f"x must be finite (m), got {x!r}")
+    start = int(round(x / grid.step)) % grid.positions
     return cached_kernels(track, elements_per_bay, f_max, grid, steps, f_ref, cache, start)
 
 
@@ -156,10 +158,10 @@ def vehicle_on_grid(vehicle: Vehicle, kernels: MovingKernels) -> Vehicle:
     return vehicle
 
 
-def _start(kernels: MovingKernels, x_contact: float, k: int) -> tuple[np.ndarray, np.ndarray]:
+def _start(kernels: MovingKernels, x: float, k: int) -> tuple[np.ndarray, np.ndarray]:
     """The wheels' grid indices and phases at the start (the first wheel's start rounded to the grid)."""
     grid = kernels.grid
-    g = int(round(x_contact / grid.step)) + np.array(grid.offsets[:k], dtype=np.int64)
+    g = int(round(x / grid.step)) + np.array(grid.offsets[:k], dtype=np.int64)
     return g, np.mod(g, grid.positions).astype(np.int64)
 
 
@@ -175,8 +177,9 @@ def _loop_arrays(kernels: MovingKernels, g: np.ndarray, phase0: np.ndarray):
     return stack, pair, release
 
 
+@renamed_keywords({"x_contact": "x"})
 def moving_green_response(track: Track, wheel: Wheel | Vehicle | Sequence[Wheel], roughness: Roughness | None = None,
-                          *, x_contact: float = 0.0, speed: float, dt: float = 2e-5, duration: float = 0.1,
+                          *, x: float = 0.0, speed: float, dt: float = DEFAULT_DT, duration: float = 0.1,
                           ramp: float = 0.02, memory: float | None = None, elements_per_bay: int | None = None,
                           f_max: float | None = None, f_ref: float | dict | None = None,
                           compiled: bool | None = None, cache: str | Path | None = None,
@@ -194,8 +197,8 @@ def moving_green_response(track: Track, wheel: Wheel | Vehicle | Sequence[Wheel]
     roughness : Roughness, optional
         The roughness under the first wheel, at the wheels' speed (re-sampled at the rounded
         speed, its wavelengths kept), faded in over ``ramp``; None: a smooth rail.
-    x_contact : float
-        Where the vehicle starts (m): wheel i at ``x_contact + offsets[i]`` (the first wheel's
+    x : float
+        Where the vehicle starts (m; until 0.3 also ``x=``): wheel i at ``x + offsets[i]`` (the first wheel's
         start for a vehicle whose first offset is 0), rounded to the grid of steps ``speed dt``.
     speed : float
         The wheels' speed (m/s), > 0, rounded to a whole number of steps per spacing.
@@ -228,13 +231,13 @@ def moving_green_response(track: Track, wheel: Wheel | Vehicle | Sequence[Wheel]
         rounded (:func:`vehicle_on_grid`), which a truncated model takes to run the same.
     """
     track = _require_periodic(track)
-    x = check_real("x_contact", x_contact)  # the vehicle's origin: wheel i at x + offsets[i]
-    run = check_run(wheel, roughness, x, check_positive("speed", speed), dt, duration, ramp, name="x_contact",
-                    check_speed=False)  # the roughness's speed is checked against the rounded one too, below
+    x = check_real("x", x)  # the vehicle's origin: wheel i at x + offsets[i]
+    # the roughness's speed is checked below, against the rounded one too
+    run = check_run(wheel, roughness, x, check_positive("speed", speed), dt, duration, ramp, check_speed=False)
     vehicle, k, dt, n_steps = run.vehicle, run.k, run.dt, run.n_steps
     settings = {"memory": memory, "elements_per_bay": elements_per_bay, "f_max": f_max, "f_ref": f_ref}
     if kernels is None:
-        kernels = moving_green_kernels(track, run.speed, dt, vehicle.offsets, x_contact=x, cache=cache,
+        kernels = moving_green_kernels(track, run.speed, dt, vehicle.offsets, x=x, cache=cache,
                                        **{**settings, "memory": DEFAULT_MEMORY if memory is None else memory})
     _check_kernels(kernels, track, run.speed, dt, vehicle, settings)
     v = kernels.grid.speed
@@ -286,8 +289,8 @@ def _check_start(kernels: MovingKernels, g: np.ndarray, vehicle: Vehicle) -> Non
     if start != kernels.start:
         x = kernels.start * kernels.grid.step
         raise InputError(f"the kernels hold the release of the preloads for a start at phase {kernels.start} of "
-                         f"{kernels.grid.positions} (x_contact = {x:.6g} m plus whole spacings); x_contact is at phase "
-                         f"{start}: compute kernels for this start (moving_green_kernels(..., x_contact=))")
+                         f"{kernels.grid.positions} (x = {x:.6g} m plus whole spacings); x is at phase "
+                         f"{start}: compute kernels for this start (moving_green_kernels(..., x=))")
 
 
 def _check_work(kernels: MovingKernels, n_steps: int, k: int, request: str) -> None:

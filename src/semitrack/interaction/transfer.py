@@ -161,7 +161,7 @@ def _linear_transfer(response: ContactResponse, f: np.ndarray, R: np.ndarray, wh
         if len(response.wheels) > 1:
             raise InputError("the linear theory of several wheels needs the exact InfiniteTrack of the model, which "
                              "a flexible slab does not have: analyse one wheel at a time")
-        return wheel_rail_force(response.track, f, response.wheel, float(response.x_from_support[0]))
+        return wheel_rail_force(response.track, f, response.wheel, float(np.atleast_1d(x0)[0]), origin="midspan")
     H = wheel_rail_force(response.infinite, f, response.vehicle, x=np.atleast_1d(x0)[: len(response.wheels)])
     ratio = R[:, 0, :] / R[0, 0, :]  # (wheels, lines)
     return np.einsum("fj,jf->f", H[:, wheel, :], ratio)

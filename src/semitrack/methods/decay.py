@@ -37,6 +37,7 @@ from numpy.typing import ArrayLike
 
 from ..base.bands import third_octave_bands
 from ..base.checks import check_choice, check_positive, check_real
+from ..base.deprecation import deprecated_alias, renamed_keywords
 from ..base.errors import InputError, InputTypeError
 from ..model.tracks import Track
 from .infinite import InfiniteTrack
@@ -135,9 +136,9 @@ class TrackDecayRate:
     wave_attenuation : ndarray
         Per band, the least attenuated Bloch wave at the band centre (dB/m); NaN for a track
         with changes or a transition, which has no single periodic wave.
-    positions : ndarray
-        The hammer's distances from the accelerometer (m).
-    levels : ndarray, shape (n_bands, n_positions)
+    distances : ndarray
+        The hammer's distances from the accelerometer (m; ``positions`` until 0.3).
+    levels : ndarray, shape (n_bands, n_distances)
         ``|A(x_n)|^2`` averaged over each band's lines (in the FRF's unit squared).
     frf : str
         The transfer function: accelerance (m/(N s^2)), mobility (m/(N s)) or receptance (m/N).
@@ -152,10 +153,12 @@ class TrackDecayRate:
     far_point_drop: np.ndarray
     valid: np.ndarray
     wave_attenuation: np.ndarray
-    positions: np.ndarray
+    distances: np.ndarray
     levels: np.ndarray
     frf: str
     df: float
+
+    positions = deprecated_alias("distances", "positions")
 
     def table(self):
         """The rates as a :class:`pandas.DataFrame`, a row per band, with the checks beside them."""
@@ -166,13 +169,13 @@ class TrackDecayRate:
                              "suitable": self.suitable, "valid": self.valid})
 
 
-def _band_edges(bands) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _band_edges(band) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     try:
-        lo, hi = (check_positive("bands", b) for b in bands)
+        lo, hi = (check_positive("band", b) for b in band)
     except (TypeError, ValueError):
-        raise InputTypeError(f"bands must be a pair (lowest, highest) of band centres in Hz, got {bands!r}") from None
+        raise InputTypeError(f"band must be a pair (lowest, highest) of band centres in Hz, got {band!r}") from None
     if not lo <= hi:
-        raise InputError(f"bands must be (lowest, highest) band centres, lowest first, got {bands!r}")
+        raise InputError(f"band must be (lowest, highest) band centres, lowest first, got {band!r}")
     return third_octave_bands(lo, hi)
 
 
@@ -205,25 +208,27 @@ def bloch_attenuation(track: Track, f: ArrayLike) -> np.ndarray:
     return np.where(converged, -20 * np.log10(lam) / cell.period, np.nan)
 
 
-def track_decay_rate(track: Track | InfiniteTrack, *, bands: tuple[float, float] = (100.0, 5000.0),
-                     frf: str = "accelerance", df: float = 2.0, x_load: float = 0.0) -> TrackDecayRate:
+@renamed_keywords({"bands": "band", "x_load": "x"})
+def track_decay_rate(track: Track | InfiniteTrack, *, band: tuple[float, float] = (100.0, 5000.0),
+                     frf: str = "accelerance", df: float = 2.0, x: float = 0.0) -> TrackDecayRate:
     """The track decay rate of EN 15461 by one-third-octave band, from the exact transfer functions.
 
     Parameters
     ----------
     track : Track or InfiniteTrack
         The track, periodic, or with changes, a transition or joints (then the grid runs in +x
-        from ``x_load``).
-    bands : (float, float)
-        The lowest and highest band centres (Hz); nominal values name their band.
+        from ``x``).
+    band : (float, float)
+        The lowest and highest band centres (Hz); nominal values name their band (``bands=``
+        until 0.3).
     frf : {"accelerance", "mobility", "receptance"}
         The transfer function averaged in the bands; the standard's is the accelerance.
     df : float
         Spacing of the narrow-band lines averaged in each band (Hz); a band holds its lines
         ``k df`` within its edges (at least one).
-    x_load : float
-        Where the accelerometer sits (m from the centre, a mid-span by default); the hammer's
-        positions are ``x_load + EN15461_BAYS d``.
+    x : float
+        Where the accelerometer sits (m from the centre, a mid-span by default; ``x_load=`` until
+        0.3); the hammer's positions are ``x + EN15461_BAYS d``.
 
     Returns
     -------
@@ -232,31 +237,31 @@ def track_decay_rate(track: Track | InfiniteTrack, *, bands: tuple[float, float]
     Examples
     --------
     >>> import semitrack as st
-    >>> tdr = st.track_decay_rate(st.ballasted_track(), bands=(500, 1000))
+    >>> tdr = st.track_decay_rate(st.ballasted_track(), band=(500, 1000))
     >>> tdr.centres.round().tolist(), bool(np.all(tdr.decay_rate > 0))
     ([501.0, 631.0, 794.0, 1000.0], True)
     """
     inf = track if isinstance(track, InfiniteTrack) else InfiniteTrack(track)
     frf = check_choice("frf", frf, FRF_KINDS)
-    df, x_load = check_positive("df", df), check_real("x_load", x_load)
-    centres, lower, upper = _band_edges(bands)
+    df, x = check_positive("df", df), check_real("x", x)
+    centres, lower, upper = _band_edges(band)
     lines = [np.arange(np.ceil(lo / df), np.ceil(hi / df)) * df for lo, hi in zip(lower, upper)]
     if any(line.size == 0 for line in lines):
         raise InputError(f"df={df!r} Hz leaves a band without a line: the narrowest band, {lower[0]:.4g}-"
                          f"{upper[0]:.4g} Hz, needs df below {upper[0] - lower[0]:.3g} Hz")
     f = np.concatenate(lines)
-    positions = np.asarray(EN15461_BAYS) * inf.track.spacing
-    h = inf.receptance(f, x_load, x_load + positions)[:, :, 0, 0]  # w per F, (n_f, n_positions)
+    distances = np.asarray(EN15461_BAYS) * inf.track.spacing
+    h = inf.receptance(f, x, x + distances)[:, :, 0, 0]  # w per F, (n_f, n_distances)
     power = {"receptance": 0, "mobility": 2, "accelerance": 4}[frf]
     squared = np.abs(h) ** 2 * (2 * np.pi * f[:, None]) ** power
     band = np.repeat(np.arange(centres.size), [line.size for line in lines])
     levels = np.array([squared[band == b].mean(axis=0) for b in range(centres.size)])
-    rate = formula_1(levels, positions)
-    floor = _DECAY_CONSTANT / positions[-1]
+    rate = formula_1(levels, distances)
+    floor = _DECAY_CONSTANT / distances[-1]
     drop = 10 * np.log10(levels[:, 0] / levels[:, -1])
     suitable = floor <= _FLOOR_FRACTION * rate
     periodic = isinstance(track, Track) or not (inf.changes or inf.joints or inf.right is not None)
     wave = bloch_attenuation(inf.track, centres) if periodic else np.full(centres.size, np.nan)
     return TrackDecayRate(centres=centres, decay_rate=rate, floor=floor, suitable=suitable, far_point_drop=drop,
-                          valid=suitable & (drop >= _FAR_DROP), wave_attenuation=wave, positions=positions,
+                          valid=suitable & (drop >= _FAR_DROP), wave_attenuation=wave, distances=distances,
                           levels=levels, frf=frf, df=df)

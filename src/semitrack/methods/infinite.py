@@ -25,6 +25,7 @@ from numpy.typing import ArrayLike
 from scipy.linalg import solve_banded
 
 from ..base.checks import as_frequencies, check_int_at_least, check_nonnegative, check_real
+from ..base.deprecation import renamed_keywords
 from ..base.errors import InputError, InputTypeError
 from ..model.curves import FrequencyCurve, as_curve, stiffness_values
 from ..model.timoshenko import segment_dynamic_stiffness
@@ -179,21 +180,23 @@ class InfiniteTrack:
         """The track that support k belongs to."""
         return self.right if self.transition is not None and k >= self.transition else self.track
 
-    def support_position(self, k: int) -> float:
-        """Position of support k (m from the centre).
+    @renamed_keywords({"k": "support"})
+    def support_position(self, support: int) -> float:
+        """Position of a support (m from the centre).
 
         Parameters
         ----------
-        k : int
-            The support's index: ``(k + 1/2) d``, or past a transition ``x_t + (k - kt + 1/2) d2``.
+        support : int
+            The support's index k (``k=`` until 0.3): at ``(k + 1/2) d``, or past a transition
+            ``x_t + (k - kt + 1/2) d2``.
 
         Returns
         -------
         float
         """
-        if self.transition is not None and k >= self.transition:
-            return self.x_t + (k - self.transition + 0.5) * self.right.spacing
-        return (k + 0.5) * self.track.spacing
+        if self.transition is not None and support >= self.transition:
+            return self.x_t + (support - self.transition + 0.5) * self.right.spacing
+        return (support + 0.5) * self.track.spacing
 
     def _support_index_near(self, x: float) -> int | None:
         """The support at x (within rounding), if any."""

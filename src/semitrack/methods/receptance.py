@@ -14,6 +14,7 @@ and det(alpha^-1) = (0.25 - M1 Q2) / (w1 psi2) (Eq. 18).
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import Literal, get_args
 
@@ -306,7 +307,34 @@ def semi_infinite_receptance(track: Track | PeriodicCell, f: ArrayLike, method: 
     return np.linalg.inv(k_right).reshape(f.shape + (2, 2))
 
 
-def point_receptance(track: Track | PeriodicCell, f: ArrayLike, x: float = 0.0) -> np.ndarray:
+#: Where positions are measured from: the package's one origin, or the paper's Sec. 4 one (an explicit choice).
+ORIGINS = ("midspan", "support")
+
+
+def position_origin(origin: str | None, where: str) -> str:
+    """``origin`` checked, or ``"midspan"`` with a :class:`FutureWarning` when it is left out (until 0.3).
+
+    Parameters
+    ----------
+    origin : {"midspan", "support"} or None
+        As given by the caller.
+    where : str
+        The function, for the messages.
+
+    Returns
+    -------
+    str
+    """
+    if origin is None:
+        warnings.warn(f"{where}: x is measured from a mid-span since semitrack 0.2, as everywhere in the package "
+                      "(it was measured from a support before); pass origin='midspan' to say so, or "
+                      "origin='support' for the paper's origin. The warning goes in 0.3", FutureWarning, stacklevel=3)
+        return "midspan"
+    return check_choice("origin", origin, ORIGINS)
+
+
+def point_receptance(track: Track | PeriodicCell, f: ArrayLike, x: float = 0.0, *, origin: str | None = None
+                     ) -> np.ndarray:
     """2x2 receptance of the infinite periodic track at position ``x`` (exact method).
 
     Parameters
@@ -316,8 +344,14 @@ def point_receptance(track: Track | PeriodicCell, f: ArrayLike, x: float = 0.0) 
     f : array_like
         Frequencies (Hz).
     x : float
-        Position of load and response, measured from a support (m); any finite value within 1e9
-        periods of the origin, the track being periodic. ``x = spacing / 2`` is mid-span.
+        Position of load and response (m); any finite value within 1e9 periods of the origin, the
+        track being periodic.
+    origin : {"midspan", "support"}
+        Where ``x`` is measured from. ``"midspan"``: the package's one origin, the central mid-span
+        of the FE models and :class:`semitrack.InfiniteTrack` (supports at ``(k + 1/2) d``; on a
+        flexible slab a slab joint). ``"support"``: the paper's Sec. 4 origin, over a support
+        (``x = d / 2`` is then a mid-span). Until 0.2 ``x`` was measured from a support; left out,
+        it is measured from a mid-span with a :class:`FutureWarning` (until 0.3) saying so.
 
     Returns
     -------
@@ -331,7 +365,7 @@ def point_receptance(track: Track | PeriodicCell, f: ArrayLike, x: float = 0.0) 
 
     >>> import semitrack as st
     >>> track = st.slab_track()
-    >>> over, mid = (abs(st.point_receptance(track, 50.0, x)[0, 0]) for x in (0.0, 0.325))
+    >>> over, mid = (abs(st.point_receptance(track, 50.0, x, origin="midspan")[0, 0]) for x in (0.325, 0.0))
     >>> bool(over < mid)
     True
     """
@@ -342,6 +376,7 @@ def point_receptance(track: Track | PeriodicCell, f: ArrayLike, x: float = 0.0) 
     if not abs(x) <= 1e9 * cell.period:
         raise InputError(f"x must be finite and within 1e9 periods ({1e9 * cell.period:.3g} m) of the "
                          f"origin, got {x!r}: the track is periodic, give x modulo the period")
-    x = x % cell.period
+    # the cell's own frame has its first support at positions[0]; the mid-span origin is the joint before it
+    x = (x + (cell.joint if position_origin(origin, "point_receptance") == "midspan" else 0.0)) % cell.period
     parts = [infinite_response(cell, 2 * np.pi * block, x)[0] for block in frequency_blocks(cell, f)]
     return np.concatenate(parts).reshape(f.shape + (2, 2))

@@ -35,11 +35,12 @@ from ..model.tracks import PeriodicCell, Track, require_track
 from ..model.vehicle import Vehicle, as_vehicle
 from ..model.wheel import Wheel
 from .infinite import InfiniteTrack
-from .receptance import point_receptance
+from .receptance import point_receptance, position_origin
 
 
 def wheel_rail_force(track: Track | PeriodicCell | InfiniteTrack, f: ArrayLike,
-                     wheel: Wheel | Vehicle | Sequence[Wheel], x: float | ArrayLike = 0.0) -> np.ndarray:
+                     wheel: Wheel | Vehicle | Sequence[Wheel], x: float | ArrayLike = 0.0, *,
+                     origin: str | None = None) -> np.ndarray:
     """Dynamic wheel-rail contact force per unit roughness, linear (N/m).
 
     Parameters
@@ -54,10 +55,15 @@ def wheel_rail_force(track: Track | PeriodicCell | InfiniteTrack, f: ArrayLike,
         constant); several such wheels; or a vehicle (:class:`semitrack.Bogie`), whose own
         receptance matrix couples its wheels.
     x : float or array_like
-        The contact positions (m): on a Track, measured from a support (``spacing / 2`` is
-        mid-span); on an InfiniteTrack, in its coordinates (from the central mid-span). One per
-        wheel; for a vehicle also a single position, that of its first wheel, the others at the
-        vehicle's offsets.
+        The contact positions (m, from ``origin``). One per wheel; for a vehicle also a single
+        position, that of its first wheel, the others at the vehicle's offsets.
+    origin : {"midspan", "support"}
+        Where ``x`` is measured from: the central mid-span (the package's one origin, as
+        :class:`semitrack.InfiniteTrack` and the FE models take it), or support 0 (the paper's
+        Sec. 4 origin; a support is at ``d / 2`` from the mid-span). Until 0.2 ``x`` was measured
+        from a support on a Track; on a Track or a PeriodicCell, left out, it is measured from a
+        mid-span with a :class:`FutureWarning` (until 0.3); on an InfiniteTrack it defaults to
+        ``"midspan"``, as it always was.
 
     Returns
     -------
@@ -69,21 +75,23 @@ def wheel_rail_force(track: Track | PeriodicCell | InfiniteTrack, f: ArrayLike,
     Examples
     --------
     >>> import semitrack as st
-    >>> force = st.wheel_rail_force(st.slab_track(), [100.0, 1000.0], st.Wheel())
+    >>> force = st.wheel_rail_force(st.slab_track(), [100.0, 1000.0], st.Wheel(), origin="midspan")
     >>> force.shape
     (2,)
-    >>> st.wheel_rail_force(st.slab_track(), [100.0, 1000.0], st.Bogie(), x=0.0).shape
+    >>> st.wheel_rail_force(st.slab_track(), [100.0, 1000.0], st.Bogie(), x=0.0, origin="midspan").shape
     (2, 2, 2)
     """
     f = as_frequencies(f)
+    vehicle = as_vehicle(wheel)  # refuses what is no wheel or vehicle before anything else
+    origin = "midspan" if origin is None and isinstance(track, InfiniteTrack) else position_origin(
+        origin, "wheel_rail_force")
     if isinstance(wheel, Wheel) and np.ndim(x) == 0 and not isinstance(track, InfiniteTrack):
-        alpha_r = point_receptance(track, f, check_real("x", x))[..., 0, 0]
+        alpha_r = point_receptance(track, f, check_real("x", x), origin=origin)[..., 0, 0]
         # -1 / (1/z_W + alpha_C + alpha_R) written with the wheel's dynamic stiffness z_W, which is 0
         # (not its receptance infinite) at an undamped primary suspension's resonance: the force is 0 there
         z_w = wheel.dynamic_stiffness(f)
         return -z_w / (1.0 + z_w * (1.0 / wheel.contact_stiffness + alpha_r))
-    vehicle = as_vehicle(wheel)
-    infinite, xs = _rail_and_positions(track, vehicle, x)
+    infinite, xs = _rail_and_positions(track, vehicle, x, origin)
     k = xs.size
     ff = np.atleast_1d(f)
     A = vehicle.receptance(ff) + np.diag([1.0 / w.contact_stiffness for w in vehicle.wheels])[None]
@@ -92,12 +100,11 @@ def wheel_rail_force(track: Track | PeriodicCell | InfiniteTrack, f: ArrayLike,
     return (-np.linalg.inv(A)).reshape(f.shape + (k, k))
 
 
-def _rail_and_positions(track, vehicle: Vehicle, x) -> tuple[InfiniteTrack, np.ndarray]:
+def _rail_and_positions(track, vehicle: Vehicle, x, origin: str) -> tuple[InfiniteTrack, np.ndarray]:
     """The exact infinite track and the contacts in its coordinates (m from the central mid-span)."""
     if isinstance(track, InfiniteTrack):
-        infinite, shift = track, 0.0
+        infinite = track
     else:
-        plain = track.track if isinstance(track, PeriodicCell) else require_track(track)
-        infinite, shift = InfiniteTrack(plain), 0.5 * plain.spacing  # a support sits at d/2
-    xs = vehicle.positions(x)
-    return infinite, xs + shift
+        infinite = InfiniteTrack(track.track if isinstance(track, PeriodicCell) else require_track(track))
+    shift = 0.5 * infinite.track.spacing if origin == "support" else 0.0  # support 0 sits at d/2
+    return infinite, vehicle.positions(x) + shift

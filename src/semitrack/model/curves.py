@@ -44,6 +44,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..base.checks import check_choice, check_positive, check_string
+from ..base.deprecation import renamed_keywords
 from ..base.errors import InputError, InputTypeError
 
 __all__ = ["CURVE_KINDS", "TABLE_QUANTITIES", "OUTSIDE", "FrequencyCurve", "FrequencyTable", "FrequencyFunction",
@@ -318,20 +319,22 @@ class FrequencyFunction(FrequencyCurve):
     func : callable
         ``func(f) -> values``: ``f`` an ndarray of frequencies (Hz), the values complex (N/m or
         N m/rad for a stiffness, m/N for a receptance), one per frequency.
-    kind : {"stiffness", "receptance"}
-        What the values relate.
+    quantity : {"stiffness", "receptance"}
+        What the values relate (its :attr:`kind`; ``kind=`` until 0.3, as :class:`FrequencyTable`
+        names it).
     name : str
         A label for messages.
     """
 
     func: Callable[[np.ndarray], ArrayLike]
-    kind: str = "stiffness"
+    quantity: str = "stiffness"
     name: str = "function"
+    kind: str = field(init=False)
 
     def __post_init__(self):
         if not callable(self.func):
             raise InputTypeError(f"func must be callable as func(f) -> complex values, got {type(self.func).__name__}")
-        check_choice("kind", self.kind, CURVE_KINDS)
+        object.__setattr__(self, "kind", check_choice("quantity", self.quantity, CURVE_KINDS))
         check_string("name", self.name)
 
     def _evaluate(self, f: np.ndarray) -> np.ndarray:
@@ -339,6 +342,9 @@ class FrequencyFunction(FrequencyCurve):
 
     def __repr__(self) -> str:
         return f"FrequencyFunction({self.name!r}, {self.kind})"
+
+
+FrequencyFunction.__init__ = renamed_keywords({"kind": "quantity"})(FrequencyFunction.__init__)
 
 
 @dataclass(frozen=True)

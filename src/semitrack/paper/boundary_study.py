@@ -474,7 +474,7 @@ def passivity_margin(boundary: BroadbandBoundary, f: ArrayLike) -> np.ndarray:
     ndarray
         The smallest eigenvalue at each frequency (-).
     """
-    model = boundary.model
+    model = boundary.rational
     w, v = np.linalg.eigh(model.D)
     S = v @ np.diag(w ** -0.5) @ v.T
     Z = model.impedance(2j * np.pi * np.atleast_1d(as_frequencies(f)))
@@ -543,7 +543,7 @@ def w1_error_table(curves: Mapping[tuple, pd.DataFrame], bands: Mapping[tuple, t
 
 
 def pulse_study(track: Track, boundary: BroadbandBoundary, n_bays: int = 10, reference_bays: int = 100,
-                f_max: float = 6000.0, dt: float = 1e-5, t_end: float = 0.03) -> dict:
+                f_max: float = 6000.0, dt: float = 1e-5, duration: float = 0.03) -> dict:
     """A broadband Hann pulse on 10-bay models with pinned and broadband-boundary ends.
 
     The pulse lasts ``2 / f_max`` at the centre; the rail displacement is recorded at the centre
@@ -559,8 +559,8 @@ def pulse_study(track: Track, boundary: BroadbandBoundary, n_bays: int = 10, ref
         Bays on each side of the truncated models and of the reference.
     f_max : float
         First zero of the pulse's spectrum (Hz).
-    dt, t_end : float
-        Time step and window (s).
+    dt, duration : float
+        Time step and the run's length (s).
 
     Returns
     -------
@@ -571,7 +571,7 @@ def pulse_study(track: Track, boundary: BroadbandBoundary, n_bays: int = 10, ref
     """
     return truncation_errors(track, None, n_bays=n_bays, reference_bays=reference_bays,
                              ends=(PINNED.name, BoundaryEnd.name), boundary=boundary, elements_per_bay=8,
-                             positions=(0.0, 3 * track.spacing), f_max=f_max, dt=dt, t_end=t_end)
+                             x=(0.0, 3 * track.spacing), f_max=f_max, dt=dt, duration=duration)
 
 
 def pulse_error_table(results: Mapping[str, dict]) -> pd.DataFrame:
@@ -599,7 +599,7 @@ def pulse_error_table(results: Mapping[str, dict]) -> pd.DataFrame:
 
 
 def mck_summary(boundaries: Mapping[str, BroadbandBoundary], f: ArrayLike | None = None) -> pd.DataFrame:
-    """Each broadband end as M, C, K (:meth:`BroadbandBoundary.second_order`): size, time, exactness, definiteness.
+    """Each broadband end as M, C, K (:meth:`BroadbandBoundary.matrix_system`): size, time, exactness, definiteness.
 
     Parameters
     ----------
@@ -619,7 +619,7 @@ def mck_summary(boundaries: Mapping[str, BroadbandBoundary], f: ArrayLike | None
     rows = {}
     for label, bnd in boundaries.items():
         start = time.perf_counter()
-        mck = bnd.second_order()
+        mck = bnd.matrix_system()
         wall = time.perf_counter() - start
         eig = min(np.linalg.eigvalsh(X)[0] / np.max(np.abs(np.linalg.eigvalsh(X))) for X in mck.matrices())
         rows[label] = {"states": bnd.state_space().A.shape[0], "internal DOFs": mck.n_internal,
@@ -645,7 +645,7 @@ def mck_pulse_study(track: Track, boundary: BroadbandBoundary, system: Equivalen
     n_bays, reference_bays : int
         Bays of the truncated models and of the long pinned reference.
     **kwargs
-        Passed on to :func:`semitrack.fe.truncation.truncation_errors` (``f_max``, ``dt``, ``t_end``).
+        Passed on to :func:`semitrack.fe.truncation.truncation_errors` (``f_max``, ``dt``, ``duration``).
 
     Returns
     -------
@@ -656,9 +656,9 @@ def mck_pulse_study(track: Track, boundary: BroadbandBoundary, system: Equivalen
     """
     labels = ("the paper's system", "broadband end as M, C, K", "broadband end as state space")
     ends = (EquivalentEnd(label=labels[0], equivalent=system),
-            EquivalentEnd(label=labels[1], equivalent=boundary.second_order()),
+            EquivalentEnd(label=labels[1], equivalent=boundary.matrix_system()),
             BoundaryEnd(label=labels[2], boundary=boundary))
-    settings = dict(positions=(0.0, 3 * track.spacing), f_max=6000.0, dt=1e-5, t_end=0.03)
+    settings = dict(x=(0.0, 3 * track.spacing), f_max=6000.0, dt=1e-5, duration=0.03)
     settings.update(kwargs)
     out = truncation_errors(track, None, n_bays=n_bays, reference_bays=reference_bays, ends=ends,
                             elements_per_bay=8, **settings)

@@ -183,6 +183,6 @@ def continuous_limit_study(track: Track, f: ArrayLike, refinements: Sequence[int
     for n in refinements:
         dense = track.replace(spacing=track.spacing / n, kv=track.kv / n, kphi=track.kphi / n,
                               sleeper_mass=None, kb=None)
-        h = point_receptance(dense, f, x=dense.spacing / 2)
+        h = point_receptance(dense, f, x=0.0, origin="midspan")
         rows.append([dense.spacing, *np.abs(h[:, 0, 0] / reference[:, 0, 0] - 1)])
     return pd.DataFrame(rows, columns=["spacing (m)"] + [f"{fi:g} Hz" for fi in f])

@@ -119,7 +119,7 @@ def floating_slab_table(track: Track, boundary: BroadbandBoundary, f: ArrayLike,
         Rows by ends (broadband, pinned): the median and largest error at the joint (%).
     """
     f = np.asarray(f, dtype=float)
-    exact = point_receptance(track, f, -0.5 * track.spacing)[:, 0, 0]
+    exact = point_receptance(track, f, 0.0, origin="midspan")[:, 0, 0]
     rows = {}
     for ends in (BoundaryEnd.name, PINNED.name):
         model = TruncatedTrack(track, CASE_BAYS, ends, system=boundary if ends == BoundaryEnd.name else None,
@@ -174,7 +174,7 @@ def several_wheel_table(model: TruncatedTrack, vehicles: Mapping[str, tuple[Vehi
     model : TruncatedTrack
         The track model (broadband ends).
     vehicles : mapping
-        ``{label: (vehicle or wheels, x_contact)}``.
+        ``{label: (vehicle or wheels, x)}``.
     roughness : Roughness
         A small roughness (the contacts must stay linear).
     dt, duration : float
@@ -189,7 +189,7 @@ def several_wheel_table(model: TruncatedTrack, vehicles: Mapping[str, tuple[Vehi
     """
     rows = {}
     for label, (vehicle, x) in vehicles.items():
-        res = wheel_rail_response(model, vehicle, roughness, x_contact=x, dt=dt, duration=duration)
+        res = wheel_rail_response(model, vehicle, roughness, x=x, dt=dt, duration=duration)
         for i in range(len(res.wheels)):
             transfer = contact_transfer(res, band=band, wheel=i)
             j = int(np.argmax(np.abs(transfer.error_db)))
@@ -222,7 +222,7 @@ def reflection_free_bays(track: Track, reach: float, attenuation: float = 40.0,
         The least attenuation of the track's free wave over the bands (dB/m,
         :attr:`semitrack.TrackDecayRate.wave_attenuation`).
     """
-    rate = track_decay_rate(track, bands=band)
+    rate = track_decay_rate(track, band=band)
     a_min = float(np.min(rate.wave_attenuation))
     return int(np.ceil((reach + attenuation / (2 * a_min)) / track.spacing)), a_min
 
@@ -275,7 +275,7 @@ def weld_runs(track: Track, boundary: BroadbandBoundary, speeds: Sequence[float]
         v = kmh / 3.6
         for name, model in models.items():
             t0 = time.perf_counter()
-            res = wheel_rail_response(model, wheel, profile=weld, x_contact=start, speed=v, dt=dt,
+            res = wheel_rail_response(model, wheel, profile=weld, x=start, speed=v, dt=dt,
                                       duration=(stop - start) / v, watch_supports=watch, bending_at=[weld.x])
             out[kmh, name] = WeldRun(res, time.perf_counter() - t0, model.n_dof)
     return out
@@ -335,7 +335,7 @@ def jenkins_table(track: Track, boundary: BroadbandBoundary, wheel: Wheel,
     rows = {}
     for length, angle, kmh in dips:
         dip, v = DippedWeld(angle, length, 0.0), kmh / 3.6
-        res = wheel_rail_response(model, wheel, profile=dip, x_contact=-2.0, speed=v, dt=2e-5, duration=4.0 / v)
+        res = wheel_rail_response(model, wheel, profile=dip, x=-2.0, speed=v, dt=2e-5, duration=4.0 / v)
         rows[f"{length:g} m, {1e3 * angle:g} mrad, {kmh:g} km/h"] = {
             "P2, time domain (kN)": p1_p2(res, dip)[1] / 1e3, "Jenkins (kN)": jenkins_p2(wheel, angle, v, lumped) / 1e3,
             "lost contact": res.lost_contact}
@@ -417,7 +417,7 @@ def weld_convergence(track: Track, boundary: BroadbandBoundary, speed: float, we
     for ne in meshes:
         model = TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name, system=boundary, elements_per_bay=ne)
         for dt in dts:
-            res = wheel_rail_response(model, wheel, profile=weld, x_contact=start, speed=v, dt=dt,
+            res = wheel_rail_response(model, wheel, profile=weld, x=start, speed=v, dt=dt,
                                       duration=(stop - start) / v)
             p1, p2 = p1_p2(res, weld)
             rows[model.elements_per_bay, dt * 1e6] = {"P1 (kN)": p1 / 1e3, "P2 (kN)": p2 / 1e3}
@@ -453,7 +453,7 @@ def gap_runs(track: Track, boundary: BroadbandBoundary, gaps: Sequence[float], k
     """
     model = TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name, system=boundary, changes={support: {"kb": 0.0}})
     v = kmh / 3.6
-    return {g: wheel_rail_response(model, Wheel(primary_stiffness=1.2e6, primary_damping=1.5e4), x_contact=start,
+    return {g: wheel_rail_response(model, Wheel(primary_stiffness=1.2e6, primary_damping=1.5e4), x=start,
                                    speed=v, dt=dt, duration=(stop - start) / v, ballast_gaps={support: g})
             for g in gaps}
 
@@ -494,7 +494,7 @@ def change_rolling_table(cases: Mapping[str, tuple], boundaries: Mapping[str, Br
         models = {"short": TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name,
                                           system=tuple(boundaries[w] for w in which), **keywords),
                   "long": TruncatedTrack(track, bays, PINNED.name, **keywords)}
-        runs = {label: wheel_rail_response(model, wheel, x_contact=start, speed=v, dt=dt, duration=(stop - start) / v,
+        runs = {label: wheel_rail_response(model, wheel, x=start, speed=v, dt=dt, duration=(stop - start) / v,
                                            watch_supports=(-1, 0, 1))
                 for label, model in models.items()}
         fs, fl = runs["short"].force, runs["long"].force

@@ -152,14 +152,14 @@ def compare_runs(label: str, track: Track, boundary: BroadbandBoundary, vehicle,
     with tempfile.TemporaryDirectory() as folder:
         clear_kernel_memo()  # timed from nothing: this process keeps no kernels from before
         start = time.perf_counter()
-        kernels = moving_green_kernels(track, speed, dt, vehicle.offsets, x_contact=x0, cache=folder)
+        kernels = moving_green_kernels(track, speed, dt, vehicle.offsets, x=x0, cache=folder)
         setup = time.perf_counter() - start
         clear_kernel_memo(kernels)
         start = time.perf_counter()
-        moving_green_kernels(track, speed, dt, vehicle.offsets, x_contact=x0, cache=folder)
+        moving_green_kernels(track, speed, dt, vehicle.offsets, x=x0, cache=folder)
         from_cache = time.perf_counter() - start
     rough = rolling_roughness(kernels.grid.speed)
-    run = {"x_contact": x0, "speed": speed, "dt": dt, "kernels": kernels}
+    run = {"x": x0, "speed": speed, "dt": dt, "kernels": kernels}
     moving_green_response(track, vehicle, rough, duration=0.03, **run)  # compile outside the timing
     green = moving_green_response(track, vehicle, rough, duration=duration, **run)
     numpy = moving_green_response(track, vehicle, rough, duration=numpy_duration, compiled=False, **run)
@@ -167,7 +167,7 @@ def compare_runs(label: str, track: Track, boundary: BroadbandBoundary, vehicle,
     model = TruncatedTrack(track, int(np.ceil(reach / track.spacing)) + MARGIN_BAYS, BoundaryEnd.name, system=boundary,
                            elements_per_bay=kernels.elements_per_bay)
     start = time.perf_counter()
-    truncated = wheel_rail_response(model, green.vehicle, rough, x_contact=x0, speed=green.speed, dt=dt,
+    truncated = wheel_rail_response(model, green.vehicle, rough, x=x0, speed=green.speed, dt=dt,
                                     duration=duration)  # the vehicle as run: its offsets on the grid
     return Comparison(label, kmh, green, truncated, kernels, setup, from_cache,
                       1e6 * green.elapsed / (green.t.size - 1), 1e6 * numpy.elapsed / (numpy.t.size - 1),

@@ -55,16 +55,19 @@ def linear_limits(track: Track, wheel: Wheel, f: Sequence[float]) -> pd.DataFram
     """
     f = np.atleast_1d(as_frequencies(f))
     track.require_constant("linear_limits' rigid track (pads 1e6 times stiffer)", "give constant pads")
-    alpha_r = point_receptance(track, f)[:, 0, 0]
+    alpha_r = point_receptance(track, f, 0.0, origin="support")[:, 0, 0]
     rigid = track.replace(E=track.E * 1e6, G=track.G * 1e6, kv=track.kv * 1e6, kphi=track.kphi * 1e6)
     w2k = wheel.mass * (2 * np.pi * f) ** 2
     k_h = wheel.contact_stiffness
     immovable = Wheel(mass=wheel.mass * 1e12, hertz_constant=wheel.hertz_constant * 1e12)
+    def force(t: Track, w: Wheel) -> np.ndarray:  # over a support, where alpha_r is taken
+        return wheel_rail_force(t, f, w, 0.0, origin="support")
+
     checks = {
-        "series of the three receptances": (wheel_rail_force(track, f, wheel),
+        "series of the three receptances": (force(track, wheel),
                                             -1 / (wheel.receptance(f) + 1 / k_h + alpha_r)),
-        "rigid track: mass on the contact spring": (wheel_rail_force(rigid, f, wheel), w2k * k_h / (k_h - w2k)),
-        "stiff contact, immovable wheel: -1/alpha_R": (wheel_rail_force(track, f, immovable), -1 / alpha_r)}
+        "rigid track: mass on the contact spring": (force(rigid, wheel), w2k * k_h / (k_h - w2k)),
+        "stiff contact, immovable wheel: -1/alpha_R": (force(track, immovable), -1 / alpha_r)}
     return pd.DataFrame({"largest relative difference": [np.max(np.abs(a / b - 1)) for a, b in checks.values()]},
                         index=list(checks))
 
@@ -108,8 +111,8 @@ def linear_force(tracks: Mapping[str, Track], wheel: Wheel, f: Sequence[float]) 
     f = np.atleast_1d(as_frequencies(f))
     curves, peaks = {}, {}
     for name, track in tracks.items():
-        for x, where in ((0.0, "above a support"), (track.spacing / 2, "at mid-span")):
-            force = np.abs(wheel_rail_force(track, f, wheel, x=x))
+        for x, where in ((track.spacing / 2, "above a support"), (0.0, "at mid-span")):
+            force = np.abs(wheel_rail_force(track, f, wheel, x=x, origin="midspan"))
             low = f < 150.0
             curves[name, where] = force
             peaks[name, where] = {"wheel bounce (Hz)": f[low][np.argmax(force[low])],
@@ -314,7 +317,7 @@ def rolling_runs(models: Mapping[tuple[float, int], TruncatedTrack], wheel: Whee
         if n_el != model.elements_per_bay:  # rolling_lines reads the mesh's line v/h from the key
             raise InputError(f"models key ({kmh!r}, {n_el!r}) names {n_el} elements per bay, but the model has "
                              f"{model.elements_per_bay}")
-    return {(kmh, n_el): wheel_rail_response(model, wheel, speed=kmh / 3.6, x_contact=x_start, dt=dt,
+    return {(kmh, n_el): wheel_rail_response(model, wheel, speed=kmh / 3.6, x=x_start, dt=dt,
                                              duration=-2 * x_start / (kmh / 3.6))
             for (kmh, n_el), model in models.items()}
 
