@@ -136,3 +136,11 @@ def test_the_routes_import_only_the_shared_part_of_their_layer():
         own = [t[2] for t, _, _ in _imports(path, parts) if t[:2] == ("semitrack", "interaction") and len(t) > 2]
         allowed = SHARED if path.stem in ROUTES | {"transfer"} else SHARED - {path.stem}
         assert set(own) <= allowed, f"interaction/{path.name} imports {sorted(set(own) - allowed)} of its layer"
+
+
+@pytest.mark.parametrize("name", sorted(LAYERS))
+def test_each_subpackage_names_its_layer(name):
+    """The subpackages' docstrings say their layer as the table above and ARCHITECTURE.md number it."""
+    doc = ast.get_docstring(ast.parse((PACKAGE / name / "__init__.py").read_text())) or ""
+    assert doc.startswith(f"Layer {LAYERS[name]}:"), f"{name}/__init__.py: {doc[:40]!r}"
+    assert f"### {name} (layer {LAYERS[name]})" in (ROOT / "ARCHITECTURE.md").read_text()

@@ -8,7 +8,6 @@ called as a user of 0.1 would, each with the :class:`DeprecationWarning` that na
 
 from __future__ import annotations
 
-import dataclasses
 import inspect
 import pathlib
 import re
@@ -188,3 +187,10 @@ def test_a_left_out_origin_warns_that_x_is_now_from_a_mid_span():
                                st.wheel_rail_force(inf, f, st.Bogie(), 0.1), rtol=1e-10)
     with pytest.raises(ValueError, match="origin must be one of"):
         st.point_receptance(track, f, 0.1, origin="rail head")
+
+
+def test_a_renamed_function_s_warnings_still_point_at_its_caller():
+    """The keywords' wrapper is one more frame: the routes' own warnings count it."""
+    with pytest.warns(RuntimeWarning, match="cuts off their tail") as caught:
+        st.convolution_response(st.slab_track(damping="viscous"), st.Wheel(), dt=1e-4, duration=0.03, memory=0.01)
+    assert pathlib.Path(caught[0].filename).name == pathlib.Path(__file__).name

@@ -1,1 +1,1 @@
-"""Layer 3b: the broadband boundary: a passive rational model of the track's end stiffness."""
+"""Layer 5: the broadband boundary: a passive rational model of the track's end stiffness."""

@@ -1,1 +1,1 @@
-"""The time and frequency-domain machinery of second-order systems, knowing nothing of tracks."""
+"""Layer 1: the time and frequency-domain machinery of second-order systems, knowing nothing of tracks."""

@@ -21,19 +21,34 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import types
 from pathlib import Path
 
 import numba
 import numpy as np
 
-from .contact import MAX_NEWTON, solve_hertz
+from .contact import HELPERS, MAX_NEWTON, solve_hertz
 from .convolved import convolved_steps
 from .loop import FLUSH
 
 __all__ = ["run_compiled"]
 
 _jit = numba.njit(cache=True, nogil=True, error_model="numpy")  # no division checks on the solve's chains
-_hertz = _jit(solve_hertz)
+
+
+def _with_compiled_helpers(func, helpers):
+    """``func`` with the helpers it calls bound to their compiled twins.
+
+    numba resolves the names a function calls among its globals when it compiles it; the plain
+    helpers of the one source would not compile there, their compiled twins do.
+    """
+    env = dict(func.__globals__, **{h.__name__: _jit(h) for h in helpers})
+    twin = types.FunctionType(func.__code__, env, func.__name__, func.__defaults__, func.__closure__)
+    twin.__qualname__ = func.__qualname__
+    return twin
+
+
+_hertz = _jit(_with_compiled_helpers(solve_hertz, HELPERS))
 _convolved = _jit(convolved_steps)
 
 

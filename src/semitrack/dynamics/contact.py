@@ -41,17 +41,17 @@ __all__ = ["MAX_NEWTON", "HertzContacts", "solve_hertz", "hertz_contact_force"]
 MAX_NEWTON = 100
 
 
-def solve_hertz(c_h: np.ndarray, a: np.ndarray, G: np.ndarray, force: np.ndarray,  # noqa: C901, PLR0912, PLR0915
+def solve_hertz(c_h: np.ndarray, a: np.ndarray, G: np.ndarray, force: np.ndarray,
                 work: np.ndarray, linear: np.ndarray | None = None) -> int:
     """Solve ``F = c_h max(a - G F, 0)^p`` for the contact forces of one step, in place.
 
     ``p = 3/2`` for a Hertzian contact; ``p = 1`` where ``linear`` is true: a unilateral linear
     spring (a sleeper on ballast that can lift off, :mod:`semitrack.fe.gaps`).
 
-    Long by design: the elimination and the step halving are written out, on a workspace the
-    caller owns, so that the one source compiles as it stands (numba resolves the helpers a
-    jitted function calls among its module's globals, which here would be plain Python; written
-    this way it compiled in 0.8 s instead of 1.3 s, measured when written) and also runs as plain Python.
+    One source for both loops: plain Python here, and compiled by :mod:`semitrack.dynamics.compiled`,
+    which compiles the helpers it calls (:func:`_one_hertz`, :func:`_contact_laws`,
+    :func:`_residual`, :func:`_newton_step`, :func:`_forces`) and binds them in their place. Everything runs on a
+    workspace the caller owns.
 
     Parameters
     ----------
@@ -94,92 +94,132 @@ def solve_hertz(c_h: np.ndarray, a: np.ndarray, G: np.ndarray, force: np.ndarray
         for i in range(k):
             if linear[i]:
                 lin = True
-    if k == 1 and not lin:  # the same iteration on floats: plain Python ran it ~5x faster than on arrays, measured
-        c, g, a0 = c_h[0], G[0, 0], a[0]
-        d = a0
-        for iteration in range(1, MAX_NEWTON + 1):
-            root = math.sqrt(d) if d > 0.0 else 0.0
-            step = (d + g * (c * d * root) - a0) / (1.0 + g * 1.5 * c * root)
-            d -= step
-            if abs(step) <= 4e-16 * max(abs(d), scale):
-                force[0] = c * d * math.sqrt(d) if d > 0.0 else 0.0
-                return iteration
-        return MAX_NEWTON + 1
-    J = work[:, :k]
+    if k == 1 and not lin:
+        return _one_hertz(c_h[0], G[0, 0], a[0], scale, force)
     delta, h, hp, r, step = work[:, k], work[:, k + 1], work[:, k + 2], work[:, k + 3], work[:, k + 4]
     for i in range(k):
         delta[i] = a[i]
     norm = math.inf
     for iteration in range(1, MAX_NEWTON + 1):
-        for j in range(k):
-            if lin and linear[j]:
-                h[j] = c_h[j] * delta[j] if delta[j] > 0.0 else 0.0
-                hp[j] = c_h[j] if delta[j] > 0.0 else 0.0
-                continue
-            root = math.sqrt(delta[j]) if delta[j] > 0.0 else 0.0
-            h[j] = c_h[j] * delta[j] * root
-            hp[j] = 1.5 * c_h[j] * root
-        new_norm = 0.0
-        for i in range(k):
-            s = delta[i] - a[i]
-            for j in range(k):
-                s += G[i, j] * h[j]
-            r[i] = s
-            # each residual on its own contact's scale: an open gap's approach (metres below) would
-            # leave round-off far above a closed contact's residual and stall the step halving
-            s = abs(s) / (abs(a[i]) if abs(a[i]) > scale else scale)
-            if s > new_norm:
-                new_norm = s
-        if new_norm > norm and iteration < MAX_NEWTON:
+        _contact_laws(c_h, linear, lin, delta, h, hp)
+        new_norm = _residual(a, G, delta, h, scale, r)
+        if new_norm > norm and iteration < MAX_NEWTON:  # no better: halve the last step
             for i in range(k):
                 step[i] *= 0.5
                 delta[i] += step[i]
             continue
         norm = new_norm
-        for i in range(k):
-            for j in range(k):
-                J[i, j] = G[i, j] * hp[j]
-            J[i, i] += 1.0
-            step[i] = r[i]
-        for p in range(k):  # Gaussian elimination with partial pivoting on J step = r
-            q = p
-            for i in range(p + 1, k):
-                if abs(J[i, p]) > abs(J[q, p]):
-                    q = i
-            if q != p:
-                for j in range(k):
-                    tmp = J[p, j]
-                    J[p, j] = J[q, j]
-                    J[q, j] = tmp
-                tmp = step[p]
-                step[p] = step[q]
-                step[q] = tmp
-            for i in range(p + 1, k):
-                m = J[i, p] / J[p, p]
-                for j in range(p, k):
-                    J[i, j] -= m * J[p, j]
-                step[i] -= m * step[p]
-        for p in range(k - 1, -1, -1):
-            s = step[p]
-            for j in range(p + 1, k):
-                s -= J[p, j] * step[j]
-            step[p] = s / J[p, p]
-        done = True
-        for i in range(k):
-            delta[i] -= step[i]
-            bound = abs(delta[i]) if abs(delta[i]) > scale else scale
-            if abs(step[i]) > 4e-16 * bound:
-                done = False
-        if done:
-            for i in range(k):
-                if delta[i] <= 0.0:
-                    force[i] = 0.0
-                elif lin and linear[i]:
-                    force[i] = c_h[i] * delta[i]
-                else:
-                    force[i] = c_h[i] * delta[i] * math.sqrt(delta[i])
+        if _newton_step(G, hp, r, work, delta, scale):
+            _forces(c_h, linear, lin, delta, force)
             return iteration
     return MAX_NEWTON + 1
+
+
+def _one_hertz(c: float, g: float, a0: float, scale: float, force: np.ndarray) -> int:
+    """One Hertzian contact, ``delta + g c delta^(3/2) = a0``, by Newton on floats (~5x faster than on arrays)."""
+    d = a0
+    for iteration in range(1, MAX_NEWTON + 1):
+        root = math.sqrt(d) if d > 0.0 else 0.0
+        step = (d + g * (c * d * root) - a0) / (1.0 + g * 1.5 * c * root)
+        d -= step
+        if abs(step) <= 4e-16 * max(abs(d), scale):
+            force[0] = c * d * math.sqrt(d) if d > 0.0 else 0.0
+            return iteration
+    return MAX_NEWTON + 1
+
+
+def _contact_laws(c_h: np.ndarray, linear, lin: bool, delta: np.ndarray, h: np.ndarray, hp: np.ndarray) -> None:
+    """Each contact's force ``h(delta)`` and its derivative ``hp``: Hertzian, or a unilateral linear spring."""
+    for j in range(delta.size):
+        if linear is not None:  # a plain `if` on the argument: numba prunes it where none is given
+            if lin and linear[j]:
+                h[j] = c_h[j] * delta[j] if delta[j] > 0.0 else 0.0
+                hp[j] = c_h[j] if delta[j] > 0.0 else 0.0
+                continue
+        root = math.sqrt(delta[j]) if delta[j] > 0.0 else 0.0
+        h[j] = c_h[j] * delta[j] * root
+        hp[j] = 1.5 * c_h[j] * root
+
+
+def _forces(c_h: np.ndarray, linear, lin: bool, delta: np.ndarray, force: np.ndarray) -> None:
+    """The contact forces at the converged approaches: 0 where a contact is open (never negative)."""
+    for i in range(delta.size):
+        if delta[i] <= 0.0:
+            force[i] = 0.0
+            continue
+        force[i] = c_h[i] * delta[i] * math.sqrt(delta[i])
+        if linear is not None:  # pruned by numba where none is given, as in _contact_laws
+            if lin and linear[i]:
+                force[i] = c_h[i] * delta[i]
+
+
+def _residual(a: np.ndarray, G: np.ndarray, delta: np.ndarray, h: np.ndarray, scale: float, r: np.ndarray) -> float:
+    """``r = delta + G h - a`` in place, and its largest entry, each on its own contact's scale.
+
+    An open gap's approach (metres below) would leave round-off far above a closed contact's
+    residual and stall the step halving: each residual is measured against its own ``|a_i|``.
+    """
+    k = a.size
+    norm = 0.0
+    for i in range(k):
+        s = delta[i] - a[i]
+        for j in range(k):
+            s += G[i, j] * h[j]
+        r[i] = s
+        s = abs(s) / (abs(a[i]) if abs(a[i]) > scale else scale)
+        if s > norm:
+            norm = s
+    return norm
+
+
+def _newton_step(G: np.ndarray, hp: np.ndarray, r: np.ndarray, work: np.ndarray, delta: np.ndarray,
+                 scale: float) -> bool:
+    """Solve ``(I + G diag(hp)) step = r`` by Gaussian elimination with partial pivoting, take ``delta -= step``.
+
+    The matrix and the step live in ``work`` (its first k columns and its last). Returns whether
+    every step is within round-off of its contact's approach (converged).
+    """
+    k = delta.size
+    J, step = work[:, :k], work[:, k + 4]
+    for i in range(k):
+        for j in range(k):
+            J[i, j] = G[i, j] * hp[j]
+        J[i, i] += 1.0
+        step[i] = r[i]
+    for p in range(k):
+        q = p
+        for i in range(p + 1, k):
+            if abs(J[i, p]) > abs(J[q, p]):
+                q = i
+        if q != p:
+            for j in range(k):
+                tmp = J[p, j]
+                J[p, j] = J[q, j]
+                J[q, j] = tmp
+            tmp = step[p]
+            step[p] = step[q]
+            step[q] = tmp
+        for i in range(p + 1, k):
+            m = J[i, p] / J[p, p]
+            for j in range(p, k):
+                J[i, j] -= m * J[p, j]
+            step[i] -= m * step[p]
+    for p in range(k - 1, -1, -1):
+        s = step[p]
+        for j in range(p + 1, k):
+            s -= J[p, j] * step[j]
+        step[p] = s / J[p, p]
+    done = True
+    for i in range(k):
+        delta[i] -= step[i]
+        bound = abs(delta[i]) if abs(delta[i]) > scale else scale
+        if abs(step[i]) > 4e-16 * bound:
+            done = False
+    return done
+
+
+#: The helpers :func:`solve_hertz` calls, which the compiled loop compiles and binds in their place.
+HELPERS = (_one_hertz, _contact_laws, _forces, _residual, _newton_step)
 
 
 def hertz_contact_force(c_h: float, a: float, beta: float) -> float:

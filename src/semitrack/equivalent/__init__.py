@@ -1,1 +1,1 @@
-"""Layer 3: equivalent multi-rigid-body systems: assembly, constraints, fitting, metrics, files."""
+"""Layer 4: equivalent multi-rigid-body systems: assembly, constraints, fitting, metrics, files."""

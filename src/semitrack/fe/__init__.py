@@ -1,1 +1,1 @@
-"""Layer 4: finite-element tracks (long and truncated), time integration, truncation studies."""
+"""Layer 6: finite-element tracks (long and truncated), the infinite FE track, loads in time, truncation studies."""

@@ -197,7 +197,7 @@ class FETrack:
         # Up to where the mesh's own error is known to be within MESH_TOLERANCE (Hz; grown as asked)
         self._mesh_checked = self.f_max if elements_per_bay is None else 0.0
         if elements_per_bay is not None and f_max is not None:  # a stated f_max (the time domain's): check it now
-            self._check_mesh(self.f_max)
+            self._check_mesh(self.f_max, stacklevel=4)  # the caller, past __init__ and its keywords' wrapper
         self.system = system
         self.changes, self.joints = ({}, {}) if self._infinite is None else (self._infinite.changes,
                                                                              self._infinite.joints)
@@ -583,7 +583,7 @@ class FETrack:
                 out[i] = self._parts.pattern.solve(self._z_data(k, w, exact, i), rhs_c)
         return out
 
-    def _check_mesh(self, f_top: float) -> None:
+    def _check_mesh(self, f_top: float, stacklevel: int = 3) -> None:
         """Warn when frequencies above what the mesh resolves within MESH_TOLERANCE are asked (once per model)."""
         if f_top <= self._mesh_checked:
             return
@@ -595,7 +595,7 @@ class FETrack:
             warnings.warn(f"{self.elements_per_bay} elements per bay keep the mesh's own error under "
                           f"{MESH_TOLERANCE:.0%} up to {valid:.0f} Hz only, and frequencies up to {f_top:.0f} Hz "
                           f"are asked: give elements_per_bay >= {need} (or leave it out and give f_max)",
-                          RuntimeWarning, stacklevel=3)
+                          RuntimeWarning, stacklevel=stacklevel)
 
     def receptance(self, f: ArrayLike, x: float = 0.0) -> np.ndarray:
         """2x2 point receptance at the rail node at ``x``: (w, psi) per (F, M) there.

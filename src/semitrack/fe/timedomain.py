@@ -77,11 +77,14 @@ class TimeHistory:
         The recorded outputs (displacements in m, rotations in rad).
     labels : tuple of str
         A label per output column.
+    elapsed : float
+        Wall time of the step loop (s): the factorisation and the set-up before it not counted.
     """
 
     t: np.ndarray
     u: np.ndarray
     labels: tuple = ()
+    elapsed: float = 0.0
 
 
 def _load_points(load, n: int, n_steps: int, t: np.ndarray) -> tuple[PointSet, np.ndarray]:
@@ -192,7 +195,7 @@ def newmark(M: ArrayLike | sp.spmatrix, C: ArrayLike | sp.spmatrix, K: ArrayLike
     t = stepper.dt * np.arange(n_steps + 1)
     res = simulate(system, stepper, n_steps, loads=[_load_points(load, n, n_steps, t)], probes=probes,
                    record=record, u0=u0, v0=v0)
-    return TimeHistory(t=res.t, u=res["out"] if probes else res["dofs"], labels=labels)
+    return TimeHistory(t=res.t, u=res["out"] if probes else res["dofs"], labels=labels, elapsed=res.elapsed)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -234,7 +237,7 @@ def pulse_response(track: FETrack, x: ArrayLike = (0.0, 1.95), *, amplitude: flo
     pulse = amplitude * hann_pulse(stepper.dt * np.arange(n_steps + 1), pulse_length)
     res = simulate(model.time_domain_system(f_ref), stepper, n_steps,
                    loads=[(PointSet.on_dofs([model.dof(0.0, "w")]), pulse)], probes={"w": model.points(xs)})
-    return TimeHistory(res.t, res["w"], tuple(f"w(x={xi:g} m)" for xi in xs))
+    return TimeHistory(res.t, res["w"], tuple(f"w(x={xi:g} m)" for xi in xs), res.elapsed)
 
 
 @renamed_keywords({"model": "track", "positions": "x"})
@@ -294,7 +297,7 @@ def moving_load_response(track: FETrack, x: ArrayLike = (0.0,), *, load: float =
     res = simulate(model.time_domain_system(f_ref), stepper, n_steps, loads=[(path, load * sin2_ramp(t, ramp))],
                    probes=probes)
     labels = ("w under the load",) + tuple(f"w(x={xi:g} m)" for xi in xs)
-    return TimeHistory(res.t, np.hstack([res["under"], res["fixed"]]), labels)
+    return TimeHistory(res.t, np.hstack([res["under"], res["fixed"]]), labels, res.elapsed)
 
 
 def relative_l2_error(u: ArrayLike, u_ref: ArrayLike) -> np.ndarray:

@@ -1,1 +1,1 @@
-"""A vehicle's run on the rail (layer 7): one result, one input check and sampling, the routes beside them."""
+"""Layer 7: a vehicle's run on the rail: one result, one input check and sampling, the routes beside them."""

@@ -124,7 +124,7 @@ def convolution_response(track: Track | InfiniteTrack, wheel: Wheel | Vehicle | 
     if wrap > WRAP_TOLERANCE:
         warnings.warn(f"memory={memory!r} s keeps the rail's impulse responses while they are still {wrap:.1e} of "
                       "their peak over its second half: the convolution cuts off their tail; give a longer memory",
-                      RuntimeWarning, stacklevel=2)
+                      RuntimeWarning, stacklevel=3)  # past the renamed-keywords wrapper, at the caller
     path = run.path()
     r = rail_input(roughness, path, run.dt, run.ramp)
     force, w_wheel, w_rail, elapsed = convolved_run(run.vehicle, *_loop_arrays(h, static, run.dt, r.shape[0]),

@@ -303,4 +303,4 @@ def _check_work(kernels: MovingKernels, n_steps: int, k: int, request: str) -> N
     if kernels.tail > TAIL_TOLERANCE:
         warnings.warn(f"memory={L * kernels.grid.dt:.4g} s keeps the moving Green's functions while they are still "
                       f"{kernels.tail:.1e} of their peak over its last quarter: older forces are dropped; give a "
-                      "longer memory", RuntimeWarning, stacklevel=3)
+                      "longer memory", RuntimeWarning, stacklevel=4)  # the caller, past the keywords' wrapper

@@ -1,1 +1,1 @@
-"""Layer 2: solution methods for the receptance of the periodic track, and its features."""
+"""Layer 3: solution methods for the receptance of the periodic track, and its features."""

@@ -1,1 +1,1 @@
-"""Layer 1: what a track is: parameters, the periodic cell, the Timoshenko beam, track files."""
+"""Layer 2: what a track and a vehicle are: parameters, the periodic cell, the beam, roughness, track files."""

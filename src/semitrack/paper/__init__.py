@@ -1,1 +1,1 @@
-"""Layer 5: the paper's tables and statements, and the audits of them against our methods."""
+"""Layer 8: the paper's tables and statements, the audits of them against our methods, the chapters' studies."""
