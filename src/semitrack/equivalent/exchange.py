@@ -33,7 +33,10 @@ This module also writes M, C, K for other codes, chosen by the suffix in
     parameter), "row node, row DOF, column node, column DOF, value", lower triangle (the default
     TYPE=SYMMETRIC), every digit (``repr``); then ``*MATRIX ASSEMBLE, STIFFNESS=END_K,
     MASS=END_M, VISCOUS DAMPING=END_C`` (model data, model level). The internal DOFs are DOF 1 of
-    nodes the file declares (``*NODE``, in an assembly-level node set).
+    nodes the file declares (``*NODE``, in an assembly-level node set). The file is for Abaqus:
+    CalculiX has no matrix keyword that takes rotations or damping, and CalculiX 2.20 skipped
+    every line of such a file ("card image cannot be interpreted", exit code 0) and ran the model
+    without the end; the file's header says so.
 
 Both codes' models usually have ``y`` up and rotations counterclockwise about ``z``: the files map
 ``w = -u_y`` (DOF 2, T2) and ``psi = -theta_z`` (DOF 6, R3) for a track along ``+x``, i.e. the
@@ -447,6 +450,8 @@ def save_abaqus_matrix(system: MechanicalSystem, path: str | os.PathLike, track:
     system = _check_system(system)
     labels = [(node, max(dof, 1)) for node, dof in _labels(system, port_node)]  # internal DOFs: DOF 1 of a node
     lines = _header(system, "**", track, band, port_node)
+    lines[0:0] = ["** For Abaqus (*MATRIX INPUT, *MATRIX ASSEMBLE). Not for CalculiX: it has no matrix",
+                  "** keyword for rotations or damping and skips these cards, running without the end."]
     if system.n_internal:
         lines.append("*NODE, NSET=SEMITRACK_END_INTERNAL")
         lines += [f"{node}, 0., 0., 0." for node, _ in labels[2:]]
