@@ -92,7 +92,8 @@ def _string_constants(path: pathlib.Path):
             yield node.value, node.lineno
 
 
-@pytest.mark.parametrize("path", sorted([*(PACKAGE / "fe").glob("*.py"), *(PACKAGE / "paper").glob("*.py"),
+@pytest.mark.parametrize("path", sorted([*(PACKAGE / "fe").glob("*.py"), *(PACKAGE / "interaction").glob("*.py"),
+                                         *(PACKAGE / "paper").glob("*.py"),
                                          *(PACKAGE / "plotting").glob("*.py"), PACKAGE / "cli.py"]),
                          ids=lambda p: f"{p.parent.name}/{p.name}")
 def test_no_end_name_is_spelled_outside_the_end_classes(path):

@@ -33,7 +33,7 @@ import pandas as pd
 
 from ..boundary.fitting import BroadbandBoundary
 from ..dynamics.signals import hann_pulse
-from ..fe.ends import BoundaryEnd
+from ..fe.ends import PINNED, BoundaryEnd
 from ..fe.models import TruncatedTrack
 from ..fe.timedomain import moving_load_response, newmark, pulse_response, relative_l2_error
 from ..interaction.fe_model import wheel_rail_response
@@ -138,7 +138,7 @@ def _given_loads(track: Track, boundary: BroadbandBoundary, dt: float):
     """Loads given in advance on the 10-bay model: a pulse, a moving load and the matrices' own integration."""
     short, short_time = _timed(lambda: TruncatedTrack(track, 10, BoundaryEnd.name, system=boundary,
                                                       elements_per_bay=16))
-    long = TruncatedTrack(track, 60, "pinned", elements_per_bay=16)  # its reflections return after the window
+    long = TruncatedTrack(track, 60, PINNED.name, elements_per_bay=16)  # its reflections return after the window
     x, duration = (0.0, 3 * track.spacing), 0.02
     pulse, pulse_time = _timed(lambda: pulse_response(short, x, f_max=3000.0, dt=dt, duration=duration))
     reference = pulse_response(long, x, f_max=3000.0, dt=dt, duration=duration)
