@@ -47,6 +47,7 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "Track": ("model.tracks", "Track"),
     "TrackFileError": ("model.trackfile", "TrackFileError"),
     "TruncatedTrack": ("fe.models", "TruncatedTrack"),
+    "WindowTrack": ("fe.window", "WindowTrack"),
     "WavenumberSettings": ("methods.wavenumber", "WavenumberSettings"),
     "Wheel": ("model.wheel", "Wheel"),
     "Bogie": ("model.vehicle", "Bogie"),

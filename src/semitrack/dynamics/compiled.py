@@ -251,17 +251,18 @@ def _run(n_steps, coef, dt, gamma, mc, ldl, offset, u, v, a, lf, lm, st, ct, pr,
     for none). The tuples group the arrays: ``mc`` the band storage of M and C
     (:func:`_band_product`); ``lf``/``lm`` fixed and moving loads
     (dofs, weights, amplitudes); ``st`` the states (dofs, E, Phi_P, history_x as CSR triples,
-    block); ``ct`` the contacts; ``pr`` fixed and moving probes; ``out`` the outputs.
+    block, and their values x, which end as the final ones); ``ct`` the contacts; ``pr`` fixed
+    and moving probes; ``out`` the outputs.
     """
     a0, a1, a2, a3, a4, a5 = coef
     n = u.size
-    s_dofs, e_p, e_i, e_d, f_p, f_i, f_d, h_p, h_i, h_d, block = st
+    s_dofs, e_p, e_i, e_d, f_p, f_i, f_d, h_p, h_i, h_d, block, x = st
     c_wheels, c_dofs, c_w, c_h, c_r, c_g, c_lin = ct
     pf_dofs, pf_w, pm_dofs, pm_w = pr
     out_rec, out_pf, out_pm, out_f, out_ww, out_wr = out
     nb, k_c = s_dofs.size, c_wheels.size
     y, rhs, u_new = np.empty(2 * n), np.empty(n), np.empty(n)
-    x, x_new, ub, du = np.zeros(e_p.size - 1), np.zeros(e_p.size - 1), np.empty(nb), np.empty(nb)
+    x_new, ub, du = np.zeros(e_p.size - 1), np.empty(nb), np.empty(nb)
     P, G = np.zeros((k_c, n)), np.zeros((k_c, k_c))
     support, count = np.zeros((k_c, n), np.int64), np.zeros(k_c, np.int64)
     p_work, dense = np.zeros(n if k_c else 0), np.zeros((k_c, n))

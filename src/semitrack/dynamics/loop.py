@@ -55,6 +55,8 @@ class StepArrays:
         A constant load added at every step (N; empty for none).
     u_ref : ndarray
         The displacement the loop's ``u`` is measured from (m).
+    x : ndarray
+        The states' initial values (overwritten by the final ones; zeros for a start at rest).
     """
 
     stepper: Newmark
@@ -71,6 +73,7 @@ class StepArrays:
     a: np.ndarray
     offset: np.ndarray
     u_ref: np.ndarray
+    x: np.ndarray
 
 
 @dataclass
@@ -152,7 +155,7 @@ def run_numpy(arrays: StepArrays) -> Outputs:
     s, n = arrays.stepper, arrays.u.size
     u, v, a = arrays.u.copy(), arrays.v.copy(), arrays.a.copy()
     states, contacts = arrays.states, arrays.contacts
-    x = np.zeros(states.n_states) if states is not None else None
+    x = arrays.x.copy()
     if states is not None:  # a few hundred states: dense products skip SciPy's per-call overhead
         E, Phi_P, H = (X.toarray() for X in (states.E, states.Phi_P, states.history_x))
     loads = [(p.matrix(n).T.toarray() if not p.moving and p.n_points <= 16 else p, amp)  # a few fixed points: dense
@@ -182,6 +185,6 @@ def run_numpy(arrays: StepArrays) -> Outputs:
         out.write(k, u, arrays.probes, arrays.record)
         if contacts is not None:
             _write_contacts(out, contacts, k, u, contact.force)
-    arrays.u[:], arrays.v[:], arrays.a[:] = u, v, a
+    arrays.u[:], arrays.v[:], arrays.a[:], arrays.x[:] = u, v, a, x
     return out
 

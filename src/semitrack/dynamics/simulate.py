@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Mapping, Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.sparse as sp
@@ -45,7 +45,7 @@ from .states import TrapezoidalStates
 from .system import SecondOrderSystem
 
 __all__ = ["MAX_STEP_DOFS", "MAX_RECORDED", "simulate", "compiled_available", "compiled_contacts_hold",
-           "check_limits", "convolved_loop"]
+           "check_limits", "convolved_loop", "Continued", "continue_run", "stepping_of"]
 
 #: Most steps x (DOFs + :data:`STEP_OVERHEAD`) of one integration (compiled ~12 ns per DOF, NumPy
 #: ~100 ns: 5e9 ~ 1-8 min).
@@ -163,8 +163,14 @@ def _check_loads(loads, n: int, rows: int) -> list:
     return out
 
 
-def _prepare(system, stepper, n_steps, loads, contacts, probes, record, u0, v0) -> StepArrays:
+def _prepare(system, stepper, n_steps, loads, contacts, probes, record, u0, v0, a0=None, x0=None,
+             stepping=None) -> StepArrays:
     """The loop's inputs in the system's numbering, the initial acceleration included.
+
+    ``a0`` and ``x0`` (the states' values) continue a run where another left off (the travelling
+    window, :mod:`semitrack.interaction.window_model`): ``a0`` then replaces the acceleration the
+    equation of motion gives at rest. ``factor`` is the effective stiffness's factorisation when
+    the caller holds it (the same matrices, step and states).
 
     The loop integrates the motion about the initial displacement, ``u = u0 + u~``: under a
     preload ``u0`` is the static deflection (a millimetre under a wheel), thousands of times the
@@ -173,24 +179,24 @@ def _prepare(system, stepper, n_steps, loads, contacts, probes, record, u0, v0) 
     approach make the equations of ``u~`` the same equations; the outputs add ``u0`` back.
     """
     n = system.n_dof
-    states = TrapezoidalStates(system.states, stepper.dt, n) if system.states else None
-    if states is not None and not stepper.is_average_acceleration:
-        raise InputError("state blocks need the average-acceleration rule (gamma=1/2, beta=1/4), got "
-                         f"gamma={stepper.gamma!r}, beta={stepper.beta!r}")
-    K_eff = stepper.effective_stiffness(system.M, system.C, system.K)
-    factor = factorise(K_eff if states is None else K_eff + states.stiffness, system.order)
+    states, factor = stepping_of(system, stepper) if stepping is None else stepping
     u_ref = np.zeros(n) if u0 is None else _vector("u0", u0, n)
     v = np.zeros(n) if v0 is None else _vector("v0", v0, n)
-    r0 = -(system.C @ v) - system.K @ u_ref
-    add_loads(r0, loads, 0)
+    if a0 is None:
+        r0 = -(system.C @ v) - system.K @ u_ref
+        add_loads(r0, loads, 0)
+        if contacts is not None:
+            r0 += contacts.load_vectors(n, 0) @ contacts.forces(u_ref, 0)
     if contacts is not None:
-        r0 += contacts.load_vectors(n, 0) @ contacts.forces(u_ref, 0)
         initial = u_ref[contacts.wheel_dofs] - _on_points(contacts.points, u_ref, n_steps + 1)
         contacts = replace(contacts, irregularity=contacts.irregularity - initial)
     MC = sp.hstack([system.M, system.C]).tocsr()
     offset = -(system.K @ u_ref) if np.any(u_ref != 0) else np.zeros(0)
+    a = _initial_acceleration(system.M, r0) if a0 is None else _vector("a0", a0, n)
+    n_states = states.n_states if states is not None else 0
+    x = np.zeros(n_states) if x0 is None else _vector("x0", x0, n_states)
     return StepArrays(stepper, n_steps, MC, factor, loads, states, contacts, dict(probes), record, np.zeros(n), v,
-                      _initial_acceleration(system.M, r0), offset, u_ref)
+                      a, offset, u_ref, x)
 
 
 def _on_points(points: PointSet, u: np.ndarray, rows: int) -> np.ndarray:
@@ -278,12 +284,98 @@ def simulate(system: SecondOrderSystem, stepper: Newmark, n_steps: int, *,
                              f"of {n}, got {contacts.irregularity.shape[0]} rows and DOFs "
                              f"{contacts.wheel_dofs.tolist()}")
     arrays = _prepare(system, stepper, n_steps, loads, contacts, probes, record, u0, v0)
+    return _run(arrays, compiled, probes, contacts)
+
+
+def _run(arrays: StepArrays, compiled: bool | None, probes, contacts) -> TimeResponse:
     use_compiled = _choose(compiled, arrays)
     start = time.perf_counter()
     with serial_blas():  # thousands of small solves: threads only contend
         out = _run_compiled(arrays) if use_compiled else run_numpy(arrays)
     elapsed = time.perf_counter() - start
-    return _response(arrays, out, probes, contacts, stepper.dt, elapsed, use_compiled)
+    return _response(arrays, out, probes, contacts, arrays.stepper.dt, elapsed, use_compiled)
+
+
+@dataclass(frozen=True, eq=False)
+class Continued:
+    """A run continued from a given state: its channels and the state it ended in.
+
+    Attributes
+    ----------
+    response : TimeResponse
+        The channels, row 0 the given state.
+    u, v, a : ndarray
+        The final displacement (m, rad), velocity and acceleration of every DOF.
+    x : ndarray
+        The final values of the state blocks' states.
+    """
+
+    response: TimeResponse
+    u: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    x: np.ndarray
+
+
+def continue_run(system: SecondOrderSystem, stepper: Newmark, n_steps: int, *, u: np.ndarray, v: np.ndarray,
+                 a: np.ndarray | None, x: np.ndarray, loads: Sequence[tuple[PointSet, np.ndarray]] = (),
+                 contacts: HertzContacts | None = None, record: Sequence[int] = (), stepping=None,
+                 compiled: bool | None = None) -> Continued:
+    """Steps from a whole given state, as :func:`simulate` takes them from rest or a static state.
+
+    For a model whose matrices change between stretches of a run (the travelling window of
+    :mod:`semitrack.interaction.window_model`): the state ``(u, v, a, x)`` carried over from the
+    last stretch, the acceleration not recomputed. The inputs are the caller's, not checked
+    again (:func:`simulate` checks the same kinds of input for a user).
+
+    Parameters
+    ----------
+    system, stepper, n_steps, loads, contacts, record, compiled
+        As :func:`simulate`.
+    u, v, a : ndarray, shape (n,)
+        The state at row 0 (m, m/s, m/s^2, and rad for rotations); ``a=None`` takes the
+        acceleration from the equation of motion, as :func:`simulate` does.
+    x : ndarray
+        The state blocks' values at row 0 (in :class:`~.states.TrapezoidalStates`'s order).
+    stepping : tuple, optional
+        The discretised states and the factorisation (:func:`stepping_of`), when the caller keeps
+        them across stretches with the same matrices and step.
+
+    Returns
+    -------
+    Continued
+    """
+    record = np.asarray(record, dtype=np.int64).ravel()
+    arrays = _prepare(system, stepper, n_steps, list(loads), contacts, {}, record, u, v, a0=a, x0=x, stepping=stepping)
+    response = _run(arrays, compiled, {}, contacts)
+    return Continued(response, arrays.u + arrays.u_ref, arrays.v.copy(), arrays.a.copy(), arrays.x.copy())
+
+
+def stepping_of(system: SecondOrderSystem, stepper: Newmark, states: TrapezoidalStates | None = None
+                ) -> tuple[TrapezoidalStates | None, object]:
+    """``(states, factor)``: the system's state blocks discretised and the effective stiffness factorised.
+
+    Parameters
+    ----------
+    system : SecondOrderSystem
+        The system.
+    stepper : Newmark
+        The scheme and its step.
+    states : TrapezoidalStates, optional
+        The discretised states when the caller holds them (the same blocks on the same DOFs).
+
+    Returns
+    -------
+    tuple
+        What :func:`simulate` steps with, for :func:`continue_run` to take again.
+    """
+    if states is None and system.states:
+        states = TrapezoidalStates(system.states, stepper.dt, system.n_dof)
+    if states is not None and not stepper.is_average_acceleration:
+        raise InputError("state blocks need the average-acceleration rule (gamma=1/2, beta=1/4), got "
+                         f"gamma={stepper.gamma!r}, beta={stepper.beta!r}")
+    K_eff = stepper.effective_stiffness(system.M, system.C, system.K)
+    return states, factorise(K_eff if states is None else K_eff + states.stiffness, system.order)
 
 
 def compiled_contacts_hold(factor, contacts: HertzContacts | None) -> bool:
@@ -373,7 +465,7 @@ def _run_compiled(arrays: StepArrays) -> Outputs:
     load_points = [p for p, _ in arrays.loads]
     load_amp = [a for _, a in arrays.loads]
     lf, lm = (_stack(load_points, load_amp, moving, rows, where) for moving in (False, True))
-    st = _state_arrays(arrays.states, where)
+    st = _state_arrays(arrays.states, where, arrays.x)
     ct = _contact_arrays(arrays.contacts, where)
     probe_list = list(arrays.probes.values())
     pf, pm = (_stack(probe_list, None, moving, rows, where)[:2] for moving in (False, True))
@@ -433,12 +525,13 @@ def _split_probes(probes, out: Outputs, o_pf, o_pm) -> None:
             i_f += p.n_points
 
 
-def _state_arrays(states: TrapezoidalStates | None, where):
+def _state_arrays(states: TrapezoidalStates | None, where, x: np.ndarray):
+    """The states' arrays of the compiled loop; ``x`` (their values) is updated in place."""
     if states is None:
         empty = (np.zeros(1, np.uint64), np.zeros(0, np.uint64), np.zeros(0))
-        return (np.zeros(0, np.uint64), *empty, *empty, *empty, np.zeros((0, 0)))
+        return (np.zeros(0, np.uint64), *empty, *empty, *empty, np.zeros((0, 0)), x)
     return (where[states.dofs].astype(np.uint64), *_csr(states.E), *_csr(states.Phi_P), *_csr(states.history_x),
-            np.ascontiguousarray(states.block))
+            np.ascontiguousarray(states.block), x)
 
 
 def _contact_arrays(contacts: HertzContacts | None, where):

@@ -55,7 +55,7 @@ from .ends import End
 from .mesh import SIDES, DofMap, Mesh, Side, rail_dof
 from .supports import Foundation
 
-__all__ = ["FAMILIES", "DAMPED", "Pattern", "TrackMatrices", "assemble"]
+__all__ = ["FAMILIES", "DAMPED", "Pattern", "TrackMatrices", "assemble", "supports_share"]
 
 #: The matrix families of a track model, see the module docstring.
 FAMILIES = ("K_rail", "K_pad", "K_ballast", "K_slab", "K_layer", "K_end", "C_end", "K_joint", "M")
@@ -201,6 +201,46 @@ class TrackMatrices:
     by_track: tuple[Mapping[str, np.ndarray], ...]
     exact: Mapping[Side, np.ndarray]
 
+    def with_supports(self, old: tuple[dict, tuple[dict, ...]], new: tuple[dict, tuple[dict, ...]]) -> TrackMatrices:
+        """The same families with the supports' share ``old`` exchanged for ``new`` (:func:`supports_share`)."""
+        by_track = tuple({key: t[key] - o[key] + n[key] for key in t} for t, o, n in zip(self.by_track, old[1], new[1]))
+        data = dict(self.data)
+        data["M"] = self.data["M"] - old[0]["M"] + new[0]["M"]
+        data.update({key: sum(t[key] for t in by_track) for key in DAMPED})
+        return TrackMatrices(pattern=self.pattern, data=data, by_track=by_track, exact=self.exact)
+
+
+def _add_foundations(shared: dict, damped: Sequence[dict], mesh: Mesh, dofs: DofMap,
+                     foundations: Sequence[Foundation], supports: Mapping[str, np.ndarray]) -> None:
+    """Add each track's pads and what carries them (its foundation DOFs numbered track by track)."""
+    start = 0
+    for p, foundation in enumerate(foundations):
+        on = mesh.support_part == p
+        n_own = foundation.n_dofs(int(on.sum()))
+        foundation.assemble({**damped[p], "M": shared["M"]}, mesh.support_nodes[on],
+                            dofs.foundation[start:start + n_own], {key: v[on] for key, v in supports.items()})
+        start += n_own
+
+
+def supports_share(matrices: TrackMatrices, mesh: Mesh, dofs: DofMap, foundations: Sequence[Foundation],
+                   supports: Mapping[str, np.ndarray]) -> tuple[dict, tuple[dict, ...]]:
+    """What the supports add to each family, on the model's pattern: ``(shared, by_track)`` data vectors.
+
+    The families are linear in the supports' values and the pattern holds every support's
+    entries whatever its values (a removed pad adds zeros), so a model with other support values
+    is the same model with this share exchanged (:meth:`TrackMatrices.with_supports`).
+    """
+    shared = {"M": _Triplets()}
+    damped = [{key: _Triplets() for key in DAMPED} for _ in foundations]
+    _add_foundations(shared, damped, mesh, dofs, foundations, supports)
+    pattern = matrices.pattern
+
+    def summed(triplets):
+        r, c, v = triplets.coo()
+        return pattern.sum(dofs.index[r], dofs.index[c], v)
+
+    return {"M": summed(shared["M"])}, tuple({key: summed(t) for key, t in g.items()} for g in damped)
+
 
 def _add_rail(parts: dict, mesh: Mesh, track: Track, which: np.ndarray) -> None:
     """The rail elements ``which`` of ``track``: one element matrix per distinct length."""
@@ -275,15 +315,9 @@ def assemble(tracks: Sequence[Track], mesh: Mesh, dofs: DofMap, foundations: Seq
     """
     shared = {key: _Triplets() for key in FAMILIES if key not in DAMPED}
     damped = [{key: _Triplets() for key in DAMPED} for _ in tracks]
-    start = 0
-    for p, (track, foundation) in enumerate(zip(tracks, foundations)):
-        parts = {**damped[p], "M": shared["M"]}
-        _add_rail(parts, mesh, track, mesh.part == p)
-        on = mesh.support_part == p
-        n_own = foundation.n_dofs(int(on.sum()))
-        foundation.assemble(parts, mesh.support_nodes[on], dofs.foundation[start:start + n_own],
-                            {key: v[on] for key, v in supports.items()})
-        start += n_own
+    for p, track in enumerate(tracks):
+        _add_rail({**damped[p], "M": shared["M"]}, mesh, track, mesh.part == p)
+    _add_foundations(shared, damped, mesh, dofs, foundations, supports)
     _add_joints(shared, mesh, joints)
     _add_ends(shared, mesh, dofs, ends)
     groups = [shared, *damped]

@@ -24,6 +24,7 @@ their viscous equivalents (``damping="viscous"``), which are exactly the dampers
 
 from __future__ import annotations
 
+import copy
 import functools
 import warnings
 from collections.abc import Mapping, Sequence
@@ -44,7 +45,7 @@ from ..dynamics.system import SecondOrderSystem
 from ..equivalent.systems import EquivalentSystem
 from ..methods.infinite import InfiniteTrack
 from ..model.tracks import Track, require_track
-from .assembly import DAMPED, TrackMatrices, assemble
+from .assembly import DAMPED, TrackMatrices, assemble, supports_share
 from .damping import reference_frequencies
 from .element import point_flexibility, shear_parameter, timoshenko_shape_functions
 from .ends import EXACT, FREE, PINNED, End, EndName, FarEndName, end_kinds, make_far_end, model_ends
@@ -182,6 +183,7 @@ class FETrack:
         # The exact infinite track with the same changes holds their rules (one place for both); a
         # periodic track's is built only when asked for (the Bloch cell of the moving kernels never does)
         self._periodic = not (changes or right is not None or transition is not None or joints)
+        self._states: tuple[StateBlock, ...] | None = None
         self._infinite = None if self._periodic else _infinite_of(track, changes, right, transition, joints)
         self.tracks: tuple[Track, ...] = tuple(t for _, t in given)
         self.track = self.tracks[0]
@@ -213,6 +215,44 @@ class FETrack:
                                              self.changes)
         self._parts: TrackMatrices = assemble(self.tracks, self.mesh, self.dofs, self.foundations, self.end_models,
                                               self.support_values, [self.joints[x] for x in sorted(self.joints)])
+
+    def with_changes(self, changes: Mapping[int, Mapping[str, float] | None] | None) -> FETrack:
+        """The same model (mesh, ends, DOFs, pattern) with other support changes.
+
+        Only the supports' share of the matrices is assembled again
+        (:func:`~semitrack.fe.assembly.supports_share`): a few hundred microseconds where a new
+        model of 6000 DOFs takes 20 ms (the travelling window, :mod:`semitrack.fe.window`, asks
+        for one at every move over a random track).
+
+        Parameters
+        ----------
+        changes : mapping of int to mapping or None, or None
+            As the constructor's, replacing this model's; not on a model with a transition or
+            joints (their rules are the exact track's, built with them).
+
+        Returns
+        -------
+        FETrack
+        """
+        if self.transition is not None or self.joints:
+            raise InputError("changes: with_changes takes a model without a transition or joints; build the model "
+                             "with its changes instead")
+        infinite = None if not changes else _infinite_of(self.track, changes, None, None, None)  # its rules
+        return self._with_checked_changes({} if infinite is None else infinite.changes, infinite)
+
+    def _with_checked_changes(self, changes: dict, infinite: InfiniteTrack | None = None) -> FETrack:
+        """:meth:`with_changes` for changes already checked by the exact track's rules (a window's, a
+        subset of its WindowTrack's); the exact track with them is built when asked for."""
+        new = copy.copy(self)
+        new._periodic = not changes
+        new._infinite = infinite
+        new.changes = changes
+        new.support_values = support_values(self.tracks, self.mesh.support_part, self.mesh.support_index,
+                                            new.changes)
+        share = (supports_share(self._parts, self.mesh, self.dofs, self.foundations, values)
+                 for values in (self.support_values, new.support_values))
+        new._parts = self._parts.with_supports(*share)
+        return new
 
     left = deprecated_alias("left_end", "left")
     right = deprecated_alias("right_end", "right")
@@ -257,8 +297,8 @@ class FETrack:
             does not hold: the model is then the periodic track, whose exact reference is
             ``st.point_receptance(track, f, x, origin="midspan")`` (x = 0 a slab joint there).
         """
-        if self._infinite is None and self._periodic and not self.track.has_flexible_slab:
-            self._infinite = InfiniteTrack(self.track)
+        if self._infinite is None and not any(t.has_flexible_slab for t in self.tracks):
+            self._infinite = InfiniteTrack(self.track, self.changes or None)  # built when first asked
         return self._infinite
 
     def end_track(self, side: str) -> Track:
@@ -685,7 +725,10 @@ class FETrack:
             on the rail are ``-P (K0 P u + D P du/dt + C x)`` with ``dx/dt = A x + B P du/dt``;
             :meth:`matrices` already holds the ``K0`` and ``D`` parts.
         """
-        return [block for side, end in self.end_models.items() for block in end.states(self._end_dofs(side), side)]
+        if self._states is None:  # the ends' state space, once per model (its copies with other supports share it)
+            self._states = tuple(block for side, end in self.end_models.items()
+                                 for block in end.states(self._end_dofs(side), side))
+        return list(self._states)
 
     def time_domain_system(self, f_ref: float | dict | None = None) -> SecondOrderSystem:
         """The model as a second-order system for the time domain: :meth:`matrices` and :meth:`boundary_states`.

@@ -40,29 +40,29 @@ linear frequency-domain theory ``-1 / (alpha_W + alpha_C + alpha_R)``
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
-import scipy.sparse as sp
 
 from ..base.deprecation import renamed_keywords
 from ..base.errors import InputError
-from ..dynamics.contact import HertzContacts
-from ..dynamics.factor import factorise
 from ..dynamics.newmark import Newmark
 from ..dynamics.points import PointSet
 from ..dynamics.simulate import check_limits, simulate
 from ..dynamics.system import union
-from ..fe.gaps import GapResponse, SleeperGaps, sleeper_gaps, static_with_gaps
+from ..fe.gaps import sleeper_gaps
 from ..fe.models import FETrack, require_model
 from ..fe.trackforces import track_forces, watched_dofs
+from ..fe.window import WindowTrack
 from ..model.irregularity import Irregularity
 from ..model.roughness import Roughness
 from ..model.vehicle import Vehicle
 from ..model.wheel import Wheel
 from .excitation import rail_input
+from .fe_wheels import all_contacts, contact_points, gap_response, static_start
 from .inputs import DEFAULT_DT, RunInputs, check_run
 from .response import ContactResponse, contact_response
+from .window_model import window_response
 
 __all__ = ["wheel_rail_response"]
 
@@ -72,7 +72,7 @@ def _on_rail(model: FETrack, run: RunInputs) -> np.ndarray:
     k = run.k  # per step and wheel: 3 outputs, a moving point (4 DOFs, 4 weights), roughness, load, x
     check_limits(run.n_steps, model.n_dof + k, 3 * k, 11 * k, f"duration={run.duration!r} s / dt={run.dt!r} s")
     x = run.path()
-    for name, value in (("x", x[0]), ("x + speed * duration", x[-1])):
+    for name, value in (("x", x[0]), ("x + speed * duration", x[-1])):  # speed(t): its integral
         off = (value < model.x[0]) | (value > model.x[-1])
         if np.any(off):
             raise InputError(f"{name} must lie on the rail, {model.x[0]:.6g} <= x <= {model.x[-1]:.6g} m, "
@@ -80,57 +80,10 @@ def _on_rail(model: FETrack, run: RunInputs) -> np.ndarray:
     return x
 
 
-def _static_start(model: FETrack, vehicle: Vehicle, K: sp.csc_matrix, contacts: PointSet,
-                  flexibility: np.ndarray, gaps: SleeperGaps | None) -> tuple[np.ndarray, np.ndarray]:
-    """The static equilibrium under the preloads with the contacts at their first positions.
-
-    ``flexibility`` is the rail elements' own deflection under each contact at the start (m/N);
-    hanging sleepers rest on their ballast where the preloads close their gaps.
-    Returns the state ``u0`` (model DOFs, then the vehicle's) and the constant loads on the
-    vehicle's DOFs (:meth:`semitrack.model.vehicle.Vehicle.static_loads`: each contact at its
-    wheel's preload, a suspension to a still bogie carrying none of it).
-    """
-    n, wheels = model.n_dof, vehicle.wheels
-    preload = np.array([w.preload for w in wheels])
-    load = contacts.matrix(n, 0).T @ preload
-    u_track = factorise(K).solve(load) if gaps is None else static_with_gaps(K, load, gaps)
-    w0 = contacts.values(u_track, 0) + flexibility * preload + np.array([w.static_approach for w in wheels])
-    u_vehicle = vehicle.static_state(w0)
-    return np.concatenate([u_track, u_vehicle]), vehicle.static_loads(u_vehicle)
-
-
-def _all_contacts(wheel_dofs: np.ndarray, points: PointSet, wheels: tuple[Wheel, ...], r: np.ndarray,
-                  flexibility: np.ndarray, gaps: SleeperGaps | None) -> HertzContacts:
-    """The wheels' Hertzian contacts, then each hanging sleeper's unilateral ballast (:mod:`.gaps`)."""
-    c_h = [w.hertz_constant for w in wheels]
-    if gaps is None:
-        return HertzContacts(wheel_dofs, points, c_h, r, compliance=flexibility)
-    rows = points.dofs.shape[0]
-    return HertzContacts(np.concatenate([wheel_dofs, gaps.dofs]), PointSet.stacked([points, gaps.points(rows)]),
-                         np.concatenate([c_h, gaps.stiffness]), np.hstack([r, np.tile(gaps.gaps, (r.shape[0], 1))]),
-                         labels=tuple(f"wheel {i}" for i in range(len(wheels))) + tuple(
-                             f"ballast under support {k}" for k in gaps.supports),
-                         compliance=np.hstack([flexibility, np.zeros((rows, gaps.n))]),
-                         linear=np.r_[np.zeros(len(wheels), bool), np.ones(gaps.n, bool)])
-
-
-def _gap_response(res, gaps: SleeperGaps, k: int, dt: float) -> GapResponse:
-    """The hanging sleepers' columns of a run's contact channels (after the k wheels')."""
-    force, w = res["contact force"][:, k:], res["wheel"][:, k:]
-    return GapResponse(supports=gaps.supports, gaps=gaps.gaps, force=force, opening=gaps.gaps - w,
-                       contact_time=dt * np.count_nonzero(force[1:] > 0, axis=0))  # a step per sample after the start
-
-
-def _contact_points(model: FETrack, x: np.ndarray, moving: bool) -> PointSet:
-    """The wheels' contact points: fixed at ``x[0]``, or along their paths ``x`` (steps, wheels)."""
-    if not moving:
-        return model.points(x[0])
-    return PointSet.stacked(model.points(x[:, i], moving=True) for i in range(x.shape[1]))
-
-
 @renamed_keywords({"model": "track", "x_contact": "x"})
 def wheel_rail_response(track: FETrack, wheel: Wheel | Vehicle | Sequence[Wheel], roughness: Roughness | None = None,
-                        *, x: float | Sequence[float] = 0.0, speed: float = 0.0, dt: float = DEFAULT_DT,
+                        *, x: float | Sequence[float] = 0.0, speed: float | Callable[[float], float] = 0.0,
+                        dt: float = DEFAULT_DT,
                         duration: float = 0.1, ramp: float = 0.02, f_ref: float | dict | None = None,
                         compiled: bool | None = None, element_flexibility: bool = True,
                         profile: Irregularity | None = None, watch_supports: Sequence[int] = (),
@@ -140,9 +93,11 @@ def wheel_rail_response(track: FETrack, wheel: Wheel | Vehicle | Sequence[Wheel]
 
     Parameters
     ----------
-    track : FETrack
+    track : FETrack or WindowTrack
         The FE model the wheels run on (e.g. :class:`semitrack.TruncatedTrack` with
-        ``"boundary"``, ``"pinned"`` or ``"equivalent"`` ends; not ``"exact"``). Until 0.3 also
+        ``"boundary"``, ``"pinned"`` or ``"equivalent"`` ends; not ``"exact"``), or a
+        :class:`semitrack.WindowTrack`, whose window travels with the vehicle over an infinite
+        track with changes (:mod:`semitrack.interaction.window_model`). Until 0.3 also
         ``model=``.
     wheel : Wheel, sequence of Wheel, or Vehicle
         Unsprung mass, primary suspension (to a bogie held still), preload and Hertz constant; a
@@ -156,9 +111,13 @@ def wheel_rail_response(track: FETrack, wheel: Wheel | Vehicle | Sequence[Wheel]
     x : float or sequence of float
         The contact positions (m from the central mid-span), one per wheel or a vehicle's first
         wheel's; rolling wheels' starts. Until 0.3 also ``x=``.
-    speed : float
+    speed : float or callable
         The wheels' speed along the model (m/s), >= 0; 0 holds them still while the roughness
-        passes (moving-irregularity model). The contacts must stay on the rail.
+        passes (moving-irregularity model). Or a function ``speed(t)`` (m/s, t in s) for a
+        braking or accelerating vehicle: the wheels' positions are its integral (trapezoidal
+        rule, :attr:`ContactResponse.speeds` the values at the steps); the rail's roughness is
+        then a profile along it (``profile=roughness.along_rail(...)``), and a ``Roughness``, a
+        signal at one speed, is refused. The contacts must stay on the rail.
     dt : float
         Time step (s). The average-acceleration rule shifts a frequency f to
         ``tan(pi f dt) / (pi dt)``: +0.8 % at 2.5 kHz with the default 20 us (every route's,
@@ -209,21 +168,26 @@ def wheel_rail_response(track: FETrack, wheel: Wheel | Vehicle | Sequence[Wheel]
     >>> bool(abs(res.force[-1] / 1e5 - 1) < 0.01), res.lost_contact
     (True, False)
     """
+    if isinstance(track, WindowTrack):  # the same run on a window that travels with the vehicle
+        return window_response(track, wheel, roughness, x=x, speed=speed, dt=dt, duration=duration, ramp=ramp,
+                               f_ref=f_ref, compiled=compiled, element_flexibility=element_flexibility,
+                               profile=profile, watch_supports=watch_supports, bending_at=bending_at,
+                               ballast_gaps=ballast_gaps)
     model = require_model(track, "track")
-    run = check_run(wheel, roughness, x, speed, dt, duration, ramp)
+    run = check_run(wheel, roughness, x, speed, dt, duration, ramp, varying=True)
     vehicle, wheels, k = run.vehicle, run.vehicle.wheels, run.k
     dt, n_steps = run.dt, run.n_steps
     path = _on_rail(model, run)
     rail = model.time_domain_system(f_ref)
     system = union({"track": rail, "vehicle": vehicle.system()})
-    points = _contact_points(model, path, speed > 0)
-    flexibility = model.local_flexibility(path if speed > 0 else path[:1]) * bool(element_flexibility)
+    points = contact_points(model, path, run.moving)
+    flexibility = model.local_flexibility(path if run.moving else path[:1]) * bool(element_flexibility)
     gaps = sleeper_gaps(model, ballast_gaps) if ballast_gaps else None
-    u0, vehicle_loads = _static_start(model, vehicle, rail.K, points, flexibility[0], gaps)
+    u0, vehicle_loads = static_start(model, vehicle, rail.K, points, flexibility[0], gaps)
     r = rail_input(roughness, path, dt, run.ramp, profile)
     watch = watched_dofs(model, watch_supports, bending_at)
     vehicle_dofs = model.n_dof + np.arange(vehicle_loads.size)
-    contacts = _all_contacts(vehicle_dofs[:k], points, wheels, r, flexibility, gaps)
+    contacts = all_contacts(vehicle_dofs[:k], points, wheels, r, flexibility, gaps)
     loads = [(PointSet.on_dofs(vehicle_dofs), np.tile(vehicle_loads, (n_steps + 1, 1)))]
     res = simulate(system, Newmark(dt), n_steps, loads=loads, contacts=contacts, u0=u0, compiled=compiled,
                    record=watch.dofs)
@@ -236,4 +200,4 @@ def wheel_rail_response(track: FETrack, wheel: Wheel | Vehicle | Sequence[Wheel]
                             speed=run.speed, ramp=run.ramp, period=None if roughness is None else roughness.period,
                             n_dof=model.n_dof + vehicle_loads.size, elapsed=res.elapsed,
                             infinite=model.infinite_track(), track_forces=forces,
-                            gaps=None if gaps is None else _gap_response(res, gaps, k, dt))
+                            gaps=None if gaps is None else gap_response(res, gaps, k, dt), speeds=run.speeds)

@@ -9,7 +9,7 @@ wheel's path along the rail. A route adds only the checks of what it alone takes
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -43,6 +43,8 @@ class RunInputs:
         Steps of the run (bounded by :func:`semitrack.base.checks.check_steps`).
     x0 : ndarray, shape (k,)
         Where the wheels start (m from the central mid-span).
+    speeds : ndarray, shape (n_steps + 1,), optional
+        The speed at each step (m/s) when it varies (``speed`` is then the first).
     """
 
     vehicle: Vehicle
@@ -52,6 +54,7 @@ class RunInputs:
     ramp: float
     n_steps: int
     x0: np.ndarray
+    speeds: np.ndarray | None = None
 
     @property
     def t(self) -> np.ndarray:
@@ -59,8 +62,18 @@ class RunInputs:
         return self.dt * np.arange(self.n_steps + 1)
 
     def path(self) -> np.ndarray:
-        """Every wheel's position at every step, ``x0 + speed t`` (m), shape ``(n_steps + 1, k)``."""
-        return self.x0[None, :] + self.speed * self.dt * np.arange(self.n_steps + 1)[:, None]
+        """Every wheel's position at every step (m), shape ``(n_steps + 1, k)``: ``x0 + speed t``, or
+        ``x0`` plus the speed's integral by the trapezoidal rule (the average-acceleration rule's
+        own, so that a constant ``speed(t)`` gives the constant speed's path to round-off)."""
+        if self.speeds is None:
+            return self.x0[None, :] + self.speed * self.dt * np.arange(self.n_steps + 1)[:, None]
+        travelled = np.r_[0.0, np.cumsum(0.5 * self.dt * (self.speeds[1:] + self.speeds[:-1]))]
+        return self.x0[None, :] + travelled[:, None]
+
+    @property
+    def moving(self) -> bool:
+        """Whether the wheels roll along the rail."""
+        return self.speed > 0 or self.speeds is not None
 
     @property
     def k(self) -> int:
@@ -90,8 +103,8 @@ def check_roughness_speed(roughness: Roughness | None, speed: float, rounded: fl
 
 
 def check_run(wheel: Wheel | Vehicle | Sequence[Wheel], roughness: Roughness | None, x: float | Sequence[float],
-              speed: float, dt: float, duration: float, ramp: float, *, name: str = "x",
-              check_speed: bool = True) -> RunInputs:
+              speed: float | Callable[[float], float], dt: float, duration: float, ramp: float, *, name: str = "x",
+              check_speed: bool = True, varying: bool = False) -> RunInputs:
     """The checked inputs of a vehicle's run (see the module docstring).
 
     Parameters
@@ -103,8 +116,9 @@ def check_run(wheel: Wheel | Vehicle | Sequence[Wheel], roughness: Roughness | N
         their speed.
     x : float or sequence of float
         Where the wheels start (m): one position per wheel, or a vehicle's first wheel's.
-    speed : float
-        The wheels' speed (m/s), >= 0.
+    speed : float or callable
+        The wheels' speed (m/s), >= 0; with ``varying``, also a function ``speed(t)`` of the time
+        (s), >= 0 at every step (braking or accelerating).
     dt, duration, ramp : float
         Time step, run length and fade-in (s), positive; ``duration > ramp``.
     name : str
@@ -112,6 +126,8 @@ def check_run(wheel: Wheel | Vehicle | Sequence[Wheel], roughness: Roughness | N
     check_speed : bool
         Check the roughness's speed here (:func:`check_roughness_speed`); False for a route that
         checks it against the speed it rounds to as well.
+    varying : bool
+        Whether the route takes a speed that varies (the FE routes).
 
     Returns
     -------
@@ -122,11 +138,40 @@ def check_run(wheel: Wheel | Vehicle | Sequence[Wheel], roughness: Roughness | N
         raise InputTypeError(f"roughness must be None (a smooth rail) or a Roughness (roughness_from_spectrum, "
                              f"corrugation), got {type(roughness).__name__}")
     x0 = vehicle.positions(x, name)
-    speed = check_nonnegative("speed", speed)
     dt, duration, ramp = check_positive("dt", dt), check_positive("duration", duration), check_positive("ramp", ramp)
     if not duration > ramp:
         raise InputError(f"duration must exceed ramp = {ramp!r} s (the roughness's fade-in), got {duration!r}")
+    n_steps = check_steps(dt, duration)
+    speeds = None
+    if callable(speed):
+        if not varying:
+            raise InputError("speed: a speed that varies, speed(t), runs on an FE model (TruncatedTrack or "
+                             "WindowTrack); this route takes a constant speed")
+        speeds = _speeds(speed, dt, n_steps)
+        if roughness is not None:
+            raise InputError("roughness: a Roughness is a signal in time at one speed; with a varying speed give the "
+                             "rail's profile along x instead: profile=roughness.along_rail(start, length)")
+        speed = float(speeds[0])
+    speed = check_nonnegative("speed", speed)
     if check_speed:
         check_roughness_speed(roughness, speed)
-    return RunInputs(vehicle=vehicle, speed=speed, dt=dt, duration=duration, ramp=ramp,
-                     n_steps=check_steps(dt, duration), x0=x0)
+    return RunInputs(vehicle=vehicle, speed=speed, dt=dt, duration=duration, ramp=ramp, n_steps=n_steps, x0=x0,
+                     speeds=speeds)
+
+
+def _speeds(speed: Callable[[float], float], dt: float, n_steps: int) -> np.ndarray:
+    """``speed(t)`` at every step (m/s), checked non-negative and finite."""
+    t = dt * np.arange(n_steps + 1)
+    values = np.empty(t.size)
+    for k, tk in enumerate(t):
+        value = speed(float(tk))
+        try:
+            values[k] = float(value)
+        except (TypeError, ValueError):
+            raise InputTypeError(f"speed(t) must return a real number (m/s), got {value!r} at t = {tk:.6g} s") from None
+    bad = ~(np.isfinite(values) & (values >= 0))
+    if np.any(bad):
+        k = int(np.argmax(bad))
+        raise InputError(f"speed(t) must be non-negative and finite at every step (the wheels do not reverse), got "
+                         f"{values[k]!r} m/s at t = {t[k]:.6g} s")
+    return values

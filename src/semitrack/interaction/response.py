@@ -23,7 +23,7 @@ from ..model.wheel import Wheel
 __all__ = ["ContactResponse", "ROUTES", "contact_response"]
 
 #: The routes of a vehicle's run, as :attr:`ContactResponse.route` names them.
-ROUTES = ("fe model", "convolution", "moving green")
+ROUTES = ("fe model", "window", "convolution", "moving green")
 
 
 @dataclass(frozen=True, eq=False)
@@ -54,7 +54,8 @@ class ContactResponse:
     wheel : Wheel
         The wheel.
     speed : float
-        The wheel's speed along the model (m/s); 0 for a stationary wheel.
+        The wheel's speed along the model (m/s); 0 for a stationary wheel; its first when it
+        varies.
     ramp : float
         Duration of the roughness's fade-in (s).
     period : float or None
@@ -79,7 +80,9 @@ class ContactResponse:
         The hanging sleepers' ballast forces, gap openings and times in contact
         (``ballast_gaps``); None without.
     route : str
-        The route that ran: ``"fe model"``, ``"convolution"`` or ``"moving green"``.
+        The route that ran: ``"fe model"``, ``"window"``, ``"convolution"`` or ``"moving green"``.
+    speeds : ndarray or None
+        The speed at each step (m/s) when it varied (``speed=speed(t)``); None at a constant speed.
     """
 
     t: np.ndarray
@@ -101,6 +104,7 @@ class ContactResponse:
     track_forces: TrackForces | None = None
     gaps: GapResponse | None = None
     route: str = "fe model"
+    speeds: np.ndarray | None = None
 
     @property
     def dt(self) -> float:
@@ -168,7 +172,8 @@ class ContactResponse:
 def contact_response(*, route: str, t: np.ndarray, force: np.ndarray, w_wheel: np.ndarray, w_rail: np.ndarray,
                      roughness: np.ndarray, x: np.ndarray, track: Track, vehicle: Vehicle, speed: float, ramp: float,
                      period: float | None, n_dof: int, elapsed: float, infinite: InfiniteTrack | None,
-                     track_forces: TrackForces | None = None, gaps: GapResponse | None = None) -> ContactResponse:
+                     track_forces: TrackForces | None = None, gaps: GapResponse | None = None,
+                     speeds: np.ndarray | None = None) -> ContactResponse:
     """A route's run as a :class:`ContactResponse`: the wheels' columns of its ``(n_steps + 1, >= k)`` histories.
 
     Parameters
@@ -178,7 +183,7 @@ def contact_response(*, route: str, t: np.ndarray, force: np.ndarray, w_wheel: n
     t, force, w_wheel, w_rail, roughness, x : ndarray
         Times (s) and, a column per contact (the k wheels first), the histories of
         :class:`ContactResponse` (N, m).
-    track, vehicle, speed, ramp, period, n_dof, elapsed, infinite, track_forces, gaps
+    track, vehicle, speed, ramp, period, n_dof, elapsed, infinite, track_forces, gaps, speeds
         As :class:`ContactResponse` holds them.
 
     Returns
@@ -193,4 +198,4 @@ def contact_response(*, route: str, t: np.ndarray, force: np.ndarray, w_wheel: n
                            roughness=wheels(roughness), x=wheels(x), track=track, wheel=vehicle.wheels[0],
                            speed=float(speed), ramp=ramp, period=period, n_dof=int(n_dof), elapsed=elapsed,
                            wheels=vehicle.wheels, vehicle=vehicle, infinite=infinite, track_forces=track_forces,
-                           gaps=gaps, route=route)
+                           gaps=gaps, route=route, speeds=speeds)

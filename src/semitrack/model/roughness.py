@@ -22,6 +22,7 @@ the contact filter (the averaging of short wavelengths over the contact patch).
 
 from __future__ import annotations
 
+import math
 import warnings
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
@@ -33,6 +34,8 @@ from ..base.bands import HALF_BAND as _HALF_BAND
 from ..base.bands import third_octave_bands
 from ..base.checks import check_int_at_least, check_nonnegative, check_positive, check_real, check_work
 from ..base.errors import InputError, InputTypeError
+from ..dynamics.signals import sin2_ramp
+from .irregularity import RailProfile
 
 __all__ = ["ISO3095_ROUGHNESS_LIMIT", "Roughness", "roughness_from_spectrum", "corrugation",
            "third_octave_bands", "MAX_LINES"]
@@ -53,6 +56,12 @@ MAX_LINES = 100_000
 #: Most samples x lines summed as cosines by :meth:`Roughness.sampled` when its period is no whole
 #: number of steps (~10 ns each: 2e9 ~ 20 s); the inverse FFT of the other case costs milliseconds.
 MAX_COSINE_WORK = 2_000_000_000
+#: Most samples of a roughness laid along the rail (:meth:`Roughness.along_rail`): 8 bytes each,
+#: 10 km at 40 samples per 3 cm wavelength (1.3e7).
+MAX_PROFILE_SAMPLES = 20_000_000
+#: Samples per shortest wavelength of a roughness laid along the rail: its linear interpolation
+#: is then within 0.3 % of the cosine there (1 - cos(pi / 40)), far less at longer wavelengths.
+PROFILE_SAMPLES_PER_WAVELENGTH = 40
 #: Times x lines evaluated at once by :meth:`Roughness.__call__` (memory of one chunk, 8 bytes each).
 _CHUNK = 2_000_000
 
@@ -238,6 +247,52 @@ class Roughness:
         np.add.at(spectrum, m, np.where(edge, weight * np.cos(phases), weight * np.exp(1j * phases)))
         period = np.fft.irfft(spectrum, N)
         return np.resize(period, n)
+
+    def along_rail(self, start: float, length: float, *, fade: float = 1.0) -> RailProfile:
+        """The roughness laid along the rail from ``start``: the profile a wheel meets at any speed.
+
+        The roughness is a signal at its ``speed``; along the rail its line ``f`` is the
+        wavelength ``speed / f``, and ``r(x) = r_t((x - start) / speed)``. A vehicle whose speed
+        varies (``speed=speed(t)`` of :func:`semitrack.wheel_rail_response`) meets it as a
+        profile (``profile=``). Sampled every shortest wavelength / 40 (the spatial period a whole
+        number of samples, so that one inverse FFT gives them, :meth:`sampled`), linearly
+        interpolated, faded in and out by ``sin^2`` over ``fade`` at both ends.
+
+        Parameters
+        ----------
+        start : float
+            Where it begins (m, at or ahead of the wheels' start).
+        length : float
+            Its length along the rail (m), more than ``2 fade``.
+        fade : float
+            The length of each ``sin^2`` fade (m), positive.
+
+        Returns
+        -------
+        RailProfile
+
+        Examples
+        --------
+        >>> r = corrugation(speed=50.0, wavelength=0.05, amplitude=1e-6)
+        >>> p = r.along_rail(0.0, 5.0)
+        >>> bool(abs(p(2.5125) - r(2.5125 / 50.0)) < 1e-8)
+        True
+        """
+        start, length, fade = check_real("start", start), check_positive("length", length), check_positive("fade", fade)
+        if not length > 2 * fade:
+            raise InputError(f"length must exceed 2 fade = {2 * fade!r} m (a fade at each end), got {length!r}")
+        spatial_period = self.speed * self.period
+        per_period = math.ceil(spatial_period / float(np.min(self.wavelengths)) * PROFILE_SAMPLES_PER_WAVELENGTH)
+        dx = spatial_period / per_period
+        n = math.floor(length / dx) + 1  # the last sample within the length
+        check_work(n, MAX_PROFILE_SAMPLES, f"length={length!r} m at {dx:.3g} m a sample gives {n} samples",
+                   "lay a shorter stretch, or drop the shortest wavelengths")
+        s = dx * np.arange(n)
+        with warnings.catch_warnings():  # in space, the samples resolve every line: no aliasing
+            warnings.simplefilter("ignore", RuntimeWarning)
+            r = self.sampled(dx / self.speed, n)
+        envelope = sin2_ramp(s, fade) * sin2_ramp(s[-1] - s, fade)
+        return RailProfile(start + s, r * envelope)
 
     def warn_aliasing(self, dt: float, stacklevel: int = 3) -> None:
         """Warn when lines lie above the Nyquist frequency ``1 / (2 dt)``: sampled at ``dt`` they alias.

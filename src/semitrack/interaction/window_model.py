@@ -1,0 +1,284 @@
+"""The window route of a vehicle's run: a short FE track that jumps a bay at a time with the vehicle.
+
+The equations are those of the FE model route (:mod:`.fe_model`: the track's FE model, the
+vehicle, Hertzian contacts with loss of contact, Newmark's average acceleration and the
+broadband ends' states by the trapezoidal rule), on the window of a
+:class:`semitrack.WindowTrack` instead of a model that holds the whole path. The run is cut into
+stretches: while the leading wheel crosses one bay the window stands still; when it enters the
+next, the window moves on by a bay and the run continues from the same state, renumbered:
+
+- every DOF keeps its motion (``u, v, a``) where it still lies inside the window;
+- the new bay at the front enters at rest, and the front end's states are zeroed;
+- the rear end's states become the *shadow* states of the node that is now the rear end: the
+  rear boundary's model run, over the whole stretch that node has been in the window, on that
+  node's own motion. Every node a bay apart carries its shadow (one small linear recursion per
+  stretch, :func:`_advance_shadows`), so that the new rear end starts as if the boundary had
+  always stood there.
+
+A model's matrices and its factorisation are kept while the window moves over a stretch where
+the track is the same (a periodic stretch: every jump); with changes the window's matrices are
+assembled and factorised once per jump (about 5-10 ms each on a 5000-DOF window).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+
+import numpy as np
+
+from ..base.errors import InputError, InputTypeError
+from ..dynamics.newmark import Newmark
+from ..dynamics.points import PointSet
+from ..dynamics.simulate import check_limits, continue_run, stepping_of
+from ..dynamics.states import TrapezoidalStates
+from ..dynamics.system import union
+from ..fe.gaps import GapResponse, SleeperGaps, sleeper_gaps
+from ..fe.models import FETrack
+from ..fe.window import WindowTrack
+from ..model.irregularity import Irregularity
+from ..model.roughness import Roughness
+from ..model.vehicle import Vehicle
+from ..model.wheel import Wheel
+from .excitation import rail_input
+from .fe_wheels import all_contacts, contact_points, static_start
+from .inputs import DEFAULT_DT, check_run
+from .response import ContactResponse, contact_response
+
+__all__ = ["window_response"]
+
+
+class _Windows:
+    """The window's model, system and factor at each offset, kept while the track under it is the same."""
+
+    def __init__(self, track: WindowTrack, n_left: int, n_right: int, vehicle: Vehicle, stepper: Newmark,
+                 f_ref):
+        self.track, self.n_left, self.n_right = track, n_left, n_right
+        self.vehicle_system, self.stepper, self.f_ref = vehicle.system(), stepper, f_ref
+        self._key = self._entry = self._states = None
+        self.refactorised = 0
+
+    def at(self, offset: int) -> tuple[FETrack, object, object]:
+        """``(model, system, factor)`` of the window moved ``offset`` bays."""
+        changes = self.track.local_changes(offset, self.n_left, self.n_right)
+        key = tuple(sorted((k, None if v is None else tuple(sorted(v.items()))) for k, v in changes.items()))
+        if key != self._key:
+            model = self.track.model_at(offset, self.n_left, self.n_right)
+            system = union({"track": model.time_domain_system(self.f_ref), "vehicle": self.vehicle_system})
+            stepping = stepping_of(system, self.stepper, self._states)  # the ends' states are the same everywhere
+            self._states = stepping[0]
+            self._key, self._entry = key, (model, system, stepping)
+            self.refactorised += 1
+        return self._entry
+
+
+def _offsets(lead: np.ndarray, d: float, move: int) -> np.ndarray:
+    """The window's offset (bays) at each step: the leading wheel's bay, rounded down to ``move`` bays."""
+    return move * np.floor(lead / (move * d) + 1e-12).astype(np.int64)
+
+
+def _stretches(offsets: np.ndarray) -> list[tuple[int, int, int]]:
+    """``(offset, first row, last row)`` of each stretch; a stretch starts on the last row of the one before."""
+    cuts = np.flatnonzero(np.diff(offsets)) + 1
+    starts = np.r_[0, cuts]
+    ends = np.r_[cuts, offsets.size] - 1
+    return [(int(offsets[s]), int(max(s - 1, 0)), int(e)) for s, e in zip(starts, ends)]
+
+
+class _Shadows:
+    """The rear boundary's states at every node a bay apart, each driven by its own node's motion.
+
+    The rear (left) end's block steps as ``x_n+1 = E x_n + Phi_P (y_n+1 - y_n)``, ``y`` the rail's
+    ``(w, psi)`` at the node (:class:`~semitrack.dynamics.states.TrapezoidalStates`). ``E`` is
+    diagonalised once (``E = V diag(lam) V^-1``), so a stretch of N steps is one weighted sum per node:
+    ``z_N = lam^N z_0 + sum_n lam^(N-1-n) V^-1 Phi_P dy_n``.
+    """
+
+    def __init__(self, states: TrapezoidalStates, m_left: int, n_nodes: int):
+        E = states.E.toarray()[:m_left, :m_left]
+        phi = states.Phi_P.toarray()[:m_left, :2]
+        self.lam, self.V = np.linalg.eig(E)
+        self.Q = np.linalg.solve(self.V, phi)  # modal states per input motion (m, 2)
+        self.z = np.zeros((n_nodes, m_left), complex)
+        self._weights: dict[int, np.ndarray] = {}
+
+    def advance(self, y: np.ndarray) -> None:
+        """Run every shadow over a stretch: ``y`` (rows, nodes, 2) the nodes' motion, row 0 the stretch's start."""
+        dy = np.diff(y, axis=0)  # (N, nodes, 2)
+        n = dy.shape[0]
+        if n not in self._weights:  # a stretch is one of two lengths at a constant speed
+            self._weights[n] = self.lam[:, None] ** (n - 1 - np.arange(n))[None, :]  # (m, N)
+        weights = self._weights[n]
+        summed = [weights @ dy[:, :, c] for c in range(2)]  # sum_n lam^(N-1-n) dy_n, (m, nodes) per input
+        drive = self.Q[:, 0, None] * summed[0] + self.Q[:, 1, None] * summed[1]
+        self.z = self.lam ** n * self.z + drive.T
+
+    def jump(self, bays: int) -> np.ndarray:
+        """Move ``bays`` on: the new rear end's states (real), the shadows renumbered, the new nodes' at rest."""
+        rear = np.real(self.V @ self.z[bays - 1])
+        self.z = np.vstack([self.z[bays:], np.zeros((bays, self.z.shape[1]), complex)])
+        return rear
+
+
+def _check_window(track: WindowTrack, run) -> tuple[int, int, np.ndarray]:
+    """The window's bays and every wheel's path, refused where the window cannot follow the run."""
+    d = track.spacing
+    fastest = run.speed if run.speeds is None else float(np.max(run.speeds))
+    if fastest * run.dt > 0.25 * d:
+        raise InputError(f"speed * dt must be under a quarter bay ({0.25 * d:.4g} m) for the window to follow the "
+                         f"wheels, got speed={fastest!r} m/s, dt={run.dt!r} s")
+    path = run.path()
+    span = float(np.max(path[0]) - np.min(path[0]))
+    n_left, n_right = track.bays(span)
+    return n_left, n_right, path
+
+
+def window_response(track: WindowTrack, wheel: Wheel | Vehicle | Sequence[Wheel], roughness: Roughness | None = None,
+                    *, x: float | Sequence[float] = 0.0, speed: float | Callable[[float], float] = 0.0,
+                    dt: float = DEFAULT_DT, duration: float = 0.1, ramp: float = 0.02,
+                    f_ref: float | dict | None = None, compiled: bool | None = None, element_flexibility: bool = True,
+                    profile: Irregularity | None = None, watch_supports: Sequence[int] = (),
+                    bending_at: Sequence[float] = (), ballast_gaps: Mapping[int, float] | None = None
+                    ) -> ContactResponse:
+    """Wheels on a :class:`semitrack.WindowTrack`: :func:`semitrack.wheel_rail_response`'s run, on a window.
+
+    Called by :func:`semitrack.wheel_rail_response` when its track is a WindowTrack; the
+    parameters and the result are that function's, with ``x`` in the track's global coordinate
+    (from its central mid-span). A hanging sleeper (``ballast_gaps``) is a contact of the
+    stretches whose window holds it: at rest on its open gap before the window reaches it, NaN
+    in :attr:`ContactResponse.gaps` after the window has left it. Not yet on a window:
+    ``watch_supports`` and ``bending_at`` (refused when given).
+    """
+    for name, value in (("watch_supports", watch_supports), ("bending_at", bending_at)):
+        if len(value):
+            raise InputError(f"{name}: not yet recorded on a WindowTrack; run a TruncatedTrack over the path")
+    run = check_run(wheel, roughness, x, speed, dt, duration, ramp, varying=True)
+    k = run.k
+    n_left, n_right, path = _check_window(track, run)
+    offsets = _offsets(np.max(path, axis=1), track.spacing, track.move)
+    reach = _Reach(n_left, n_right, ballast_gaps, offsets)
+    windows = _Windows(track, n_left, n_right, run.vehicle, Newmark(run.dt), f_ref)
+    model, system, stepping = windows.at(int(offsets[0]))
+    # held for the run: 3 outputs per wheel, its inputs (a stretch's records of the shadow nodes are a bay's only)
+    check_limits(run.n_steps, system.n_dof, 3 * k + 2 * reach.n, 11 * k, f"duration={run.duration!r} s / "
+                 f"dt={run.dt!r} s")
+    r = rail_input(roughness, path, run.dt, run.ramp, profile)
+    steps = _Steps(track, model, system, stepping, run, path, offsets, element_flexibility, reach)
+    for i, (offset, first, last) in enumerate(_stretches(offsets)):
+        if i:
+            steps.jump(windows.at(offset))
+        steps.stretch(offset, first, last, r, compiled)
+    return contact_response(route="window", t=run.t, force=steps.force, w_wheel=steps.w_wheel, w_rail=steps.w_rail,
+                            roughness=r, x=path, track=track.track, vehicle=run.vehicle, speed=run.speed,
+                            ramp=run.ramp, period=None if roughness is None else roughness.period,
+                            n_dof=system.n_dof, elapsed=steps.elapsed, infinite=track.infinite_track(),
+                            track_forces=None, gaps=reach.response(run.dt), speeds=run.speeds)
+
+
+class _Reach:
+    """The hanging sleepers the window meets: each one's stretches, and what it did over the run."""
+
+    def __init__(self, n_left: int, n_right: int, ballast_gaps: Mapping[int, float] | None, offsets: np.ndarray):
+        if ballast_gaps is not None and not isinstance(ballast_gaps, Mapping):
+            raise InputTypeError(f"ballast_gaps must be a mapping {{support index: gap (m)}}, got {ballast_gaps!r}")
+        self.gaps = {int(kk): float(g) for kk, g in (ballast_gaps or {}).items()}
+        self.n_left, self.n_right = n_left, n_right
+        lo, hi = int(offsets.min()) - n_left, int(offsets.max()) + n_right
+        for kk in self.gaps:
+            if not lo <= kk < hi:
+                raise InputError(f"ballast_gaps: support {kk} is beyond the window's reach over this run (supports "
+                                 f"{lo} to {hi - 1})")
+        self.n = len(self.gaps)
+        self.supports = np.array(sorted(self.gaps), np.int64)
+        self.force = np.zeros((offsets.size, self.n))
+        self.opening = np.tile(np.array([self.gaps[kk] for kk in self.supports]), (offsets.size, 1))
+        self.left = np.full(self.n, offsets.size)  # the first row after the window has left each
+
+    def local(self, offset: int) -> dict:
+        """The gaps inside the window moved ``offset`` bays, in its numbering."""
+        return {kk - offset: g for kk, g in self.gaps.items() if -self.n_left <= kk - offset < self.n_right}
+
+    def record(self, gaps: SleeperGaps | None, offset: int, rows: slice, force: np.ndarray, w: np.ndarray) -> None:
+        """A stretch's columns of the hanging sleepers it held (after the wheels')."""
+        if gaps is None:
+            return
+        where = np.searchsorted(self.supports, gaps.supports + offset)
+        self.force[rows, where] = force
+        self.opening[rows, where] = gaps.gaps - w
+        self.left[where] = rows.stop
+
+    def response(self, dt: float) -> GapResponse | None:
+        if not self.n:
+            return None
+        after = np.arange(self.force.shape[0])[:, None] >= self.left[None, :]
+        force, opening = np.where(after, np.nan, self.force), np.where(after, np.nan, self.opening)
+        return GapResponse(supports=self.supports, gaps=np.array([self.gaps[kk] for kk in self.supports]),
+                           force=force, opening=opening,
+                           contact_time=dt * np.count_nonzero(np.nan_to_num(force[1:]) > 0, axis=0))
+
+
+class _Steps:
+    """The run's state across the window's moves, and its records."""
+
+    def __init__(self, track: WindowTrack, model: FETrack, system, stepping, run, path: np.ndarray,
+                 offsets: np.ndarray, element_flexibility: bool, reach: _Reach):
+        self.track, self.run, self.path, self.reach = track, run, path, reach
+        self.model, self.system, self.stepping = model, system, stepping
+        self.flexible = bool(element_flexibility)
+        self.n_track = model.n_dof
+        local0 = path[:1] - offsets[0] * track.spacing
+        gaps = self._gaps(int(offsets[0]))
+        K_track = system.K[:self.n_track, :self.n_track]  # the vehicle meets the track through its contacts only
+        self.u, self.vehicle_loads = static_start(model, run.vehicle, K_track, model.points(local0[0]),
+                                                  model.local_flexibility(local0)[0] * self.flexible, gaps)
+        self.v, self.a = np.zeros_like(self.u), None
+        states = stepping[0]
+        self.x = np.zeros(states.n_states)
+        self.m_left = system.states[0].n_states
+        nodes = track.shadow_nodes(model)
+        self.node_dofs = np.stack([model.dofs.index[2 * nodes], model.dofs.index[2 * nodes + 1]], axis=1)
+        self.shadows = _Shadows(states, self.m_left, nodes.size)
+        self.shift = track.shift_map(model)
+        self.vehicle_dofs = self.n_track + np.arange(self.vehicle_loads.size)
+        rows = run.n_steps + 1
+        self.force, self.w_wheel, self.w_rail = (np.empty((rows, run.k)) for _ in range(3))
+        self.elapsed = 0.0
+
+    def _gaps(self, offset: int) -> SleeperGaps | None:
+        local = self.reach.local(offset)
+        return sleeper_gaps(self.model, local) if local else None
+
+    def jump(self, window: tuple) -> None:
+        """Move a bay on: the state renumbered (see the module docstring), the new window's model."""
+        moved = []
+        for q in (self.u, self.v, self.a):
+            on_track = np.where(self.shift >= 0, q[np.maximum(self.shift, 0)], 0.0)
+            moved.append(np.concatenate([on_track, q[self.n_track:]]))
+        self.u, self.v, self.a = moved
+        x = np.zeros_like(self.x)
+        x[:self.m_left] = self.shadows.jump(self.track.move)  # the rear end's; the front end's (after them) at rest
+        self.x = x
+        self.model, self.system, self.stepping = window
+
+    def stretch(self, offset: int, first: int, last: int, r: np.ndarray, compiled: bool | None) -> None:
+        """Step the window from row ``first`` to row ``last`` (it stands ``offset`` bays on)."""
+        run, model, k = self.run, self.model, self.run.k
+        local = self.path[first:last + 1] - offset * self.track.spacing
+        points = contact_points(model, local, run.moving)
+        flex = model.local_flexibility(local if run.moving else local[:1]) * self.flexible
+        gaps = self._gaps(offset)
+        contacts = all_contacts(self.vehicle_dofs[:k], points, run.vehicle.wheels, r[first:last + 1], flex, gaps)
+        rows = last - first + 1
+        loads = [(PointSet.on_dofs(self.vehicle_dofs), np.tile(self.vehicle_loads, (rows, 1)))]
+        out = continue_run(self.system, Newmark(run.dt), rows - 1, u=self.u, v=self.v, a=self.a, x=self.x,
+                           loads=loads, contacts=contacts, record=self.node_dofs.ravel(), stepping=self.stepping,
+                           compiled=compiled)
+        res = out.response
+        skip = 0 if first == 0 else 1  # row 0 of a later stretch is the last row of the one before
+        kept = slice(first + skip, last + 1)
+        self.force[kept] = res["contact force"][skip:, :k]
+        self.w_wheel[kept] = res["wheel"][skip:, :k]
+        self.w_rail[kept] = res["rail"][skip:, :k]
+        self.reach.record(gaps, offset, kept, res["contact force"][skip:, k:], res["wheel"][skip:, k:])
+        self.shadows.advance(res["dofs"].reshape(rows, -1, 2))
+        self.u, self.v, self.a, self.x = out.u, out.v, out.a, out.x
+        self.elapsed += res.elapsed
