@@ -20,13 +20,13 @@ The default ``ahead`` and ``behind`` are the length that attenuates that round t
 :data:`DEFAULT_ATTENUATION` at the least one-third-octave decay rate over 50 Hz-2.5 kHz
 (:func:`semitrack.track_decay_rate`, of the track's loss factors taken as hysteretic damping, as
 a measured track's would be): 38 bays on the paper's ballasted track, 60 on its slab track.
-Measured on a coarse mesh (8 elements per bay, 50 us) against the model that holds the path: a
-bogie at 250 km/h over random tracks (pads log-normal with a CoV of 20 %, ballast 30 %, a failed
-fastener) 0.06-0.14 % rms of the force's fluctuation per wheel, every one-third-octave band
-160 Hz - 2 kHz within 0.006 dB; one wheel on the periodic slab track 0.25 % (the front's error
-there falls 0.4 dB a bay: 0.33 % at 51 bays, 0.04 % at 100). ``benchmarks/bench_window.py``
-measures the default mesh. Half the length behind doubled the rear wheel's error on the random
-ballasted track (0.37 % at 17 bays behind, 33 ahead).
+Measured against the model that holds the path, a bogie at 250 km/h over random tracks (pads
+log-normal with a CoV of 20 %, ballast 30 %, a failed fastener, hanging sleepers): 0.03-0.11 % rms
+of the force's fluctuation per wheel, every one-third-octave band 50 Hz - 2.5 kHz within 0.02 dB
+(the book's chapter, 16 elements per bay; ``benchmarks/bench_window.py`` on the default mesh);
+one wheel on the periodic slab track within 0.3 % of the moving Green's functions (``tests/``).
+Half the length behind doubled the rear wheel's error on the random ballasted track (0.37 % at 17
+bays behind, 33 ahead), and the error falls about 0.4 dB a bay added on both sides.
 """
 
 from __future__ import annotations

@@ -1,23 +1,24 @@
-"""The window route of a vehicle's run: a short FE track that jumps a bay at a time with the vehicle.
+"""The window route of a vehicle's run: a short FE track that jumps a few bays at a time with the vehicle.
 
 The equations are those of the FE model route (:mod:`.fe_model`: the track's FE model, the
 vehicle, Hertzian contacts with loss of contact, Newmark's average acceleration and the
 broadband ends' states by the trapezoidal rule), on the window of a
 :class:`semitrack.WindowTrack` instead of a model that holds the whole path. The run is cut into
-stretches: while the leading wheel crosses one bay the window stands still; when it enters the
-next, the window moves on by a bay and the run continues from the same state, renumbered:
+stretches: while the leading wheel crosses ``move`` bays the window stands still; when it enters
+the next, the window moves on by them and the run continues from the same state, renumbered:
 
 - every DOF keeps its motion (``u, v, a``) where it still lies inside the window;
-- the new bay at the front enters at rest, and the front end's states are zeroed;
+- the new bays at the front enter at rest, and the front end's states are zeroed;
 - the rear end's states become the *shadow* states of the node that is now the rear end: the
   rear boundary's model run, over the whole stretch that node has been in the window, on that
   node's own motion. Every node a bay apart carries its shadow (one small linear recursion per
-  stretch, :func:`_advance_shadows`), so that the new rear end starts as if the boundary had
+  stretch, :class:`_Shadows`), so that the new rear end starts as if the boundary had
   always stood there.
 
 A model's matrices and its factorisation are kept while the window moves over a stretch where
-the track is the same (a periodic stretch: every jump); with changes the window's matrices are
-assembled and factorised once per jump (about 5-10 ms each on a 5000-DOF window).
+the track is the same (a periodic stretch: every jump); with changes the window's support share is
+assembled again and factorised once per jump (:meth:`semitrack.FETrack.with_changes`; a jump
+costs 10-25 ms in all with the run's set-up, which moves of four bays share out).
 """
 
 from __future__ import annotations

@@ -23,7 +23,7 @@ import pandas as pd
 from ..boundary.fitting import BroadbandBoundary
 from ..fe.ends import BoundaryEnd
 from ..fe.models import TruncatedTrack
-from ..fe.window import WindowTrack
+from ..fe.window import WindowTrack, least_decay_rate
 from ..interaction.fe_model import wheel_rail_response
 from ..interaction.response import ContactResponse
 from ..model.irregularity import Irregularity
@@ -32,7 +32,8 @@ from ..model.tracks import Track
 from ..model.vehicle import as_vehicle
 from .moving_study import MARGIN_BAYS, force_agreement
 
-__all__ = ["random_supports", "WindowRun", "window_against_path", "agreement_table", "lengths_table"]
+__all__ = ["random_supports", "WindowRun", "window_against_path", "agreement_table", "lengths_table",
+           "least_decay_rate"]
 
 
 def _lognormal(rng: np.random.Generator, cov: float, n: int) -> np.ndarray:
@@ -161,7 +162,8 @@ def window_against_path(track: Track, changes: Mapping, boundary: BroadbandBound
     res_w, t_w = _timed(window, vehicle, roughness, **run)
     if not path:
         return WindowRun(res_w, None, t_w, math.nan, res_w.n_dof, 0, [], window.behind, window.ahead)
-    reach = float(np.max(np.abs(vehicle.positions(x0, "x")))) + length
+    start = vehicle.positions(x0, "x")
+    reach = float(max(np.max(np.abs(start)), np.max(np.abs(start + length))))  # the path, in the centred model
     model = TruncatedTrack(track, math.ceil(reach / track.spacing) + MARGIN_BAYS, BoundaryEnd.name, system=boundary,
                            changes=changes, elements_per_bay=window.elements_per_bay)
     res_p, t_p = _timed(model, vehicle, roughness, **run)

@@ -10,7 +10,7 @@ Modules: :mod:`~.style` (line styles, figures, axes, legends), :mod:`~.receptanc
 :mod:`~.schematic` (the equivalent systems to scale), :mod:`~.truncation` (truncated FE tracks),
 :mod:`~.boundary` (the broadband boundary), :mod:`~.contact` (the wheel on the rail), :mod:`~.imperfect`
 (wheels over a dipped weld, forces in the track), :mod:`~.moving` (moving Green's functions beside the
-truncated model).
+truncated model), :mod:`~.window` (the travelling window beside the model that holds the path).
 """
 
 from .boundary import (  # noqa: F401
@@ -72,3 +72,4 @@ from .truncation import (  # noqa: F401
     truncation_figure,
     w1_panels,
 )
+from .window import long_run_figure, window_force_figure  # noqa: F401
