@@ -142,7 +142,8 @@ def test_a_bogie_over_a_random_track_at_the_default_lengths(boundaries):
     gaps = {2: 0.5e-3, 9: 1e-3}
     changes.update({kk: {"kb": 0.0} for kk in gaps})
     rough = _roughness()
-    run = dict(x=-3.0, speed=SPEED, dt=DT, duration=0.12, ballast_gaps=gaps)
+    run = dict(x=-3.0, speed=SPEED, dt=DT, duration=0.12, ballast_gaps=gaps, watch_supports=[-2, 5, 9, 30],
+               bending_at=[3.3])
     win = st.WindowTrack(BALLAST, changes, elements_per_bay=NE, system=boundaries["ballasted"])
     assert (win.behind, win.ahead) == (38, 38)  # the default lengths of the ballasted track's decay rate
     got = st.wheel_rail_response(win, st.Bogie(), rough, **run)
@@ -157,6 +158,13 @@ def test_a_bogie_over_a_random_track_at_the_default_lengths(boundaries):
     assert np.array_equal(got.gaps.supports, [2, 9]) and held[:, 1].all()  # support 9 is inside to the end
     assert np.max(np.abs(got.gaps.force - ref.gaps.force)[held]) < 0.01 * np.max(ref.gaps.force)
     assert np.all(ref.gaps.contact_time > 0)
+    ours, theirs = got.track_forces, ref.track_forces
+    assert np.array_equal(ours.supports, theirs.supports) and np.allclose(ours.x_supports, theirs.x_supports)
+    assert not np.isnan(ours.rail_seat).any()  # the default window holds them all, from start to end
+    for name in ("rail_seat", "ballast", "bending"):
+        a, b = getattr(ours, name), getattr(theirs, name)
+        held_rows = ~np.isnan(a)
+        assert np.max(np.abs(a - b)[held_rows]) < 0.01 * np.max(np.abs(b)), name
 
 
 def test_the_compiled_and_numpy_loops_agree_on_a_window(boundaries):
@@ -188,13 +196,13 @@ def test_a_boundary_of_another_track_and_a_flexible_slab_are_refused(boundaries)
 
 
 @pytest.mark.parametrize(("kwargs", "match"), [
-    ({"watch_supports": [0]}, "watch_supports"),
-    ({"bending_at": [0.1]}, "bending_at"),
+    ({"watch_supports": [400]}, "watch_supports: support 400 is beyond"),
+    ({"bending_at": [-300.0]}, "bending_at"),
     ({"ballast_gaps": {0: 1e-3}}, "kb"),
     ({"ballast_gaps": {500: 1e-3}}, "beyond the window"),
     ({"speed": 1e4}, "speed"),
 ])
-def test_a_run_on_a_window_refuses_what_it_does_not_record_yet(boundaries, kwargs, match):
+def test_a_run_on_a_window_refuses_what_it_cannot_reach(boundaries, kwargs, match):
     win = st.WindowTrack(BALLAST, behind=3, ahead=5, elements_per_bay=NE, system=boundaries["ballasted"])
     run = dict(x=0.0, speed=SPEED, dt=DT, duration=0.03) | kwargs
     with pytest.raises(st.BadInput, match=match):
@@ -265,3 +273,15 @@ def test_the_periodic_window_follows_the_moving_greens_functions(boundaries):
     win = st.WindowTrack(SLAB, elements_per_bay=NE, system=boundaries["slab"])
     got = st.wheel_rail_response(win, st.Wheel(), rough, x=green.x[0], speed=speed, dt=DT, duration=0.12)
     assert force_agreement(got, green, after=0.03)["rms"] < 0.003  # 0.27 % measured (the window's 60 bays ahead)
+
+
+def test_a_watched_support_is_at_rest_before_the_window_and_unknown_after_it(boundaries):
+    """A short window passes a support: zero force until the window reaches it, NaN once it has left it."""
+    win = st.WindowTrack(BALLAST, behind=3, ahead=3, elements_per_bay=NE, system=boundaries["ballasted"])
+    res = st.wheel_rail_response(win, st.Wheel(), speed=SPEED, dt=DT, duration=0.2, watch_supports=[12],
+                                 bending_at=[7.65])
+    seat, bend = res.track_forces.rail_seat[:, 0], res.track_forces.bending[:, 0]
+    came = np.argmax(seat != 0)
+    assert 0 < came and np.all(seat[:came] == 0) and np.isnan(seat[-1]) and np.isnan(bend[-1])
+    assert seat[~np.isnan(seat)].max() > 0.2 * st.Wheel().preload  # the wheel passed over it
+    assert res.track_forces.x_supports[0] == pytest.approx(12.5 * BALLAST.spacing)

@@ -246,12 +246,30 @@ class WindowTrack:
         -------
         ndarray of int, shape (n_dof,)
         """
+        return self.moved_dofs(window, np.arange(window.n_dof), -self.move)
+
+    @staticmethod
+    def moved_dofs(window: FETrack, dofs: np.ndarray, bays: int) -> np.ndarray:
+        """The DOFs of the window ``bays`` further on that are the same DOFs of the track as ``dofs`` (-1: outside).
+
+        Parameters
+        ----------
+        window : FETrack
+            The window's model at any offset.
+        dofs : ndarray of int
+            DOFs of that window.
+        bays : int
+            How far on the other window stands (negative: behind).
+
+        Returns
+        -------
+        ndarray of int, the shape of ``dofs``
+        """
         keys = _dof_keys(window)
-        shifted = keys + 4 * self.move * window.elements_per_bay  # x + move d, in element lengths and kinds
+        wanted = keys[np.asarray(dofs, dtype=np.int64)] - 4 * bays * window.elements_per_bay  # in element lengths
         order = np.argsort(keys)
-        pos = np.clip(np.searchsorted(keys[order], shifted), 0, keys.size - 1)
-        found = keys[order][pos] == shifted
-        return np.where(found, order[pos], -1)
+        pos = np.clip(np.searchsorted(keys[order], wanted), 0, keys.size - 1)
+        return np.where(keys[order][pos] == wanted, order[pos], -1)
 
     @staticmethod
     def shadow_nodes(window: FETrack) -> np.ndarray:

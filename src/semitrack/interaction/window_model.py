@@ -27,6 +27,7 @@ from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
+from ..base.checks import check_int_at_least
 from ..base.errors import InputError, InputTypeError
 from ..dynamics.newmark import Newmark
 from ..dynamics.points import PointSet
@@ -35,6 +36,7 @@ from ..dynamics.states import TrapezoidalStates
 from ..dynamics.system import union
 from ..fe.gaps import GapResponse, SleeperGaps, sleeper_gaps
 from ..fe.models import FETrack
+from ..fe.trackforces import TrackForces, track_forces, watched_dofs
 from ..fe.window import WindowTrack
 from ..model.irregularity import Irregularity
 from ..model.roughness import Roughness
@@ -144,26 +146,24 @@ def window_response(track: WindowTrack, wheel: Wheel | Vehicle | Sequence[Wheel]
 
     Called by :func:`semitrack.wheel_rail_response` when its track is a WindowTrack; the
     parameters and the result are that function's, with ``x`` in the track's global coordinate
-    (from its central mid-span). A hanging sleeper (``ballast_gaps``) is a contact of the
-    stretches whose window holds it: at rest on its open gap before the window reaches it, NaN
-    in :attr:`ContactResponse.gaps` after the window has left it. Not yet on a window:
-    ``watch_supports`` and ``bending_at`` (refused when given).
+    (from its central mid-span). A hanging sleeper (``ballast_gaps``), a watched support
+    (``watch_supports``) and a bending point (``bending_at``, m) are recorded while the window
+    holds them: at rest before the window reaches them, NaN after it has left them; each must be
+    within the window's reach over the run.
     """
-    for name, value in (("watch_supports", watch_supports), ("bending_at", bending_at)):
-        if len(value):
-            raise InputError(f"{name}: not yet recorded on a WindowTrack; run a TruncatedTrack over the path")
     run = check_run(wheel, roughness, x, speed, dt, duration, ramp, varying=True)
     k = run.k
     n_left, n_right, path = _check_window(track, run)
     offsets = _offsets(np.max(path, axis=1), track.spacing, track.move)
     reach = _Reach(n_left, n_right, ballast_gaps, offsets)
+    watched = _Watched(track, n_left, n_right, watch_supports, bending_at, offsets)
     windows = _Windows(track, n_left, n_right, run.vehicle, Newmark(run.dt), f_ref)
     model, system, stepping = windows.at(int(offsets[0]))
     # held for the run: 3 outputs per wheel, its inputs (a stretch's records of the shadow nodes are a bay's only)
-    check_limits(run.n_steps, system.n_dof, 3 * k + 2 * reach.n, 11 * k, f"duration={run.duration!r} s / "
-                 f"dt={run.dt!r} s")
+    check_limits(run.n_steps, system.n_dof, 3 * k + 2 * reach.n + watched.n_recorded, 11 * k,
+                 f"duration={run.duration!r} s / dt={run.dt!r} s")
     r = rail_input(roughness, path, run.dt, run.ramp, profile)
-    steps = _Steps(track, model, system, stepping, run, path, offsets, element_flexibility, reach)
+    steps = _Steps(track, model, system, stepping, run, path, offsets, element_flexibility, reach, watched)
     for i, (offset, first, last) in enumerate(_stretches(offsets)):
         if i:
             steps.jump(windows.at(offset))
@@ -172,7 +172,8 @@ def window_response(track: WindowTrack, wheel: Wheel | Vehicle | Sequence[Wheel]
                             roughness=r, x=path, track=track.track, vehicle=run.vehicle, speed=run.speed,
                             ramp=run.ramp, period=None if roughness is None else roughness.period,
                             n_dof=system.n_dof, elapsed=steps.elapsed, infinite=track.infinite_track(),
-                            track_forces=None, gaps=reach.response(run.dt), speeds=run.speeds)
+                            track_forces=watched.forces(run.dt, f_ref, reach), gaps=reach.response(run.dt),
+                            speeds=run.speeds)
 
 
 class _Reach:
@@ -207,6 +208,12 @@ class _Reach:
         self.opening[rows, where] = gaps.gaps - w
         self.left[where] = rows.stop
 
+    def force_of(self, support: int) -> np.ndarray:
+        """The ballast force under a hanging sleeper over the run (N; NaN after the window has left it)."""
+        j = int(np.searchsorted(self.supports, support))
+        after = np.arange(self.force.shape[0]) >= self.left[j]
+        return np.where(after, np.nan, self.force[:, j])
+
     def response(self, dt: float) -> GapResponse | None:
         if not self.n:
             return None
@@ -217,12 +224,93 @@ class _Reach:
                            contact_time=dt * np.count_nonzero(np.nan_to_num(force[1:]) > 0, axis=0))
 
 
+class _Watched:
+    """The supports and bending points watched over a run, each read on the first window that holds it.
+
+    A watched thing's DOFs are followed from window to window (:meth:`WindowTrack.moved_dofs`), and
+    its forces come from its whole history on that first window's model
+    (:func:`semitrack.fe.trackforces.track_forces`): at rest before the window reaches it, NaN
+    after the window has left it.
+    """
+
+    def __init__(self, track: WindowTrack, n_left: int, n_right: int, supports: Sequence[int],
+                 bending_at: Sequence[float], offsets: np.ndarray):
+        self.track, self.rows = track, offsets.size
+        stops = np.unique(offsets)
+        d = track.spacing
+        self.items = []  # (what, its global index or position, reference offset, reference model, watch)
+        for k in supports:
+            k = check_int_at_least("watch_supports", k, -10**9)
+            inside = stops[(-n_left <= k - stops) & (k - stops < n_right)]
+            if not inside.size:
+                raise InputError(f"watch_supports: support {k} is beyond the window's reach over this run (supports "
+                                 f"{int(stops[0]) - n_left} to {int(stops[-1]) + n_right - 1})")
+            self._add("support", k, int(inside[0]), n_left, n_right)
+        for xb in np.atleast_1d(np.asarray(bending_at, dtype=float)).ravel():
+            inside = stops[(-n_left * d < xb - stops * d) & (xb - stops * d < n_right * d)]
+            if not (np.isfinite(xb) and inside.size):
+                raise InputError(f"bending_at: {xb!r} m is beyond the window's reach over this run "
+                                 f"({(int(stops[0]) - n_left) * d:.6g} to {(int(stops[-1]) + n_right) * d:.6g} m)")
+            self._add("bending", float(xb), int(inside[0]), n_left, n_right)
+        self.history = [np.zeros((self.rows, item[4].dofs.size)) for item in self.items]
+        self.left = np.full(len(self.items), self.rows)
+        self.n_recorded = sum(h.shape[1] for h in self.history)
+
+    def _add(self, what: str, where, offset: int, n_left: int, n_right: int) -> None:
+        model = self.track.model_at(offset, n_left, n_right)
+        watch = (watched_dofs(model, [where - offset]) if what == "support" else
+                 watched_dofs(model, (), [where - offset * self.track.spacing]))
+        self.items.append((what, where, offset, model, watch))
+
+    def held(self, offset: int) -> list[tuple[int, np.ndarray]]:
+        """``(item, its DOFs in the window at offset)`` of the watched things the window holds whole."""
+        out = []
+        for i, (_, _, ref, model, watch) in enumerate(self.items):
+            dofs = self.track.moved_dofs(model, watch.dofs, offset - ref)
+            if np.all(dofs >= 0):
+                out.append((i, dofs))
+        return out
+
+    def record(self, held: list, rows: slice, values: np.ndarray) -> None:
+        """A stretch's records of the watched DOFs (columns in the order of ``held``)."""
+        start = 0
+        for i, dofs in held:
+            self.history[i][rows] = values[:, start:start + dofs.size]
+            self.left[i] = rows.stop
+            start += dofs.size
+
+    def forces(self, dt: float, f_ref, reach: _Reach) -> TrackForces | None:
+        """The watched supports' rail-seat and ballast forces and the bending, as the FE model route gives them."""
+        if not self.items:
+            return None
+        parts, after = [], np.arange(self.rows)[:, None]
+        for i, (what, where, ref, model, watch) in enumerate(self.items):
+            history = np.where(after >= self.left[i], np.nan, self.history[i])
+            parts.append((what, where, ref, track_forces(model, watch, history, dt, f_ref)))
+        shift = self.track.spacing
+        sup = [(where, ref, f) for what, where, ref, f in parts if what == "support"]
+        bend = [(where, f) for what, where, _, f in parts if what == "bending"]
+        rows = self.rows
+        ballast = None
+        if self.track.track.is_ballasted:
+            ballast = np.column_stack([f.ballast[:, 0] for _, _, f in sup]) if sup else np.zeros((rows, 0))
+            for j, (k, _, _) in enumerate(sup):  # a hanging sleeper's ballast is its gap's contact
+                if k in reach.gaps:
+                    ballast[:, j] = reach.force_of(k)
+        return TrackForces(supports=np.array([k for k, _, _ in sup], np.int64),
+                           x_supports=np.array([f.x_supports[0] + ref * shift for _, ref, f in sup]),
+                           rail_seat=np.column_stack([f.rail_seat[:, 0] for _, _, f in sup]) if sup else np.zeros(
+                               (rows, 0)),
+                           ballast=ballast, x_bending=np.array([xb for xb, _ in bend]),
+                           bending=np.column_stack([f.bending[:, 0] for _, f in bend]) if bend else np.zeros((rows, 0)))
+
+
 class _Steps:
     """The run's state across the window's moves, and its records."""
 
     def __init__(self, track: WindowTrack, model: FETrack, system, stepping, run, path: np.ndarray,
-                 offsets: np.ndarray, element_flexibility: bool, reach: _Reach):
-        self.track, self.run, self.path, self.reach = track, run, path, reach
+                 offsets: np.ndarray, element_flexibility: bool, reach: _Reach, watched: _Watched):
+        self.track, self.run, self.path, self.reach, self.watched = track, run, path, reach, watched
         self.model, self.system, self.stepping = model, system, stepping
         self.flexible = bool(element_flexibility)
         self.n_track = model.n_dof
@@ -270,9 +358,10 @@ class _Steps:
         contacts = all_contacts(self.vehicle_dofs[:k], points, run.vehicle.wheels, r[first:last + 1], flex, gaps)
         rows = last - first + 1
         loads = [(PointSet.on_dofs(self.vehicle_dofs), np.tile(self.vehicle_loads, (rows, 1)))]
+        held = self.watched.held(offset)
+        record = np.concatenate([self.node_dofs.ravel(), *(dofs for _, dofs in held)])
         out = continue_run(self.system, Newmark(run.dt), rows - 1, u=self.u, v=self.v, a=self.a, x=self.x,
-                           loads=loads, contacts=contacts, record=self.node_dofs.ravel(), stepping=self.stepping,
-                           compiled=compiled)
+                           loads=loads, contacts=contacts, record=record, stepping=self.stepping, compiled=compiled)
         res = out.response
         skip = 0 if first == 0 else 1  # row 0 of a later stretch is the last row of the one before
         kept = slice(first + skip, last + 1)
@@ -280,6 +369,8 @@ class _Steps:
         self.w_wheel[kept] = res["wheel"][skip:, :k]
         self.w_rail[kept] = res["rail"][skip:, :k]
         self.reach.record(gaps, offset, kept, res["contact force"][skip:, k:], res["wheel"][skip:, k:])
-        self.shadows.advance(res["dofs"].reshape(rows, -1, 2))
+        n_shadow = self.node_dofs.size
+        self.shadows.advance(res["dofs"][:, :n_shadow].reshape(rows, -1, 2))
+        self.watched.record(held, kept, res["dofs"][skip:, n_shadow:])
         self.u, self.v, self.a, self.x = out.u, out.v, out.a, out.x
         self.elapsed += res.elapsed
