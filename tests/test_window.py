@@ -62,24 +62,41 @@ def test_with_changes_is_the_model_assembled_afresh(boundaries):
 
 
 def test_a_move_renumbers_each_dof_to_its_place_a_bay_on(boundaries):
-    """The DOF at x in the moved window is the DOF of the same kind at x + d in the old one; one bay enters."""
-    win = st.WindowTrack(BALLAST, behind=2, ahead=3, elements_per_bay=NE, system=boundaries["ballasted"], move=1)
-    model = win.model_at(0, 3, 4)
-    shift = win.shift_map(model)
-    x_rail = np.repeat(model.x, 2)  # full numbering: (w, psi) per node, then the sleepers
-    full = np.r_[x_rail, model.x[model.dofs.foundation_nodes]]
-    kind = np.r_[np.tile([0, 1], model.n_nodes), np.full(model.dofs.foundation.size, 2)]
-    x, k = np.empty(model.n_dof), np.empty(model.n_dof, int)
-    x[model.dofs.index], k[model.dofs.index] = full, kind
+    """The DOF at x in the moved window is the DOF of the same kind at the same place in the old one; the new bays'
+    DOFs (and only they) are not in the old window."""
+    win = st.WindowTrack(BALLAST, behind=2, ahead=3, elements_per_bay=NE, system=boundaries["ballasted"])
+    old, new = win.model_at(0, 3, 4), win.model_at(3, 3, 4)
+    shift = win.same_dofs(new, 3, np.arange(new.n_dof), old, 0)
+
+    def places(model, offset):
+        full = np.r_[np.repeat(model.x, 2), model.x[model.dofs.foundation_nodes]] + win.mid_span(offset)
+        kind = np.r_[np.tile([0, 1], model.n_nodes), np.full(model.dofs.foundation.size, 2)]
+        x, k = np.empty(model.n_dof), np.empty(model.n_dof, int)
+        x[model.dofs.index], k[model.dofs.index] = full, kind
+        return x, k
+
+    (x_new, k_new), (x_old, k_old) = places(new, 3), places(old, 0)
     moved = shift >= 0
-    assert np.allclose(x[shift[moved]], x[moved] + BALLAST.spacing)
-    assert np.array_equal(k[shift[moved]], k[moved])
-    assert np.all(x[~moved] > model.x[-1] - BALLAST.spacing - 1e-9)  # only the last bay enters
-    assert np.count_nonzero(~moved) == 2 * NE + 1  # its nodes' (w, psi) and its sleeper
-    win3 = st.WindowTrack(BALLAST, behind=2, ahead=3, elements_per_bay=NE, system=boundaries["ballasted"], move=3)
-    shift3 = win3.shift_map(model)
-    assert np.allclose(x[shift3[shift3 >= 0]], x[shift3 >= 0] + 3 * BALLAST.spacing)
-    assert np.count_nonzero(shift3 < 0) == 3 * (2 * NE + 1)
+    assert np.allclose(x_old[shift[moved]], x_new[moved]) and np.array_equal(k_old[shift[moved]], k_new[moved])
+    assert np.all(x_new[~moved] > x_old.max() - 1e-9)  # only the bays beyond the old front enter
+    assert np.count_nonzero(~moved) == 3 * (2 * NE + 1)  # their nodes' (w, psi) and their sleepers
+
+
+def test_a_window_holds_a_joint_and_a_transition_as_the_path_model_does(boundaries):
+    """A bogie over a rail joint (a hinge) and from the slab track onto the ballasted one: within 0.3 % rms."""
+    rough = _roughness()
+    joints = {3.0: 0.0}
+    run = dict(x=0.0, speed=SPEED, dt=DT, duration=0.12)
+    system = (boundaries["slab"], boundaries["ballasted"])
+    win = st.WindowTrack(SLAB, right=BALLAST, transition=10, joints=joints, elements_per_bay=NE, system=system)
+    got = st.wheel_rail_response(win, st.Bogie(), rough, **run)
+    path = st.TruncatedTrack(SLAB, 80, "boundary", system=system, elements_per_bay=NE, right=BALLAST, transition=10,
+                             joints=joints)
+    ref = st.wheel_rail_response(path, st.Bogie(), rough, **run)
+    assert got.x[-1, 0] > 10 * SLAB.spacing + 1.0 and got.x[0, 0] < 3.0  # over the joint, onto the ballasted track
+    for wheel in range(2):
+        assert force_agreement(got, ref, wheel=wheel, after=0.03)["rms"] < 0.003, wheel
+    assert got.infinite.transition == 10 and got.infinite.joints == joints
 
 
 def test_the_shadow_states_are_the_rear_boundarys_recursion(boundaries):
@@ -178,8 +195,8 @@ def test_the_compiled_and_numpy_loops_agree_on_a_window(boundaries):
 
 
 @pytest.mark.parametrize(("kwargs", "match"), [
-    ({"right": BALLAST, "transition": 3}, "right"),
-    ({"joints": {0.1: 0.0}}, "joints"),
+    ({"right": BALLAST}, "right and transition"),
+    ({"joints": {0.325: 0.0}}, "joint"),
     ({"behind": 1}, "behind"),
     ({"ahead": 10**6}, "ahead"),
 ])
@@ -285,3 +302,16 @@ def test_a_watched_support_is_at_rest_before_the_window_and_unknown_after_it(bou
     assert 0 < came and np.all(seat[:came] == 0) and np.isnan(seat[-1]) and np.isnan(bend[-1])
     assert seat[~np.isnan(seat)].max() > 0.2 * st.Wheel().preload  # the wheel passed over it
     assert res.track_forces.x_supports[0] == pytest.approx(12.5 * BALLAST.spacing)
+
+
+def test_a_short_window_passes_wholly_onto_the_second_track(boundaries):
+    """Front, then rear, cross the transition: each end takes its track's boundary and the rear its shadows."""
+    system = (boundaries["slab"], boundaries["ballasted"])
+    win = st.WindowTrack(SLAB, right=BALLAST, transition=4, elements_per_bay=NE, system=system, behind=6, ahead=6)
+    run = dict(x=0.0, speed=SPEED, dt=DT, duration=0.16)
+    got = st.wheel_rail_response(win, st.Wheel(), _roughness(), **run)
+    path = st.TruncatedTrack(SLAB, 80, "boundary", system=system, elements_per_bay=NE, right=BALLAST, transition=4)
+    ref = st.wheel_rail_response(path, st.Wheel(), _roughness(), **run)
+    n_left, _ = win.bays(0.0)
+    assert win.bay_of(got.x[-1]) - n_left > 4  # the rear end is past the transition at the end
+    assert force_agreement(got, ref, after=0.03)["rms"] < 0.03  # a short window: a few per cent, not more

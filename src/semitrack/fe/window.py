@@ -1,14 +1,15 @@
 """A truncated track that travels with the vehicle: a short FE window over an infinite track with changes.
 
 :class:`WindowTrack` describes an infinite track carrying local changes (any number: every
-support of a random track), with exactly the meaning of :class:`semitrack.InfiniteTrack` and
-:class:`semitrack.TruncatedTrack`: x from the central mid-span, support k at ``x = (k + 1/2) d``.
+support of a random track), a transition to a second track and rail joints, with exactly the
+meaning of :class:`semitrack.InfiniteTrack` and :class:`semitrack.TruncatedTrack`: x from the
+central mid-span, support k at ``x = (k + 1/2) d`` (past a transition ``x_t + (k - kt + 1/2) d2``).
 It holds no mesh of the whole track. A run (:mod:`semitrack.interaction.window_model`) asks it for
 the FE model of the stretch around the vehicle, :meth:`WindowTrack.model_at`: ``behind`` bays
-behind the rearmost wheel and ``ahead`` bays ahead of the leading one (at least), closed at both ends by
-broadband boundaries (:func:`semitrack.fit_boundary`, fitted once per track), on the same mesh
-per bay wherever it stands, so that moving it by ``move`` bays is a renumbering of its DOFs
-(:meth:`WindowTrack.shift_map`).
+behind the rearmost wheel and ``ahead`` bays ahead of the leading one (at least), each end closed
+by the broadband boundary of the track it stands on (:func:`semitrack.fit_boundary`, fitted once
+per track), on the same elements per bay wherever it stands, so that moving it by ``move`` bays
+is a renumbering of its DOFs by their places along the track (:meth:`WindowTrack.same_dofs`).
 
 The lengths ahead and behind set the error. What the window gets wrong is what it cannot hold:
 the new bay that enters at the front at rest, and the track beyond either end, which its
@@ -33,9 +34,10 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..base.checks import check_int_at_least, check_positive
 from ..base.errors import InputError
@@ -70,8 +72,9 @@ class WindowTrack:
         ``{k: {field: value}}`` changes support k as :class:`semitrack.InfiniteTrack` does
         (``kv``, ``kphi``, ``sleeper_mass``, ``kb``; ``{k: None}`` a failed fastener); any number.
     right, transition, joints
-        A transition to a second track and rail joints, as :class:`semitrack.InfiniteTrack`
-        takes them: not yet held by the window, refused when given.
+        A second track from mid-span ``transition`` on and rail joints ``{x: k_rot}``, as
+        :class:`semitrack.InfiniteTrack` takes them; each end of the window is closed by the
+        boundary of the track it stands on.
     behind, ahead : int, optional
         Bays behind the rearmost wheel and ahead of the leading wheel (>= 2 each). Default: the
         length that attenuates the round trip by :data:`DEFAULT_ATTENUATION` dB at the track's
@@ -80,9 +83,10 @@ class WindowTrack:
         Elements per bay, as :class:`semitrack.FETrack` (default: the fewest that resolve ``f_max``).
     f_max : float, optional
         The highest frequency of interest (Hz; default 3 kHz).
-    system : BroadbandBoundary, optional
-        The broadband boundary of the track's semi-infinite end; default fitted once by
-        :func:`semitrack.fit_boundary` over 3 Hz - 3 kHz (a few seconds) and kept.
+    system : BroadbandBoundary or pair of them, optional
+        The broadband boundary of the track's semi-infinite end (with a transition, one per
+        track); default fitted once by :func:`semitrack.fit_boundary` over 3 Hz - 3 kHz (a few
+        seconds) and kept.
     move : int
         Bays the window moves at a time (>= 1; default :data:`DEFAULT_MOVE`): each move costs a
         new model, a factorisation and the run's set-up again (a few milliseconds), so moving
@@ -99,32 +103,46 @@ class WindowTrack:
     def __init__(self, track: Track, changes: Mapping[int, Mapping[str, float] | None] | None = None, *,
                  right: Track | None = None, transition: int | None = None, joints: Mapping | None = None,
                  behind: int | None = None, ahead: int | None = None, elements_per_bay: int | None = None,
-                 f_max: float | None = None, system: BroadbandBoundary | None = None, move: int = DEFAULT_MOVE):
-        self.track = require_track(track)
-        if self.track.has_flexible_slab:
-            raise InputError("track: a WindowTrack takes a rigid slab or a ballasted track, not a flexible slab "
-                             "(use TruncatedTrack)")
-        for name, value in (("right", right), ("transition", transition), ("joints", joints)):
-            if value is not None and value != {}:
-                raise InputError(f"{name}: a WindowTrack does not hold a transition or joints yet; use "
-                                 "TruncatedTrack over the whole path")
-        self._infinite = InfiniteTrack(self.track, changes)
+                 f_max: float | None = None, system: BroadbandBoundary | Sequence | None = None,
+                 move: int = DEFAULT_MOVE):
+        self._infinite = InfiniteTrack(require_track(track), changes, right=right, transition=transition,
+                                       joints=joints)  # the rules of changes, a transition and joints, in one place
+        self.track, self.right, self.transition = self._infinite.track, self._infinite.right, self._infinite.transition
+        self.tracks = (self.track,) if self.right is None else (self.track, self.right)
+        for name, t in zip(("track", "right"), self.tracks):
+            if t.has_flexible_slab:
+                raise InputError(f"{name}: a WindowTrack takes a rigid slab or a ballasted track, not a flexible slab "
+                                 "(use TruncatedTrack)")
+        if self.right is not None and self.right.damping != self.track.damping:
+            raise InputError(f"the two tracks of a transition must have one kind of damping, got "
+                             f"{self.track.damping!r} and {self.right.damping!r}")
         self.changes: dict[int, dict | None] = dict(self._infinite.changes)
+        self.joints: dict[float, float] = dict(self._infinite.joints)
         self.f_max = DEFAULT_F_MAX if f_max is None else check_positive("f_max", f_max)
-        self.elements_per_bay = elements_per_bay_of((self.track,), elements_per_bay, self.f_max)
+        self.elements_per_bay = elements_per_bay_of(self.tracks, elements_per_bay, self.f_max)
         if elements_per_bay is not None and f_max is not None:  # a stated mesh and band: warn once, now
-            FETrack(self.track, 1, 1, elements_per_bay=self.elements_per_bay, f_max=self.f_max)
-        if system is not None and not isinstance(system, BroadbandBoundary):
-            raise InputError(f"system must be a BroadbandBoundary of the track, got {type(system).__name__}")
-        if system is not None:
-            make_end(BoundaryEnd.name, system).check_track(self.track)
-        self._boundary = system
-        self._template: FETrack | None = None  # the periodic window of the last size asked
+            for t in self.tracks:
+                FETrack(t, 1, 1, elements_per_bay=self.elements_per_bay, f_max=self.f_max)
+        self._boundaries = self._check_systems(system)
+        self._templates: dict = {}  # the plain window of each track and size
         self.move = check_int_at_least("move", move, 1)
         if self.move > MAX_WINDOW_BAYS // 4:
             raise InputError(f"move must be at most {MAX_WINDOW_BAYS // 4} bays, got {move}")
         self._ahead = None if ahead is None else self._check_bays("ahead", ahead)
         self._behind = None if behind is None else self._check_bays("behind", behind)
+
+    def _check_systems(self, system) -> list:
+        """The given boundary of each track (None where it is to be fitted), each checked against its track."""
+        given = list(system) if isinstance(system, (tuple, list)) else [system] * len(self.tracks)
+        if len(given) != len(self.tracks):
+            raise InputError(f"system must be a BroadbandBoundary or one per track ({len(self.tracks)}), got "
+                             f"{len(given)}")
+        for b, t in zip(given, self.tracks):
+            if b is not None and not isinstance(b, BroadbandBoundary):
+                raise InputError(f"system must be a BroadbandBoundary of the track, got {type(b).__name__}")
+            if b is not None:
+                make_end(BoundaryEnd.name, b).check_track(t)
+        return given
 
     @staticmethod
     def _check_bays(name: str, value: int) -> int:
@@ -135,18 +153,36 @@ class WindowTrack:
 
     @property
     def spacing(self) -> float:
-        """The support spacing d (m)."""
-        return self.track.spacing
+        """The least support spacing d (m) of the track (of both, with a transition)."""
+        return min(t.spacing for t in self.tracks)
+
+    def boundary_of(self, part: int = 0) -> BroadbandBoundary:
+        """The broadband boundary of the first track (``part=0``) or the second (1), fitted on first use.
+
+        Parameters
+        ----------
+        part : int
+            0 or 1.
+
+        Returns
+        -------
+        BroadbandBoundary
+        """
+        part = check_int_at_least("part", part, 0)
+        if part >= len(self.tracks):
+            raise InputError(f"part must be 0{' or 1' if len(self.tracks) > 1 else ''}, got {part}")
+        if self._boundaries[part] is None:
+            self._boundaries[part] = fit_boundary(self.tracks[part])
+        return self._boundaries[part]
 
     @property
     def boundary(self) -> BroadbandBoundary:
-        """The broadband boundary at both ends (fitted on first use when none was given)."""
-        if self._boundary is None:
-            self._boundary = fit_boundary(self.track)
-        return self._boundary
+        """The first track's broadband boundary (fitted on first use when none was given)."""
+        return self.boundary_of(0)
 
     def _default_ahead(self) -> int:
-        return max(2, math.ceil(DEFAULT_ATTENUATION / (2.0 * least_decay_rate(self.track) * self.spacing)))
+        return max(2, max(math.ceil(DEFAULT_ATTENUATION / (2.0 * least_decay_rate(t) * t.spacing))
+                          for t in self.tracks))
 
     @property
     def ahead(self) -> int:
@@ -163,8 +199,68 @@ class WindowTrack:
         return self._behind
 
     def infinite_track(self) -> InfiniteTrack:
-        """The exact infinite track with the same changes: the reference of the window."""
+        """The exact infinite track with the same changes, transition and joints: the reference of the window."""
         return self._infinite
+
+    def mid_span(self, bay: ArrayLike) -> np.ndarray:
+        """The position (m) of mid-span ``bay``: ``bay d``, or past a transition ``x_t + (bay - kt) d2``.
+
+        Parameters
+        ----------
+        bay : array_like of int
+            Mid-span indices (support k sits between mid-spans k and k + 1).
+
+        Returns
+        -------
+        ndarray
+        """
+        j = np.asarray(bay, dtype=float)
+        if self.transition is None:
+            return j * self.track.spacing
+        kt = self.transition
+        return np.where(j <= kt, j * self.track.spacing, kt * self.track.spacing + (j - kt) * self.right.spacing)
+
+    def origin(self, offset: int, n_left: int, n_right: int) -> float:
+        """Where the window's local x = 0 lies on the track (m): x_global = x_local + origin.
+
+        The mid-span ``offset``; but a window that holds the transition is an FETrack with it, whose
+        x is the first track's (mid-span j at ``j d1`` up to the transition), so its x = 0 lies at
+        ``offset d1`` even when that mid-span is past the transition.
+
+        Parameters
+        ----------
+        offset : int
+            Bays the window has moved from x = 0.
+        n_left, n_right : int
+            Its bays left and right of its own mid-span.
+
+        Returns
+        -------
+        float
+        """
+        if self.transition is not None and -n_left <= self.transition - offset <= n_right:
+            return offset * self.track.spacing
+        return float(self.mid_span(offset))
+
+    def bay_of(self, x: ArrayLike) -> np.ndarray:
+        """The bay that holds each position (m): the mid-span index at or before it.
+
+        Parameters
+        ----------
+        x : array_like
+            Positions (m).
+
+        Returns
+        -------
+        ndarray of int
+        """
+        x = np.asarray(x, dtype=float)
+        first = np.floor(x / self.track.spacing + 1e-12)
+        if self.transition is None:
+            return first.astype(np.int64)
+        kt, x_t = self.transition, self.transition * self.track.spacing
+        second = kt + np.floor((x - x_t) / self.right.spacing + 1e-12)
+        return np.where(x < x_t, first, second).astype(np.int64)
 
     def bays(self, span: float) -> tuple[int, int]:
         """``(n_left, n_right)``: the bays of a window for a vehicle ``span`` m long.
@@ -206,8 +302,13 @@ class WindowTrack:
         """
         return {k - offset: v for k, v in self.changes.items() if -n_left <= k - offset < n_right}
 
+    def _local_joints(self, offset: int, n_left: int, n_right: int) -> dict:
+        lo, hi = self.mid_span([offset - n_left, offset + n_right])
+        origin = self.origin(offset, n_left, n_right)
+        return {float(x - origin): kr for x, kr in self.joints.items() if lo < x < hi}
+
     def model_at(self, offset: int, n_left: int, n_right: int) -> FETrack:
-        """The window's FE model moved by ``offset`` bays: x_global = x_local + offset d.
+        """The window's FE model moved by ``offset`` bays: x_global = x_local + :meth:`origin`.
 
         Parameters
         ----------
@@ -219,61 +320,95 @@ class WindowTrack:
         Returns
         -------
         FETrack
-            With broadband boundary ends, the supports inside it numbered from its own mid-span: the
-            periodic window of that size (built once) with the window's changes
-            (:meth:`FETrack.with_changes`).
+            With broadband boundary ends (each its side's track's), the supports inside it numbered
+            from its own mid-span. On one track and without joints: the plain window of that size
+            (built once) with the window's changes (:meth:`FETrack.with_changes`); across a
+            transition or with joints, built afresh.
         """
-        if self._template is None or (self._template.n_left, self._template.n_right) != (n_left, n_right):
-            self._template = FETrack(self.track, n_left, n_right, BoundaryEnd.name, BoundaryEnd.name,
-                                     system=self.boundary,
-                                     elements_per_bay=self.elements_per_bay,
-                                     f_max=self.f_max if self.f_max != DEFAULT_F_MAX else None)
-        return self._template._with_checked_changes(self.local_changes(offset, n_left, n_right))
+        changes = self.local_changes(offset, n_left, n_right)
+        joints = self._local_joints(offset, n_left, n_right)
+        kt = None if self.transition is None else self.transition - offset
+        f_max = self.f_max if self.f_max != DEFAULT_F_MAX else None
+        if kt is not None and -n_left <= kt <= n_right or joints:
+            left, right = (0, 1) if kt is not None and -n_left <= kt <= n_right else (self.part_at(offset),) * 2
+            two = left != right
+            return FETrack(self.tracks[left], n_left, n_right, BoundaryEnd.name, BoundaryEnd.name,
+                           system=(self.boundary_of(left), self.boundary_of(right)),
+                           elements_per_bay=self.elements_per_bay, changes=changes,
+                           right=self.tracks[right] if two else None, transition=kt if two else None,
+                           joints=joints or None, f_max=f_max)
+        part = self.part_at(offset)
+        key = (part, n_left, n_right)
+        if key not in self._templates:
+            self._templates[key] = FETrack(self.tracks[part], n_left, n_right, BoundaryEnd.name, BoundaryEnd.name,
+                                           system=self.boundary_of(part), elements_per_bay=self.elements_per_bay,
+                                           f_max=f_max)
+        return self._templates[key]._with_checked_changes(changes)
 
-    def shift_map(self, window: FETrack) -> np.ndarray:
-        """For each DOF of a window moved on, the DOF of the window before it (-1: it enters at rest).
-
-        A window's layout is the same wherever it stands (one mesh per bay, no internal DOFs at
-        its ends), so the map is read from the DOFs' places along the track: a DOF at local x
-        in the new window is the DOF of the same kind at ``x + move d`` in the old one.
+    def part_at(self, bay: int) -> int:
+        """Which track (0 or 1) lies right of mid-span ``bay``: where a window with no transition inside stands.
 
         Parameters
         ----------
-        window : FETrack
-            The window's model at any offset (:meth:`model_at`).
+        bay : int
+            A mid-span index.
 
         Returns
         -------
-        ndarray of int, shape (n_dof,)
+        int
         """
-        return self.moved_dofs(window, np.arange(window.n_dof), -self.move)
+        return int(self.transition is not None and bay >= self.transition)
 
-    @staticmethod
-    def moved_dofs(window: FETrack, dofs: np.ndarray, bays: int) -> np.ndarray:
-        """The DOFs of the window ``bays`` further on that are the same DOFs of the track as ``dofs`` (-1: outside).
+    def layout_key(self, offset: int, n_left: int, n_right: int) -> tuple:
+        """What makes two windows' models the same: their tracks, transition, joints and changes.
 
         Parameters
         ----------
-        window : FETrack
-            The window's model at any offset.
+        offset : int
+            Bays the window has moved from x = 0.
+        n_left, n_right : int
+            Its bays left and right of its own mid-span.
+
+        Returns
+        -------
+        tuple
+            Equal for two offsets whose windows have the same matrices.
+        """
+        changes = self.local_changes(offset, n_left, n_right)
+        kt = None if self.transition is None else self.transition - offset
+        inside = kt is not None and -n_left <= kt <= n_right
+        return (kt if inside else self.part_at(offset), tuple(sorted(self._local_joints(offset, n_left, n_right))),
+                tuple(sorted((k, None if v is None else tuple(sorted(v.items()))) for k, v in changes.items())))
+
+    def same_dofs(self, from_window: FETrack, from_offset: int, dofs: np.ndarray, to_window: FETrack,
+                  to_offset: int) -> np.ndarray:
+        """The DOFs of ``to_window`` that are the same DOFs of the track as ``dofs`` of ``from_window`` (-1: not in it).
+
+        Read from the DOFs' places along the track and their kinds (rail w, rail psi, sleeper,
+        a joint's second rotation), each window's local x placed at its :meth:`origin`.
+
+        Parameters
+        ----------
+        from_window, to_window : FETrack
+            Two windows' models.
+        from_offset, to_offset : int
+            Their offsets (bays).
         dofs : ndarray of int
-            DOFs of that window.
-        bays : int
-            How far on the other window stands (negative: behind).
+            DOFs of ``from_window``.
 
         Returns
         -------
         ndarray of int, the shape of ``dofs``
         """
-        keys = _dof_keys(window)
-        wanted = keys[np.asarray(dofs, dtype=np.int64)] - 4 * bays * window.elements_per_bay  # in element lengths
+        have = _dof_keys(from_window, self.origin(from_offset, from_window.n_left, from_window.n_right))[
+            np.asarray(dofs, dtype=np.int64)]
+        keys = _dof_keys(to_window, self.origin(to_offset, to_window.n_left, to_window.n_right))
         order = np.argsort(keys)
-        pos = np.clip(np.searchsorted(keys[order], wanted), 0, keys.size - 1)
-        return np.where(keys[order][pos] == wanted, order[pos], -1)
+        pos = np.clip(np.searchsorted(keys[order], have), 0, keys.size - 1)
+        return np.where(keys[order][pos] == have, order[pos], -1)
 
-    @staticmethod
-    def shadow_nodes(window: FETrack) -> np.ndarray:
-        """The rail nodes a bay apart, from a bay inside the rear end to the front end.
+    def shadow_nodes(self, window: FETrack, offset: int) -> np.ndarray:
+        """The rail nodes at the window's mid-spans, from a bay inside the rear end to the front end.
 
         Each is the rear end of a later window: a run keeps its boundary states in the shadow
         (:mod:`semitrack.interaction.window_model`).
@@ -282,12 +417,17 @@ class WindowTrack:
         ----------
         window : FETrack
             The window's model.
+        offset : int
+            Its offset (bays).
 
         Returns
         -------
         ndarray of int
         """
-        return np.arange(window.elements_per_bay, window.n_nodes, window.elements_per_bay)
+        spans = self.mid_span(np.arange(offset - window.n_left + 1, offset + window.n_right + 1))
+        local = spans - self.origin(offset, window.n_left, window.n_right)
+        nodes = np.searchsorted(window.x, local - 1e-9)
+        return nodes.astype(np.int64)
 
     def __repr__(self):
         return (f"WindowTrack({self.track.name!r}, {len(self.changes)} changes, behind={self._behind}, "
@@ -306,20 +446,25 @@ def least_decay_rate(track: Track) -> float:
     return float(np.min(track_decay_rate(loss, band=DECAY_BAND).decay_rate))
 
 
-def _dof_keys(model: FETrack) -> np.ndarray:
-    """An integer per model DOF: 4 x its node (in element lengths from the left end) + its kind (w, psi, sleeper)."""
+def _dof_keys(model: FETrack, origin: float) -> np.ndarray:
+    """An integer per model DOF: its place along the track (nm, the window's x = 0 at ``origin``) x 4 + its kind.
+
+    The kinds: 0 the rail's w, 1 its psi, 2 a foundation DOF (a sleeper), 3 a joint's second rotation.
+    """
     dofs, mesh = model.dofs, model.mesh
-    if dofs.systems or mesh.joint_nodes.size:
-        raise InputError("a window's DOFs must be the rail's and its sleepers' only")
+    if dofs.systems:
+        raise InputError("a window's DOFs must be the rail's, its joints' and its sleepers' only")
+    place = np.rint((mesh.x + origin) * 1e9).astype(np.int64)  # nm: far finer than any mesh, exact for equal x
     node = np.empty(dofs.n_full, np.int64)
     kind = np.empty(dofs.n_full, np.int64)
     n_rail = 2 * mesh.n_nodes
     node[:n_rail] = np.repeat(np.arange(mesh.n_nodes), 2)
     kind[:n_rail] = np.tile([0, 1], mesh.n_nodes)
+    node[n_rail:mesh.n_rail_dofs] = mesh.joint_nodes
+    kind[n_rail:mesh.n_rail_dofs] = 3
     node[dofs.foundation] = dofs.foundation_nodes
     kind[dofs.foundation] = 2
     keys = np.empty(dofs.n_dof, np.int64)
     keep = dofs.index >= 0
-    keys[dofs.index[keep]] = 4 * node[keep] + kind[keep]
+    keys[dofs.index[keep]] = 4 * place[node[keep]] + kind[keep]
     return keys
-

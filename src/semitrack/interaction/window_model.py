@@ -34,6 +34,7 @@ from ..dynamics.points import PointSet
 from ..dynamics.simulate import check_limits, continue_run, stepping_of
 from ..dynamics.states import TrapezoidalStates
 from ..dynamics.system import union
+from ..fe.ends import BoundaryEnd, make_end
 from ..fe.gaps import GapResponse, SleeperGaps, sleeper_gaps
 from ..fe.models import FETrack
 from ..fe.trackforces import TrackForces, track_forces, watched_dofs
@@ -57,26 +58,28 @@ class _Windows:
                  f_ref):
         self.track, self.n_left, self.n_right = track, n_left, n_right
         self.vehicle_system, self.stepper, self.f_ref = vehicle.system(), stepper, f_ref
-        self._key = self._entry = self._states = None
+        self._key = self._entry = None
+        self._states: dict = {}  # the ends' discretised states, by the blocks they come from
         self.refactorised = 0
 
     def at(self, offset: int) -> tuple[FETrack, object, object]:
-        """``(model, system, factor)`` of the window moved ``offset`` bays."""
-        changes = self.track.local_changes(offset, self.n_left, self.n_right)
-        key = tuple(sorted((k, None if v is None else tuple(sorted(v.items()))) for k, v in changes.items()))
+        """``(model, system, (states, factor))`` of the window moved ``offset`` bays."""
+        key = self.track.layout_key(offset, self.n_left, self.n_right)
         if key != self._key:
             model = self.track.model_at(offset, self.n_left, self.n_right)
             system = union({"track": model.time_domain_system(self.f_ref), "vehicle": self.vehicle_system})
-            stepping = stepping_of(system, self.stepper, self._states)  # the ends' states are the same everywhere
-            self._states = stepping[0]
+            # the same ends on the same DOFs share their states (the plain windows' copies share the blocks)
+            ends = tuple((blk.dofs.tobytes(), id(blk.A)) for blk in system.states)
+            stepping = stepping_of(system, self.stepper, self._states.get(ends))
+            self._states[ends] = stepping[0]
             self._key, self._entry = key, (model, system, stepping)
             self.refactorised += 1
         return self._entry
 
 
-def _offsets(lead: np.ndarray, d: float, move: int) -> np.ndarray:
+def _offsets(track: WindowTrack, lead: np.ndarray) -> np.ndarray:
     """The window's offset (bays) at each step: the leading wheel's bay, rounded down to ``move`` bays."""
-    return move * np.floor(lead / (move * d) + 1e-12).astype(np.int64)
+    return track.move * np.floor_divide(track.bay_of(lead), track.move)
 
 
 def _stretches(offsets: np.ndarray) -> list[tuple[int, int, int]]:
@@ -96,12 +99,14 @@ class _Shadows:
     ``z_N = lam^N z_0 + sum_n lam^(N-1-n) V^-1 Phi_P dy_n``.
     """
 
-    def __init__(self, states: TrapezoidalStates, m_left: int, n_nodes: int):
+    def __init__(self, states: TrapezoidalStates, m_left: int | None, n_nodes: int):
+        """``states``' first ``m_left`` states (None: all), the rear end's block on two DOFs, at ``n_nodes`` nodes."""
+        m_left = states.n_states if m_left is None else m_left
         E = states.E.toarray()[:m_left, :m_left]
         phi = states.Phi_P.toarray()[:m_left, :2]
         self.lam, self.V = np.linalg.eig(E)
         self.Q = np.linalg.solve(self.V, phi)  # modal states per input motion (m, 2)
-        self.z = np.zeros((n_nodes, m_left), complex)
+        self.z = np.zeros((n_nodes, self.lam.size), complex)
         self._weights: dict[int, np.ndarray] = {}
 
     def advance(self, y: np.ndarray) -> None:
@@ -154,7 +159,7 @@ def window_response(track: WindowTrack, wheel: Wheel | Vehicle | Sequence[Wheel]
     run = check_run(wheel, roughness, x, speed, dt, duration, ramp, varying=True)
     k = run.k
     n_left, n_right, path = _check_window(track, run)
-    offsets = _offsets(np.max(path, axis=1), track.spacing, track.move)
+    offsets = _offsets(track, np.max(path, axis=1))
     reach = _Reach(n_left, n_right, ballast_gaps, offsets)
     watched = _Watched(track, n_left, n_right, watch_supports, bending_at, offsets)
     windows = _Windows(track, n_left, n_right, run.vehicle, Newmark(run.dt), f_ref)
@@ -166,8 +171,8 @@ def window_response(track: WindowTrack, wheel: Wheel | Vehicle | Sequence[Wheel]
     steps = _Steps(track, model, system, stepping, run, path, offsets, element_flexibility, reach, watched)
     for i, (offset, first, last) in enumerate(_stretches(offsets)):
         if i:
-            steps.jump(windows.at(offset))
-        steps.stretch(offset, first, last, r, compiled)
+            steps.jump(offset, windows.at(offset))
+        steps.stretch(first, last, r, compiled)
     return contact_response(route="window", t=run.t, force=steps.force, w_wheel=steps.w_wheel, w_rail=steps.w_rail,
                             roughness=r, x=path, track=track.track, vehicle=run.vehicle, speed=run.speed,
                             ramp=run.ramp, period=None if roughness is None else roughness.period,
@@ -227,7 +232,7 @@ class _Reach:
 class _Watched:
     """The supports and bending points watched over a run, each read on the first window that holds it.
 
-    A watched thing's DOFs are followed from window to window (:meth:`WindowTrack.moved_dofs`), and
+    A watched thing's DOFs are followed from window to window (:meth:`WindowTrack.same_dofs`), and
     its forces come from its whole history on that first window's model
     (:func:`semitrack.fe.trackforces.track_forces`): at rest before the window reaches it, NaN
     after the window has left it.
@@ -237,7 +242,6 @@ class _Watched:
                  bending_at: Sequence[float], offsets: np.ndarray):
         self.track, self.rows = track, offsets.size
         stops = np.unique(offsets)
-        d = track.spacing
         self.items = []  # (what, its global index or position, reference offset, reference model, watch)
         for k in supports:
             k = check_int_at_least("watch_supports", k, -10**9)
@@ -247,10 +251,11 @@ class _Watched:
                                  f"{int(stops[0]) - n_left} to {int(stops[-1]) + n_right - 1})")
             self._add("support", k, int(inside[0]), n_left, n_right)
         for xb in np.atleast_1d(np.asarray(bending_at, dtype=float)).ravel():
-            inside = stops[(-n_left * d < xb - stops * d) & (xb - stops * d < n_right * d)]
+            inside = stops[(track.mid_span(stops - n_left) < xb) & (xb < track.mid_span(stops + n_right))]
             if not (np.isfinite(xb) and inside.size):
-                raise InputError(f"bending_at: {xb!r} m is beyond the window's reach over this run "
-                                 f"({(int(stops[0]) - n_left) * d:.6g} to {(int(stops[-1]) + n_right) * d:.6g} m)")
+                lo, hi = track.mid_span([int(stops[0]) - n_left, int(stops[-1]) + n_right])
+                raise InputError(f"bending_at: {xb!r} m is beyond the window's reach over this run ({lo:.6g} to "
+                                 f"{hi:.6g} m)")
             self._add("bending", float(xb), int(inside[0]), n_left, n_right)
         self.history = [np.zeros((self.rows, item[4].dofs.size)) for item in self.items]
         self.left = np.full(len(self.items), self.rows)
@@ -259,14 +264,14 @@ class _Watched:
     def _add(self, what: str, where, offset: int, n_left: int, n_right: int) -> None:
         model = self.track.model_at(offset, n_left, n_right)
         watch = (watched_dofs(model, [where - offset]) if what == "support" else
-                 watched_dofs(model, (), [where - offset * self.track.spacing]))
+                 watched_dofs(model, (), [where - self.track.origin(offset, n_left, n_right)]))
         self.items.append((what, where, offset, model, watch))
 
-    def held(self, offset: int) -> list[tuple[int, np.ndarray]]:
+    def held(self, window: FETrack, offset: int) -> list[tuple[int, np.ndarray]]:
         """``(item, its DOFs in the window at offset)`` of the watched things the window holds whole."""
         out = []
         for i, (_, _, ref, model, watch) in enumerate(self.items):
-            dofs = self.track.moved_dofs(model, watch.dofs, offset - ref)
+            dofs = self.track.same_dofs(model, ref, watch.dofs, window, offset)
             if np.all(dofs >= 0):
                 out.append((i, dofs))
         return out
@@ -286,9 +291,9 @@ class _Watched:
         parts, after = [], np.arange(self.rows)[:, None]
         for i, (what, where, ref, model, watch) in enumerate(self.items):
             history = np.where(after >= self.left[i], np.nan, self.history[i])
-            parts.append((what, where, ref, track_forces(model, watch, history, dt, f_ref)))
-        shift = self.track.spacing
-        sup = [(where, ref, f) for what, where, ref, f in parts if what == "support"]
+            parts.append((what, where, self.track.origin(ref, model.n_left, model.n_right),
+                          track_forces(model, watch, history, dt, f_ref)))
+        sup = [(where, origin, f) for what, where, origin, f in parts if what == "support"]
         bend = [(where, f) for what, where, _, f in parts if what == "bending"]
         rows = self.rows
         ballast = None
@@ -298,7 +303,7 @@ class _Watched:
                 if k in reach.gaps:
                     ballast[:, j] = reach.force_of(k)
         return TrackForces(supports=np.array([k for k, _, _ in sup], np.int64),
-                           x_supports=np.array([f.x_supports[0] + ref * shift for _, ref, f in sup]),
+                           x_supports=np.array([f.x_supports[0] + origin for _, origin, f in sup]),
                            rail_seat=np.column_stack([f.rail_seat[:, 0] for _, _, f in sup]) if sup else np.zeros(
                                (rows, 0)),
                            ballast=ballast, x_bending=np.array([xb for xb, _ in bend]),
@@ -311,54 +316,66 @@ class _Steps:
     def __init__(self, track: WindowTrack, model: FETrack, system, stepping, run, path: np.ndarray,
                  offsets: np.ndarray, element_flexibility: bool, reach: _Reach, watched: _Watched):
         self.track, self.run, self.path, self.reach, self.watched = track, run, path, reach, watched
-        self.model, self.system, self.stepping = model, system, stepping
         self.flexible = bool(element_flexibility)
-        self.n_track = model.n_dof
-        local0 = path[:1] - offsets[0] * track.spacing
-        gaps = self._gaps(int(offsets[0]))
+        self.offset = int(offsets[0])
+        self._use(model, system, stepping)
+        local0 = path[:1] - track.origin(self.offset, model.n_left, model.n_right)
         K_track = system.K[:self.n_track, :self.n_track]  # the vehicle meets the track through its contacts only
         self.u, self.vehicle_loads = static_start(model, run.vehicle, K_track, model.points(local0[0]),
-                                                  model.local_flexibility(local0)[0] * self.flexible, gaps)
+                                                  model.local_flexibility(local0)[0] * self.flexible,
+                                                  self._gaps(self.offset))
         self.v, self.a = np.zeros_like(self.u), None
-        states = stepping[0]
-        self.x = np.zeros(states.n_states)
-        self.m_left = system.states[0].n_states
-        nodes = track.shadow_nodes(model)
-        self.node_dofs = np.stack([model.dofs.index[2 * nodes], model.dofs.index[2 * nodes + 1]], axis=1)
-        self.shadows = _Shadows(states, self.m_left, nodes.size)
-        self.shift = track.shift_map(model)
-        self.vehicle_dofs = self.n_track + np.arange(self.vehicle_loads.size)
+        self.x = np.zeros(stepping[0].n_states)
+        n_nodes = model.n_left + model.n_right
+        self.shadows = [_Shadows(_rear_states(track.boundary_of(part), run.dt), None, n_nodes)
+                        for part in range(len(track.tracks))]
         rows = run.n_steps + 1
         self.force, self.w_wheel, self.w_rail = (np.empty((rows, run.k)) for _ in range(3))
         self.elapsed = 0.0
+
+    def _use(self, model: FETrack, system, stepping) -> None:
+        """Step on this window's model from now on."""
+        self.model, self.system, self.stepping = model, system, stepping
+        self.n_track = model.n_dof
+        nodes = self.track.shadow_nodes(model, self.offset)
+        self.node_dofs = np.stack([model.dofs.index[2 * nodes], model.dofs.index[2 * nodes + 1]], axis=1)
+        self.m_left = system.states[0].n_states
 
     def _gaps(self, offset: int) -> SleeperGaps | None:
         local = self.reach.local(offset)
         return sleeper_gaps(self.model, local) if local else None
 
-    def jump(self, window: tuple) -> None:
-        """Move a bay on: the state renumbered (see the module docstring), the new window's model."""
+    def jump(self, offset: int, window: tuple) -> None:
+        """Move on to ``offset``: the state renumbered (see the module docstring), the new window's model."""
+        old, old_offset, n_old = self.model, self.offset, self.n_track
+        model = window[0]
+        shift = self.track.same_dofs(model, offset, np.arange(model.n_dof), old, old_offset)
         moved = []
         for q in (self.u, self.v, self.a):
-            on_track = np.where(self.shift >= 0, q[np.maximum(self.shift, 0)], 0.0)
-            moved.append(np.concatenate([on_track, q[self.n_track:]]))
+            on_track = np.where(shift >= 0, q[np.maximum(shift, 0)], 0.0)
+            moved.append(np.concatenate([on_track, q[n_old:]]))
         self.u, self.v, self.a = moved
-        x = np.zeros_like(self.x)
-        x[:self.m_left] = self.shadows.jump(self.track.move)  # the rear end's; the front end's (after them) at rest
+        bays = offset - old_offset
+        rear = [sh.jump(bays) for sh in self.shadows]  # every track's rear model follows every node
+        self.offset = offset
+        self._use(*window)
+        part = self.track.part_at(offset - model.n_left)  # the track behind the new rear end
+        x = np.zeros(self.stepping[0].n_states)
+        x[:self.m_left] = rear[part]  # the rear end's states; the front end's (after them) at rest
         self.x = x
-        self.model, self.system, self.stepping = window
 
-    def stretch(self, offset: int, first: int, last: int, r: np.ndarray, compiled: bool | None) -> None:
-        """Step the window from row ``first`` to row ``last`` (it stands ``offset`` bays on)."""
-        run, model, k = self.run, self.model, self.run.k
-        local = self.path[first:last + 1] - offset * self.track.spacing
+    def stretch(self, first: int, last: int, r: np.ndarray, compiled: bool | None) -> None:
+        """Step the window from row ``first`` to row ``last``."""
+        run, model, k, offset = self.run, self.model, self.run.k, self.offset
+        local = self.path[first:last + 1] - self.track.origin(offset, model.n_left, model.n_right)
         points = contact_points(model, local, run.moving)
         flex = model.local_flexibility(local if run.moving else local[:1]) * self.flexible
         gaps = self._gaps(offset)
-        contacts = all_contacts(self.vehicle_dofs[:k], points, run.vehicle.wheels, r[first:last + 1], flex, gaps)
+        vehicle_dofs = self.n_track + np.arange(self.vehicle_loads.size)
+        contacts = all_contacts(vehicle_dofs[:k], points, run.vehicle.wheels, r[first:last + 1], flex, gaps)
         rows = last - first + 1
-        loads = [(PointSet.on_dofs(self.vehicle_dofs), np.tile(self.vehicle_loads, (rows, 1)))]
-        held = self.watched.held(offset)
+        loads = [(PointSet.on_dofs(vehicle_dofs), np.tile(self.vehicle_loads, (rows, 1)))]
+        held = self.watched.held(model, offset)
         record = np.concatenate([self.node_dofs.ravel(), *(dofs for _, dofs in held)])
         out = continue_run(self.system, Newmark(run.dt), rows - 1, u=self.u, v=self.v, a=self.a, x=self.x,
                            loads=loads, contacts=contacts, record=record, stepping=self.stepping, compiled=compiled)
@@ -370,7 +387,15 @@ class _Steps:
         self.w_rail[kept] = res["rail"][skip:, :k]
         self.reach.record(gaps, offset, kept, res["contact force"][skip:, k:], res["wheel"][skip:, k:])
         n_shadow = self.node_dofs.size
-        self.shadows.advance(res["dofs"][:, :n_shadow].reshape(rows, -1, 2))
+        motion = res["dofs"][:, :n_shadow].reshape(rows, -1, 2)
+        for sh in self.shadows:
+            sh.advance(motion)
         self.watched.record(held, kept, res["dofs"][skip:, n_shadow:])
         self.u, self.v, self.a, self.x = out.u, out.v, out.a, out.x
         self.elapsed += res.elapsed
+
+
+def _rear_states(boundary, dt: float) -> TrapezoidalStates:
+    """A boundary's block at a rear (left) end on two DOFs, discretised: what the shadows run."""
+    block = make_end(BoundaryEnd.name, boundary).states(np.array([0, 1]), "left")[0]
+    return TrapezoidalStates([block], dt, 2)
