@@ -169,7 +169,7 @@ def _prepare(system, stepper, n_steps, loads, contacts, probes, record, u0, v0, 
 
     ``a0`` and ``x0`` (the states' values) continue a run where another left off (the travelling
     window, :mod:`semitrack.interaction.window_model`): ``a0`` then replaces the acceleration the
-    equation of motion gives at rest. ``factor`` is the effective stiffness's factorisation when
+    equation of motion gives at rest. ``stepping`` is the states and the factorisation when
     the caller holds it (the same matrices, step and states).
 
     The loop integrates the motion about the initial displacement, ``u = u0 + u~``: under a

@@ -33,7 +33,7 @@ from ..dynamics.factor import factorise
 from ..dynamics.points import PointSet
 from .models import FETrack
 
-__all__ = ["SleeperGaps", "sleeper_gaps", "static_with_gaps", "GapResponse"]
+__all__ = ["SleeperGaps", "sleeper_gaps", "static_with_gaps", "contact_time", "GapResponse"]
 
 
 @dataclass(frozen=True)
@@ -141,6 +141,23 @@ def static_with_gaps(K: sp.csc_matrix, load: np.ndarray, gaps: SleeperGaps, max_
             return u
         closed = now
     raise RuntimeError(f"the static state with gaps did not settle in {max_rounds} rounds")
+
+
+def contact_time(force: np.ndarray, dt: float) -> np.ndarray:
+    """The time each hanging sleeper spent on its ballast (s): a step per sample with a force after the start.
+
+    Parameters
+    ----------
+    force : ndarray, shape (n_steps + 1, n_gaps)
+        The ballast forces (N).
+    dt : float
+        The time step (s).
+
+    Returns
+    -------
+    ndarray, shape (n_gaps,)
+    """
+    return dt * np.count_nonzero(force[1:] > 0, axis=0)
 
 
 @dataclass(frozen=True, eq=False)

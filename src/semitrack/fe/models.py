@@ -184,6 +184,7 @@ class FETrack:
         # periodic track's is built only when asked for (the Bloch cell of the moving kernels never does)
         self._periodic = not (changes or right is not None or transition is not None or joints)
         self._states: tuple[StateBlock, ...] | None = None
+        self._own_share = None  # the supports' share of the matrices, for with_changes
         self._infinite = None if self._periodic else _infinite_of(track, changes, right, transition, joints)
         self.tracks: tuple[Track, ...] = tuple(t for _, t in given)
         self.track = self.tracks[0]
@@ -243,15 +244,19 @@ class FETrack:
     def _with_checked_changes(self, changes: dict, infinite: InfiniteTrack | None = None) -> FETrack:
         """:meth:`with_changes` for changes already checked by the exact track's rules (a window's, a
         subset of its WindowTrack's); the exact track with them is built when asked for."""
+        if self.transition is not None or self.joints:
+            raise InputError("changes: a model with a transition or joints is built with its changes")
+        if self._own_share is None:  # this model's own supports' share, once
+            self._own_share = supports_share(self._parts, self.mesh, self.dofs, self.foundations, self.support_values)
         new = copy.copy(self)
         new._periodic = not changes
         new._infinite = infinite
         new.changes = changes
         new.support_values = support_values(self.tracks, self.mesh.support_part, self.mesh.support_index,
                                             new.changes)
-        share = (supports_share(self._parts, self.mesh, self.dofs, self.foundations, values)
-                 for values in (self.support_values, new.support_values))
-        new._parts = self._parts.with_supports(*share)
+        new._own_share = None
+        new._parts = self._parts.with_supports(self._own_share, supports_share(self._parts, self.mesh, self.dofs,
+                                                                              self.foundations, new.support_values))
         return new
 
     left = deprecated_alias("left_end", "left")

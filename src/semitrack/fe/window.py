@@ -26,8 +26,7 @@ log-normal with a CoV of 20 %, ballast 30 %, a failed fastener, hanging sleepers
 of the force's fluctuation per wheel, every one-third-octave band 50 Hz - 2.5 kHz within 0.02 dB
 (the book's chapter, 16 elements per bay; ``benchmarks/bench_window.py`` on the default mesh);
 one wheel on the periodic slab track within 0.3 % of the moving Green's functions (``tests/``).
-Half the length behind doubled the rear wheel's error on the random ballasted track (0.37 % at 17
-bays behind, 33 ahead), and the error falls about 0.4 dB a bay added on both sides.
+The error falls about 0.4 dB a bay added on both sides (the chapter's table of lengths).
 """
 
 from __future__ import annotations
@@ -47,6 +46,7 @@ from ..methods.infinite import InfiniteTrack
 from ..model.tracks import Track, require_track
 from .ends import BoundaryEnd, make_end
 from .models import DEFAULT_F_MAX, FETrack, elements_per_bay_of
+from .supports import CONSTANT_SUPPORTS_ONLY, support_values
 
 __all__ = ["DEFAULT_ATTENUATION", "DECAY_BAND", "DEFAULT_MOVE", "WindowTrack", "least_decay_rate"]
 
@@ -116,9 +116,14 @@ class WindowTrack:
         if self.right is not None and self.right.damping != self.track.damping:
             raise InputError(f"the two tracks of a transition must have one kind of damping, got "
                              f"{self.track.damping!r} and {self.right.damping!r}")
+        for name, t in zip(("track", "right"), self.tracks):
+            t.require_constant(f"the finite-element track ({name})", CONSTANT_SUPPORTS_ONLY)
         self.changes: dict[int, dict | None] = dict(self._infinite.changes)
         self.joints: dict[float, float] = dict(self._infinite.joints)
+        keys = np.array(sorted(self.changes), dtype=np.int64)  # the FE models' rules for every change, now
+        support_values(self.tracks, np.array([self.part_at(k) for k in keys], dtype=np.int64), keys, self.changes)
         self.f_max = DEFAULT_F_MAX if f_max is None else check_positive("f_max", f_max)
+        self._f_max_given = f_max is not None
         self.elements_per_bay = elements_per_bay_of(self.tracks, elements_per_bay, self.f_max)
         if elements_per_bay is not None and f_max is not None:  # a stated mesh and band: warn once, now
             for t in self.tracks:
@@ -281,8 +286,8 @@ class WindowTrack:
         n_left = self.behind + math.ceil(span / self.spacing - 1e-9) + self.move
         n_right = self.ahead + self.move
         if n_left + n_right > MAX_WINDOW_BAYS:
-            raise InputError(f"the vehicle and behind + ahead need {n_left + n_right} bays, more than "
-                             f"{MAX_WINDOW_BAYS}")
+            raise InputError(f"behind, ahead: the vehicle and behind + ahead need {n_left + n_right} bays, more "
+                             f"than {MAX_WINDOW_BAYS}")
         return n_left, n_right
 
     def local_changes(self, offset: int, n_left: int, n_right: int) -> dict:
@@ -300,7 +305,26 @@ class WindowTrack:
         dict
             ``{k - offset: change}`` for the supports k inside it.
         """
-        return {k - offset: v for k, v in self.changes.items() if -n_left <= k - offset < n_right}
+        return {k - offset: v for k, v in self.changes.items() if self.holds(k, offset, n_left, n_right)}
+
+    @staticmethod
+    def holds(support: int, offset: int, n_left: int, n_right: int) -> bool:
+        """Whether support ``support`` lies inside the window moved ``offset`` bays.
+
+        Parameters
+        ----------
+        support : int
+            A support's index k.
+        offset : int
+            Bays the window has moved from x = 0.
+        n_left, n_right : int
+            Its bays left and right of its own mid-span.
+
+        Returns
+        -------
+        bool
+        """
+        return -n_left <= support - offset < n_right
 
     def _local_joints(self, offset: int, n_left: int, n_right: int) -> dict:
         lo, hi = self.mid_span([offset - n_left, offset + n_right])
@@ -328,7 +352,7 @@ class WindowTrack:
         changes = self.local_changes(offset, n_left, n_right)
         joints = self._local_joints(offset, n_left, n_right)
         kt = None if self.transition is None else self.transition - offset
-        f_max = self.f_max if self.f_max != DEFAULT_F_MAX else None
+        f_max = self.f_max if self._f_max_given else None
         if kt is not None and -n_left <= kt <= n_right or joints:
             left, right = (0, 1) if kt is not None and -n_left <= kt <= n_right else (self.part_at(offset),) * 2
             two = left != right
@@ -430,8 +454,11 @@ class WindowTrack:
         return nodes.astype(np.int64)
 
     def __repr__(self):
-        return (f"WindowTrack({self.track.name!r}, {len(self.changes)} changes, behind={self._behind}, "
-                f"ahead={self._ahead}, elements_per_bay={self.elements_per_bay})")
+        lengths = ("default" if self._behind is None else self._behind, "default" if self._ahead is None
+                   else self._ahead)
+        return (f"WindowTrack({' | '.join(repr(t.name) for t in self.tracks)}, {len(self.changes)} changes, "
+                f"{len(self.joints)} joints, behind={lengths[0]}, ahead={lengths[1]}, move={self.move}, "
+                f"elements_per_bay={self.elements_per_bay})")
 
 
 @functools.lru_cache(maxsize=16)

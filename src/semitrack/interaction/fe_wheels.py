@@ -12,7 +12,7 @@ import scipy.sparse as sp
 from ..dynamics.contact import HertzContacts
 from ..dynamics.factor import factorise
 from ..dynamics.points import PointSet
-from ..fe.gaps import GapResponse, SleeperGaps, static_with_gaps
+from ..fe.gaps import GapResponse, SleeperGaps, contact_time, static_with_gaps
 from ..fe.models import FETrack
 from ..model.vehicle import Vehicle
 from ..model.wheel import Wheel
@@ -58,7 +58,7 @@ def gap_response(res, gaps: SleeperGaps, k: int, dt: float) -> GapResponse:
     """The hanging sleepers' columns of a run's contact channels (after the k wheels')."""
     force, w = res["contact force"][:, k:], res["wheel"][:, k:]
     return GapResponse(supports=gaps.supports, gaps=gaps.gaps, force=force, opening=gaps.gaps - w,
-                       contact_time=dt * np.count_nonzero(force[1:] > 0, axis=0))  # a step per sample after the start
+                       contact_time=contact_time(force, dt))
 
 
 def contact_points(model: FETrack, x: np.ndarray, moving: bool) -> PointSet:

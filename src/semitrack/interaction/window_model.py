@@ -27,15 +27,15 @@ from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
-from ..base.checks import check_int_at_least
+from ..base.checks import check_int_at_least, check_nonnegative, check_work
 from ..base.errors import InputError, InputTypeError
 from ..dynamics.newmark import Newmark
 from ..dynamics.points import PointSet
-from ..dynamics.simulate import check_limits, continue_run, stepping_of
+from ..dynamics.simulate import MAX_RECORDED, check_limits, continue_run, stepping_of
 from ..dynamics.states import TrapezoidalStates
 from ..dynamics.system import union
 from ..fe.ends import BoundaryEnd, make_end
-from ..fe.gaps import GapResponse, SleeperGaps, sleeper_gaps
+from ..fe.gaps import GapResponse, SleeperGaps, contact_time, sleeper_gaps
 from ..fe.models import FETrack
 from ..fe.trackforces import TrackForces, track_forces, watched_dofs
 from ..fe.window import WindowTrack
@@ -113,9 +113,11 @@ class _Shadows:
         """Run every shadow over a stretch: ``y`` (rows, nodes, 2) the nodes' motion, row 0 the stretch's start."""
         dy = np.diff(y, axis=0)  # (N, nodes, 2)
         n = dy.shape[0]
-        if n not in self._weights:  # a stretch is one of two lengths at a constant speed
-            self._weights[n] = self.lam[:, None] ** (n - 1 - np.arange(n))[None, :]  # (m, N)
-        weights = self._weights[n]
+        weights = self._weights.get(n)
+        if weights is None:
+            weights = self.lam[:, None] ** (n - 1 - np.arange(n))[None, :]  # (m, N)
+            if len(self._weights) < 4:  # a constant speed's stretches are of two lengths; a varying one's are not
+                self._weights[n] = weights
         summed = [weights @ dy[:, :, c] for c in range(2)]  # sum_n lam^(N-1-n) dy_n, (m, nodes) per input
         drive = self.Q[:, 0, None] * summed[0] + self.Q[:, 1, None] * summed[1]
         self.z = self.lam ** n * self.z + drive.T
@@ -160,16 +162,24 @@ def window_response(track: WindowTrack, wheel: Wheel | Vehicle | Sequence[Wheel]
     k = run.k
     n_left, n_right, path = _check_window(track, run)
     offsets = _offsets(track, np.max(path, axis=1))
-    reach = _Reach(n_left, n_right, ballast_gaps, offsets)
+    reach = _Reach(track, n_left, n_right, ballast_gaps, offsets)
     watched = _Watched(track, n_left, n_right, watch_supports, bending_at, offsets)
     windows = _Windows(track, n_left, n_right, run.vehicle, Newmark(run.dt), f_ref)
     model, system, stepping = windows.at(int(offsets[0]))
-    # held for the run: 3 outputs per wheel, its inputs (a stretch's records of the shadow nodes are a bay's only)
+    # held for the run: 3 outputs per wheel, its inputs, the watched DOFs (a stretch's shadow records: below)
     check_limits(run.n_steps, system.n_dof, 3 * k + 2 * reach.n + watched.n_recorded, 11 * k,
                  f"duration={run.duration!r} s / dt={run.dt!r} s")
+    if len(system.states) != 2:
+        raise InputError(f"a window's only states are its two ends' (got {len(system.states)} blocks): a vehicle with "
+                         "states of its own does not run on a WindowTrack yet")
+    stretches = _stretches(offsets)
+    longest = max(last - first + 1 for _, first, last in stretches)
+    n_nodes = n_left + n_right
+    check_work(longest * 2 * n_nodes, MAX_RECORDED, f"a stretch of {longest} steps x {2 * n_nodes} DOFs of the shadow "
+               "nodes", "use a larger speed or dt, or a larger move")
     r = rail_input(roughness, path, run.dt, run.ramp, profile)
     steps = _Steps(track, model, system, stepping, run, path, offsets, element_flexibility, reach, watched)
-    for i, (offset, first, last) in enumerate(_stretches(offsets)):
+    for i, (offset, first, last) in enumerate(stretches):
         if i:
             steps.jump(offset, windows.at(offset))
         steps.stretch(first, last, r, compiled)
@@ -184,16 +194,26 @@ def window_response(track: WindowTrack, wheel: Wheel | Vehicle | Sequence[Wheel]
 class _Reach:
     """The hanging sleepers the window meets: each one's stretches, and what it did over the run."""
 
-    def __init__(self, n_left: int, n_right: int, ballast_gaps: Mapping[int, float] | None, offsets: np.ndarray):
+    def __init__(self, track: WindowTrack, n_left: int, n_right: int, ballast_gaps: Mapping[int, float] | None,
+                 offsets: np.ndarray):
         if ballast_gaps is not None and not isinstance(ballast_gaps, Mapping):
             raise InputTypeError(f"ballast_gaps must be a mapping {{support index: gap (m)}}, got {ballast_gaps!r}")
-        self.gaps = {int(kk): float(g) for kk, g in (ballast_gaps or {}).items()}
-        self.n_left, self.n_right = n_left, n_right
-        lo, hi = int(offsets.min()) - n_left, int(offsets.max()) + n_right
-        for kk in self.gaps:
-            if not lo <= kk < hi:
+        self.track, self.n_left, self.n_right = track, n_left, n_right
+        stops = np.unique(offsets)
+        self.gaps = {}
+        for kk, g in (ballast_gaps or {}).items():  # the FE route's rules, checked before any step
+            kk = check_int_at_least("ballast_gaps key (a support index)", kk, -10**9)
+            self.gaps[kk] = check_nonnegative(f"ballast_gaps[{kk}]", g)
+            if not any(track.holds(kk, int(o), n_left, n_right) for o in stops):
+                lo, hi = int(stops[0]) - n_left, int(stops[-1]) + n_right - 1
                 raise InputError(f"ballast_gaps: support {kk} is beyond the window's reach over this run (supports "
-                                 f"{lo} to {hi - 1})")
+                                 f"{lo} to {hi})")
+            change = track.changes.get(kk, {})
+            if not track.tracks[track.part_at(kk)].is_ballasted:
+                raise InputError(f"ballast_gaps: support {kk} has no sleeper on ballast")
+            if change is None or change.get("kb", None) != 0:
+                raise InputError(f"ballast_gaps: build the WindowTrack with changes={{{kk}: {{'kb': 0.0}}}} so that "
+                                 f"support {kk}'s sleeper hangs from the rail without its linear ballast")
         self.n = len(self.gaps)
         self.supports = np.array(sorted(self.gaps), np.int64)
         self.force = np.zeros((offsets.size, self.n))
@@ -202,7 +222,8 @@ class _Reach:
 
     def local(self, offset: int) -> dict:
         """The gaps inside the window moved ``offset`` bays, in its numbering."""
-        return {kk - offset: g for kk, g in self.gaps.items() if -self.n_left <= kk - offset < self.n_right}
+        held = (kk for kk in self.gaps if self.track.holds(kk, offset, self.n_left, self.n_right))
+        return {kk - offset: self.gaps[kk] for kk in held}
 
     def record(self, gaps: SleeperGaps | None, offset: int, rows: slice, force: np.ndarray, w: np.ndarray) -> None:
         """A stretch's columns of the hanging sleepers it held (after the wheels')."""
@@ -225,8 +246,7 @@ class _Reach:
         after = np.arange(self.force.shape[0])[:, None] >= self.left[None, :]
         force, opening = np.where(after, np.nan, self.force), np.where(after, np.nan, self.opening)
         return GapResponse(supports=self.supports, gaps=np.array([self.gaps[kk] for kk in self.supports]),
-                           force=force, opening=opening,
-                           contact_time=dt * np.count_nonzero(np.nan_to_num(force[1:]) > 0, axis=0))
+                           force=force, opening=opening, contact_time=contact_time(np.nan_to_num(force), dt))
 
 
 class _Watched:
@@ -243,9 +263,11 @@ class _Watched:
         self.track, self.rows = track, offsets.size
         stops = np.unique(offsets)
         self.items = []  # (what, its global index or position, reference offset, reference model, watch)
+        if np.ndim(supports) != 1 and not isinstance(supports, (list, tuple)):
+            raise InputTypeError(f"watch_supports must be a sequence of support indices, got {supports!r}")
         for k in supports:
             k = check_int_at_least("watch_supports", k, -10**9)
-            inside = stops[(-n_left <= k - stops) & (k - stops < n_right)]
+            inside = np.array([o for o in stops if track.holds(k, int(o), n_left, n_right)], dtype=np.int64)
             if not inside.size:
                 raise InputError(f"watch_supports: support {k} is beyond the window's reach over this run (supports "
                                  f"{int(stops[0]) - n_left} to {int(stops[-1]) + n_right - 1})")
