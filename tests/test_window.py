@@ -99,23 +99,34 @@ def test_a_window_holds_a_joint_and_a_transition_as_the_path_model_does(boundari
     assert got.infinite.transition == 10 and got.infinite.joints == joints
 
 
+class _ByHand:
+    """The slab boundary's rear block, stepped by hand beside the shadows, on random node motions."""
+
+    def __init__(self, boundary, nodes: int, seed: int):
+        model = st.FETrack(SLAB, 2, 2, "boundary", "boundary", system=boundary, elements_per_bay=NE)
+        states = TrapezoidalStates(model.boundary_states(), DT, model.n_dof)
+        m = model.boundary_states()[0].n_states
+        self.E, self.phi = states.E.toarray()[:m, :m], states.Phi_P.toarray()[:m, :2]
+        self.shadows, self.x = _Shadows(states, m, nodes), np.zeros((nodes, m))
+        self.rng, self.nodes = np.random.default_rng(seed), nodes
+
+    def stretch(self, rows: int) -> None:
+        y = np.cumsum(self.rng.normal(size=(rows, self.nodes, 2)), axis=0) * 1e-6
+        self.shadows.advance(y)
+        for n in range(rows - 1):
+            self.x = self.x @ self.E.T + (y[n + 1] - y[n]) @ self.phi.T
+
+    def agree(self, got: np.ndarray, want: np.ndarray) -> bool:
+        return np.allclose(got, want, rtol=1e-9, atol=1e-9 * np.abs(self.x).max())
+
+
 def test_the_shadow_states_are_the_rear_boundarys_recursion(boundaries):
     """One weighted sum per stretch equals the trapezoidal recursion of the rear end's block, stepped by hand."""
-    model = st.FETrack(SLAB, 2, 2, "boundary", "boundary", system=boundaries["slab"], elements_per_bay=NE)
-    states = TrapezoidalStates(model.boundary_states(), DT, model.n_dof)
-    m = model.boundary_states()[0].n_states
-    E, phi = states.E.toarray()[:m, :m], states.Phi_P.toarray()[:m, :2]
-    rng = np.random.default_rng(1)
-    shadows = _Shadows(states, m, 3)
-    x = np.zeros((3, m))
+    hand = _ByHand(boundaries["slab"], 3, 1)
     for rows in (40, 41, 40):
-        y = np.cumsum(rng.normal(size=(rows, 3, 2)), axis=0) * 1e-6
-        shadows.advance(y)
-        for n in range(rows - 1):
-            x = x @ E.T + (y[n + 1] - y[n]) @ phi.T
-        assert np.allclose(np.real(shadows.V @ shadows.z.T).T, x, rtol=1e-9, atol=1e-9 * np.abs(x).max())
-    rear = shadows.jump(1)
-    assert np.allclose(rear, x[0], rtol=1e-9, atol=1e-9 * np.abs(x).max())
+        hand.stretch(rows)
+        assert hand.agree(np.real(hand.shadows.V @ hand.shadows.z.T).T, hand.x)
+    assert hand.agree(hand.shadows.jump(1), hand.x[0])
 
 
 def test_stretches_cut_where_the_lead_wheel_enters_a_bay():
@@ -319,25 +330,12 @@ def test_a_short_window_passes_wholly_onto_the_second_track(boundaries):
 
 def test_a_jump_of_several_bays_takes_the_shadow_of_the_new_rear_node(boundaries):
     """jump(3) gives the recursion of node 2 and renumbers the rest; the next stretch continues each node's own."""
-    model = st.FETrack(SLAB, 2, 2, "boundary", "boundary", system=boundaries["slab"], elements_per_bay=NE)
-    states = TrapezoidalStates(model.boundary_states(), DT, model.n_dof)
-    m = model.boundary_states()[0].n_states
-    E, phi = states.E.toarray()[:m, :m], states.Phi_P.toarray()[:m, :2]
-    rng = np.random.default_rng(5)
-    shadows, x = _Shadows(states, m, 5), np.zeros((5, m))
-
-    def stretch(x, rows):
-        y = np.cumsum(rng.normal(size=(rows, 5, 2)), axis=0) * 1e-6
-        shadows.advance(y)
-        for n in range(rows - 1):
-            x = x @ E.T + (y[n + 1] - y[n]) @ phi.T
-        return x
-
-    x = stretch(x, 30)
-    rear = shadows.jump(3)
-    assert np.allclose(rear, x[2], rtol=1e-9, atol=1e-9 * np.abs(x).max())
-    x = stretch(np.vstack([x[3:], np.zeros((3, m))]), 31)  # nodes 3, 4 are now 0, 1; three new nodes at rest
-    assert np.allclose(np.real(shadows.V @ shadows.z.T).T, x, rtol=1e-9, atol=1e-9 * np.abs(x).max())
+    hand = _ByHand(boundaries["slab"], 5, 5)
+    hand.stretch(30)
+    assert hand.agree(hand.shadows.jump(3), hand.x[2])
+    hand.x = np.vstack([hand.x[3:], np.zeros((3, hand.x.shape[1]))])  # nodes 3, 4 are now 0, 1; three enter at rest
+    hand.stretch(31)
+    assert hand.agree(np.real(hand.shadows.V @ hand.shadows.z.T).T, hand.x)
 
 
 def test_the_shadow_states_beat_a_rear_end_started_at_rest(boundaries, monkeypatch):

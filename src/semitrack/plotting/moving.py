@@ -29,14 +29,39 @@ def moving_force_figure(comparison, agreements: Sequence[dict], window: tuple[fl
     -------
     fig, axes
     """
+    return force_comparison_figure(comparison.green, comparison.truncated, agreements,
+                                   ("moving Green's functions", "truncated model, broadband ends"), window, title)
+
+
+@house_figure
+def force_comparison_figure(run, reference, agreements: Sequence[dict], labels: tuple[str, str],
+                            window: tuple[float, float], title: str = ""):
+    """A stretch of the first wheel's force by a run and its reference, and every wheel's band levels of the difference.
+
+    Parameters
+    ----------
+    run, reference : ContactResponse
+        The two runs, on the same time steps.
+    agreements : sequence of dict
+        :func:`semitrack.paper.moving_study.force_agreement` of each wheel.
+    labels : (str, str)
+        The run's and the reference's names.
+    window : (float, float)
+        The stretch of time drawn (s).
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    fig, axes
+    """
     fig, axes = panels(2, figsize=(10.0, 3.8))
-    green, truncated = comparison.green, comparison.truncated
-    first = (lambda a: a) if green.force.ndim == 1 else (lambda a: a[:, 0])  # noqa: E731
-    shown = (green.t >= window[0]) & (green.t <= window[1])
-    axes[0].plot(1e3 * green.t[shown], first(truncated.force)[shown] / 1e3, color="0.65", lw=3.2,
-                 label="truncated model, broadband ends", zorder=1)
-    axes[0].plot(1e3 * green.t[shown], first(green.force)[shown] / 1e3, color="tab:red", lw=1.1, ls="--",
-                 label="moving Green's functions", zorder=2)
+    first = (lambda a: a) if run.force.ndim == 1 else (lambda a: a[:, 0])  # noqa: E731
+    shown = (run.t >= window[0]) & (run.t <= window[1])
+    axes[0].plot(1e3 * run.t[shown], first(reference.force)[shown] / 1e3, color="0.65", lw=3.2, label=labels[1],
+                 zorder=1)
+    axes[0].plot(1e3 * run.t[shown], first(run.force)[shown] / 1e3, color="tab:red", lw=1.1, ls="--",
+                 label=labels[0], zorder=2)
     axes[0].set_xlabel("Time (ms)")
     axes[0].set_ylabel("Contact force, first wheel (kN)")
     markers = ("o", "s", "^", "v")

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .style import house_figure, legend_below, panels
+from .moving import force_comparison_figure
+from .style import house_figure, panels
 
 
-@house_figure
 def window_force_figure(run, window: tuple[float, float] = (0.20, 0.24), title: str = ""):
     """A stretch of the first wheel's force on both models, and every wheel's band levels of the difference.
 
@@ -24,30 +24,8 @@ def window_force_figure(run, window: tuple[float, float] = (0.20, 0.24), title: 
     -------
     fig, axes
     """
-    fig, axes = panels(2, figsize=(10.0, 3.8))
-    win, path = run.window, run.path
-    first = (lambda a: a) if win.force.ndim == 1 else (lambda a: a[:, 0])  # noqa: E731
-    shown = (win.t >= window[0]) & (win.t <= window[1])
-    axes[0].plot(1e3 * win.t[shown], first(path.force)[shown] / 1e3, color="0.65", lw=3.2,
-                 label="model that holds the path", zorder=1)
-    axes[0].plot(1e3 * win.t[shown], first(win.force)[shown] / 1e3, color="tab:red", lw=1.1, ls="--",
-                 label="travelling window", zorder=2)
-    axes[0].set_xlabel("Time (ms)")
-    axes[0].set_ylabel("Contact force, first wheel (kN)")
-    markers = ("o", "s", "^", "v")
-    for i, a in enumerate(run.agreement):
-        axes[1].semilogx(a["centres"], a["error_level"], marker=markers[i % len(markers)], lw=1.0,
-                         label=f"wheel {i + 1}" if len(run.agreement) > 1 else "the wheel")
-    axes[1].axhline(-45.0, color="k", lw=0.8, ls=":", label="-45 dB")
-    axes[1].set_xlabel("One-third-octave band centre (Hz)")
-    axes[1].set_ylabel("Difference under the force (dB)")
-    top = max(-45.0, float(np.max([a["error_level"].max() for a in run.agreement])))
-    axes[1].set_ylim(top=top + 25)  # room above the -45 dB line for the legend
-    legend_below(fig, axes[0])
-    axes[1].legend(loc="upper right", ncol=3)
-    if title:
-        fig.suptitle(title)
-    return fig, axes
+    return force_comparison_figure(run.window, run.path, run.agreement,
+                                   ("travelling window", "model that holds the path"), window, title)
 
 
 @house_figure
