@@ -36,25 +36,27 @@ __all__ = ["run_compiled"]
 _jit = numba.njit(cache=True, nogil=True, error_model="numpy")  # no division checks on the solve's chains
 
 
-def _with_compiled_helpers(func, helpers):
-    """``func`` with the helpers it calls bound to their compiled twins.
+def _with_compiled_helpers(func, helpers=(), **compiled):
+    """``func`` with the helpers it calls bound to their compiled twins (``compiled``: already compiled ones by name).
 
     numba resolves the names a function calls among its globals when it compiles it; the plain
-    helpers of the one source would not compile there, their compiled twins do.
+    helpers of the one source would not compile there, their compiled twins do. A compiled
+    function passed as an argument instead would make numba's cache key hold a weak reference to
+    it, which a later process cannot resolve ("underlying object has vanished").
     """
-    env = dict(func.__globals__, **{h.__name__: _jit(h) for h in helpers})
+    env = dict(func.__globals__, **{h.__name__: _jit(h) for h in helpers}, **compiled)
     twin = types.FunctionType(func.__code__, env, func.__name__, func.__defaults__, func.__closure__)
     twin.__qualname__ = func.__qualname__
     return twin
 
 
 _hertz = _jit(_with_compiled_helpers(solve_hertz, HELPERS))
-_convolved = _jit(convolved_steps)
+_convolved = _jit(_with_compiled_helpers(convolved_steps, solve_hertz=_hertz))
 
 
 def run_convolved(*arrays) -> int:
     """The convolution loop of :mod:`semitrack.dynamics.convolved`, compiled, with the compiled contact solve."""
-    return _convolved(*arrays, _hertz)
+    return _convolved(*arrays)
 
 
 @_jit

@@ -28,7 +28,7 @@ __all__ = ["convolved_steps", "one_contact_steps"]
 
 
 def convolved_steps(kernels, pair, release, preload, phase0, flexibility, c_h, r, inverse, M, C, coef, loads,
-                    u, force, w_wheel, w_rail, history, work, solve=solve_hertz):  # noqa: PLR0913, PLR0915
+                    u, force, w_wheel, w_rail, history, work):  # noqa: PLR0913, PLR0915
     """Run the steps 1..n of the contacts against the convolution, in place (see the module docstring).
 
     Parameters
@@ -65,9 +65,6 @@ def convolved_steps(kernels, pair, release, preload, phase0, flexibility, c_h, r
         Zero; holds each contact's forces from step 1, newest first (``F_j(n)`` at ``n_steps - n``).
     work : ndarray, shape (k, k + 5)
         Workspace of the contact solve.
-    solve : callable
-        :func:`semitrack.dynamics.contact.solve_hertz`, or its compiled twin (a compiled loop
-        takes the functions it calls as arguments).
 
     Returns
     -------
@@ -111,7 +108,7 @@ def convolved_steps(kernels, pair, release, preload, phase0, flexibility, c_h, r
             free[i] = s
         for i in range(k):
             a[i] = free[i] - hist[i] - r[n, i]
-        if solve(c_h, a, G, f_now, work) > MAX_NEWTON:
+        if solve_hertz(c_h, a, G, f_now, work) > MAX_NEWTON:
             return n
         for i in range(n_v):
             s = free[i]
@@ -133,7 +130,7 @@ def convolved_steps(kernels, pair, release, preload, phase0, flexibility, c_h, r
 
 
 def one_contact_steps(kernels, pair, release, preload, phase0, flexibility, c_h, r, inverse, M, C, coef, loads,
-                      u, force, w_wheel, w_rail, history, work, solve=solve_hertz):  # noqa: PLR0913
+                      u, force, w_wheel, w_rail, history, work):  # noqa: PLR0913
     """:func:`convolved_steps` for one contact on a one-DOF vehicle (a wheel on its primary suspension), in floats.
 
     The same equations with Python floats for the vehicle and the contact, so that the Python
@@ -165,7 +162,7 @@ def one_contact_steps(kernels, pair, release, preload, phase0, flexibility, c_h,
         free = g_w * (load + m * (a0 * x + a2 * v + a3 * acc) + c * (a1 * x + a4 * v + a5 * acc))
         G[0, 0] = first[q] + g_w + flex_n
         a[0] = free - hist - rough[n]
-        if solve(c_h, a, G, f_now, work) > MAX_NEWTON:
+        if solve_hertz(c_h, a, G, f_now, work) > MAX_NEWTON:
             return n
         f = float(f_now[0])
         new = free - g_w * f

@@ -68,10 +68,10 @@ class _Windows:
         if key != self._key:
             model = self.track.model_at(offset, self.n_left, self.n_right)
             system = union({"track": model.time_domain_system(self.f_ref), "vehicle": self.vehicle_system})
-            # the same ends on the same DOFs share their discretised states (keyed by value: a freed
-            # model's arrays may leave their ids to another boundary's)
-            ends = tuple(b"".join(np.ascontiguousarray(X).tobytes() for X in (blk.dofs, blk.A, blk.B, blk.C, blk.port))
-                         for blk in system.states)
+            # the same ends on the same DOFs of a system of the same size share their discretised
+            # states (keyed by value: a freed model's arrays may leave their ids to another boundary's)
+            ends = (system.n_dof, *(b"".join(np.ascontiguousarray(X).tobytes() for X in
+                                             (blk.dofs, blk.A, blk.B, blk.C, blk.port)) for blk in system.states))
             stepping = stepping_of(system, self.stepper, self._states.get(ends))
             self._states[ends] = stepping[0]
             self._key, self._entry = key, (model, system, stepping)
