@@ -29,7 +29,7 @@ DT = 2e-5
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--durations", type=float, nargs="+", default=[0.4, 1.0])
+    parser.add_argument("--durations", type=float, nargs="*", default=[0.4, 1.0])
     parser.add_argument("--tracks", nargs="+", default=["ballasted", "slab"], choices=["ballasted", "slab"])
     parser.add_argument("--window-only", type=float, nargs="*", default=[], help="durations run by the window alone")
     parser.add_argument("--elements", type=int, default=None, help="elements per bay (default: the mesh for 3 kHz)")
