@@ -362,3 +362,21 @@ def test_changes_and_gaps_are_checked_before_any_step(boundaries, changes, gaps,
     with pytest.raises(st.BadInput, match=match):
         win = st.WindowTrack(BALLAST, changes, behind=3, ahead=3, elements_per_bay=NE, system=boundaries["ballasted"])
         st.wheel_rail_response(win, st.Wheel(), speed=SPEED, dt=DT, duration=0.03, ballast_gaps=gaps)
+
+
+def test_continue_run_checks_the_state_it_is_given(boundaries):
+    """The run's size is bounded as simulate bounds it, and each part of the state is refused by its name."""
+    from semitrack.dynamics.newmark import Newmark
+    from semitrack.dynamics.simulate import continue_run
+
+    system = st.FETrack(SLAB, 2, 2, "boundary", "boundary", system=boundaries["slab"],
+                        elements_per_bay=NE).time_domain_system()
+    n, m = system.n_dof, sum(blk.n_states for blk in system.states)
+    state = dict(u=np.zeros(n), v=np.zeros(n), a=np.zeros(n), x=np.zeros(m))
+    out = continue_run(system, Newmark(DT), 3, **state)
+    assert out.u.shape == (n,) and out.x.shape == (m,) and not out.u.any()  # at rest, unloaded: it stays so
+    for name in state:
+        with pytest.raises(st.BadInput, match=f"{name} must have shape"):
+            continue_run(system, Newmark(DT), 3, **(state | {name: np.zeros(3)}))
+    with pytest.raises(st.BadInput, match="n_steps"):
+        continue_run(system, Newmark(DT), 10**12, **state)

@@ -325,8 +325,9 @@ def continue_run(system: SecondOrderSystem, stepper: Newmark, n_steps: int, *, u
 
     For a model whose matrices change between stretches of a run (the travelling window of
     :mod:`semitrack.interaction.window_model`): the state ``(u, v, a, x)`` carried over from the
-    last stretch, the acceleration not recomputed. The inputs are the caller's, not checked
-    again (:func:`simulate` checks the same kinds of input for a user).
+    last stretch, the acceleration not recomputed. The run's size is bounded as :func:`simulate`
+    bounds it and the state's shapes are checked; the loads and contacts are the caller's, as
+    :func:`simulate` takes them, not checked again.
 
     Parameters
     ----------
@@ -345,7 +346,14 @@ def continue_run(system: SecondOrderSystem, stepper: Newmark, n_steps: int, *, u
     -------
     Continued
     """
+    n_steps = check_int_at_least("n_steps", n_steps, 1)
     record = np.asarray(record, dtype=np.int64).ravel()
+    k = contacts.n_contacts if contacts is not None else 0
+    check_limits(n_steps, system.n_dof, record.size + 3 * k)
+    n = system.n_dof
+    u, v = _vector("u", u, n), _vector("v", v, n)
+    a = None if a is None else _vector("a", a, n)
+    x = _vector("x", x, sum(blk.n_states for blk in system.states))
     arrays = _prepare(system, stepper, n_steps, list(loads), contacts, {}, record, u, v, a0=a, x0=x, stepping=stepping)
     response = _run(arrays, compiled, {}, contacts)
     return Continued(response, arrays.u + arrays.u_ref, arrays.v.copy(), arrays.a.copy(), arrays.x.copy())

@@ -60,7 +60,6 @@ class _Windows:
         self.vehicle_system, self.stepper, self.f_ref = vehicle.system(), stepper, f_ref
         self._key = self._entry = None
         self._states: dict = {}  # the ends' discretised states, by the blocks they come from
-        self.refactorised = 0
 
     def at(self, offset: int) -> tuple[FETrack, object, object]:
         """``(model, system, (states, factor))`` of the window moved ``offset`` bays."""
@@ -75,7 +74,6 @@ class _Windows:
             stepping = stepping_of(system, self.stepper, self._states.get(ends))
             self._states[ends] = stepping[0]
             self._key, self._entry = key, (model, system, stepping)
-            self.refactorised += 1
         return self._entry
 
 

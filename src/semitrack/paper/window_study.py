@@ -32,7 +32,7 @@ from ..model.tracks import Track
 from ..model.vehicle import as_vehicle
 from .moving_study import MARGIN_BAYS, force_agreement
 
-__all__ = ["random_supports", "WindowRun", "window_against_path", "agreement_table", "lengths_table",
+__all__ = ["random_supports", "WindowRun", "window_against_path", "path_model_bays", "agreement_table", "lengths_table",
            "least_decay_rate"]
 
 
@@ -163,12 +163,35 @@ def window_against_path(track: Track, changes: Mapping, boundary: BroadbandBound
     if not path:
         return WindowRun(res_w, None, t_w, math.nan, res_w.n_dof, 0, [], window.behind, window.ahead)
     start = vehicle.positions(x0, "x")
-    reach = float(max(np.max(np.abs(start)), np.max(np.abs(start + length))))  # the path, in the centred model
-    model = TruncatedTrack(track, math.ceil(reach / track.spacing) + MARGIN_BAYS, BoundaryEnd.name, system=boundary,
+    model = TruncatedTrack(track, path_model_bays(track, start, length), BoundaryEnd.name, system=boundary,
                            changes=changes, elements_per_bay=window.elements_per_bay)
     res_p, t_p = _timed(model, vehicle, roughness, **run)
     agreement = [force_agreement(res_w, res_p, wheel=i, after=after) for i in range(len(vehicle.wheels))]
     return WindowRun(res_w, res_p, t_w, t_p, res_w.n_dof, res_p.n_dof, agreement, window.behind, window.ahead)
+
+
+def path_model_bays(track: Track, start: np.ndarray, length: float) -> int:
+    """The bays each side of the truncated model that holds a path: wheels from ``start`` (m) run ``length`` (m).
+
+    The model is centred on x = 0 and keeps :data:`~semitrack.paper.moving_study.MARGIN_BAYS`
+    beyond the farthest position of any wheel.
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+    start : ndarray
+        Every wheel's start (m).
+    length : float
+        The distance run (m).
+
+    Returns
+    -------
+    int
+    """
+    start = np.asarray(start, dtype=float)
+    reach = float(max(np.max(np.abs(start)), np.max(np.abs(start + length))))
+    return math.ceil(reach / track.spacing) + MARGIN_BAYS
 
 
 def agreement_table(runs: Mapping[str, WindowRun]) -> pd.DataFrame:

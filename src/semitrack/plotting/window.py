@@ -66,7 +66,7 @@ def long_run_figure(response, pad_stiffness: np.ndarray, supports: np.ndarray, s
         axes[0].axvline((k + 0.5) * spacing, color="tab:red", lw=0.8, ls=":")
     axes[0].set_xlabel("Position of the first wheel (m)")
     axes[0].set_ylabel("Contact force (kN)")
-    shown = (supports + 0.5) * spacing <= x.max()
+    shown = (x.min() <= (supports + 0.5) * spacing) & ((supports + 0.5) * spacing <= x.max())
     axes[1].plot((supports[shown] + 0.5) * spacing, pad_stiffness[shown] / 1e6, color="0.3", lw=0.6)
     axes[1].set_xlabel("Support position (m)")
     axes[1].set_ylabel("Pad stiffness (MN/m)")
