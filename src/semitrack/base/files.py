@@ -15,6 +15,7 @@ user creates; a replaced file keeps its mode.
 
 from __future__ import annotations
 
+import contextlib
 import io
 import json
 import os
@@ -22,7 +23,7 @@ import secrets
 import stat
 import struct
 import zlib
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import IO, Any
 
@@ -155,6 +156,38 @@ def atomic_write(path: str | os.PathLike, write: Callable[[IO], Any], binary: bo
         if tmp is not None:
             tmp.unlink(missing_ok=True)
     return Path(path)
+
+
+@contextlib.contextmanager
+def exclusive(path: str | os.PathLike) -> Iterator[None]:
+    """Hold ``path``'s lock file (``<path>.lock``) while the block runs: one process at a time.
+
+    For results computed once per cache folder by several processes at once (two chapters of the
+    book executed together): the second waits while the first computes and stores the result,
+    then reads it, instead of computing it again. The lock is the operating system's
+    (:func:`fcntl.flock`, released when the block ends or the process dies); where there is none
+    (Windows) the block runs unlocked, and the atomic write still keeps the file whole.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file the block computes; its folder must exist.
+
+    Yields
+    ------
+    None
+    """
+    try:
+        import fcntl
+    except ImportError:  # no POSIX locks here: the atomic write alone
+        yield
+        return
+    with open(f"{os.fspath(path)}.lock", "a", encoding="utf-8") as handle:
+        fcntl.flock(handle.fileno(), fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(handle.fileno(), fcntl.LOCK_UN)
 
 
 def read_text(path: str | os.PathLike, max_bytes: int, what: str = "file") -> str:

@@ -58,7 +58,7 @@ import numpy as np
 from ..base import records
 from ..base.checks import as_frequencies, check_band
 from ..base.errors import InputError, InputTypeError
-from ..base.files import read_text
+from ..base.files import exclusive, read_text
 from ..base.paper_values import FIT_BANDS
 from ..methods.receptance import CentralResponse, Method, central_response
 from ..model.curves import FrequencyCurve
@@ -215,13 +215,16 @@ def _computed_once(key: str, path: Path | None, kind: type, compute):
     """The memoised result of ``key``, else the one stored at ``path``, else ``compute()`` (stored)."""
     if key in _MEMO:
         return _MEMO[key]
-    result = None if path is None else _load(path, kind)
-    if result is None:
+    if path is None:
         result = compute()
-        if path is not None:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            text = records.dumps(result)
-            atomic_write(path, lambda fh: fh.write(text))
+    else:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with exclusive(path):  # a process computing the same key meanwhile: wait for its file
+            result = _load(path, kind)
+            if result is None:
+                result = compute()
+                text = records.dumps(result)
+                atomic_write(path, lambda fh: fh.write(text))
     _MEMO[key] = result
     return result
 

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..base.files import atomic_write
+from ..base.files import atomic_write, exclusive
 from ..model.tracks import Track
 from .kernels import KernelGrid, MovingKernels, kernel_key, moving_kernels, release_starts
 
@@ -111,12 +111,16 @@ def cached_kernels(track: Track, elements_per_bay: int | None, f_max: float | No
     digest = _digest(key)
     if digest in _MEMO:
         return _MEMO[digest]
-    path = None if cache is None else Path(cache) / f"kernels-{digest}.npz"
-    kernels = None if path is None else _read(path, key, grid, release_starts(grid, start))
-    if kernels is None:
+    if cache is None:
         kernels = moving_kernels(track, elements_per_bay, grid, memory, f_ref, f_max, start)
-        if path is not None:
-            _write(path, kernels)
+    else:
+        path = Path(cache) / f"kernels-{digest}.npz"
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with exclusive(path):  # a process computing the same kernels meanwhile: wait for its file
+            kernels = _read(path, key, grid, release_starts(grid, start))
+            if kernels is None:
+                kernels = moving_kernels(track, elements_per_bay, grid, memory, f_ref, f_max, start)
+                _write(path, kernels)
     _MEMO[digest] = kernels
     return kernels
 

@@ -1,0 +1,133 @@
+"""The book's execution: every notebook run from scratch, two at a time, and results shared between chapters once."""
+
+import importlib.util
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import nbclient
+import nbformat
+import pytest
+import yaml
+
+from semitrack.base.files import exclusive
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="module")
+def execution():
+    spec = importlib.util.spec_from_file_location("semitrack_execution", ROOT / "book" / "_ext" /
+                                                  "semitrack_execution.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_book_hands_its_execution_to_the_extension():
+    """MyST-NB's own execution off and the extension loaded: else the notebooks would run twice, or never."""
+    config = yaml.safe_load((ROOT / "_config.yml").read_text(encoding="utf-8"))
+    assert config["execute"]["execute_notebooks"] == "off"
+    assert config["execute"]["allow_errors"] is False
+    assert "semitrack_execution" in config["sphinx"]["local_extensions"]
+
+
+def test_every_notebook_of_the_toc_is_executed(execution):
+    notebooks = execution.toc_notebooks(ROOT, ROOT / "_toc.yml")
+    toc = (ROOT / "_toc.yml").read_text(encoding="utf-8")
+    on_disk = sorted(p.stem for p in (ROOT / "book").glob("*.ipynb"))
+    assert sorted(p.stem for p in notebooks) == on_disk
+    assert all(f"book/{p.stem}" in toc for p in notebooks)
+
+
+def test_several_kernels_get_one_blas_thread_each(execution):
+    one = execution.kernel_environment(1)
+    two = execution.kernel_environment(2)
+    assert all(two[name] == "1" for name in execution.THREAD_VARIABLES)
+    assert all(one.get(name) == os.environ.get(name) for name in execution.THREAD_VARIABLES)
+
+
+def _notebook(path: Path, *sources: str) -> Path:
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_code_cell(s) for s in sources]
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    nbformat.write(nb, path)
+    return path
+
+
+def test_a_notebook_runs_in_its_own_folder_with_its_outputs_handed_over(execution, tmp_path):
+    path = _notebook(tmp_path / "a.ipynb", "import os\nprint(os.getcwd())",
+                     "import os\nos.environ['OPENBLAS_NUM_THREADS']")
+    text, seconds = execution.execute(path, 60, "python3", execution.kernel_environment(2))
+    cells = nbformat.reads(text, as_version=4).cells
+    assert cells[0]["outputs"][0]["text"].strip() == str(tmp_path)
+    assert cells[1]["outputs"][0]["data"]["text/plain"] == "'1'"
+    assert seconds > 0
+
+
+def test_a_failing_cell_fails_the_notebook(execution, tmp_path):
+    path = _notebook(tmp_path / "bad.ipynb", "x = 1", "raise ValueError('the claim does not hold')")
+    with pytest.raises(nbclient.exceptions.CellExecutionError, match="the claim does not hold"):
+        execution.execute(path, 60, "python3", execution.kernel_environment(1))
+
+
+_CHILD = r"""
+import sys, time
+from pathlib import Path
+from semitrack.base.files import exclusive
+target = Path(sys.argv[1])
+start = time.time()
+with exclusive(target):
+    print(time.time() - start)
+"""
+
+
+def test_the_lock_makes_a_second_process_wait(tmp_path):
+    """While one process holds a result's lock, another's ``exclusive`` blocks until it is released."""
+    target = tmp_path / "fit.json"
+    with exclusive(target):
+        child = subprocess.Popen([sys.executable, "-c", _CHILD, str(target)], stdout=subprocess.PIPE, text=True)
+        time.sleep(1.5)  # the child has imported and is waiting on the lock
+    waited = float(child.communicate(timeout=60)[0])
+    assert child.returncode == 0
+    assert waited > 0.3
+
+
+_TWICE = r"""
+import sys, time
+from pathlib import Path
+from semitrack.equivalent import cache
+from semitrack.equivalent.cache import CachedResponse
+folder, log = Path(sys.argv[1]), Path(sys.argv[2])
+def compute():
+    with open(log, "a") as fh:
+        fh.write("computed\n")
+    time.sleep(1.0)
+    return cache._load(Path(sys.argv[3]), CachedResponse)
+result = cache._computed_once("k", folder / "result.json", CachedResponse, compute)
+print(type(result).__name__)
+"""
+
+
+def test_two_processes_compute_a_cached_result_once(tmp_path):
+    """Two chapters asking for one cached result at once: the second reads the first's file."""
+    import numpy as np
+
+    import semitrack as st
+    from semitrack.base import records
+    from semitrack.equivalent.cache import cached_central_response
+
+    seed = tmp_path / "seed"
+    response = cached_central_response(st.slab_track(), np.array([100.0, 200.0]), "transfer", cache_dir=seed)
+    source = tmp_path / "source.json"
+    source.write_text(records.dumps(response), encoding="utf-8")
+    folder, log = tmp_path / "cache", tmp_path / "log"
+    folder.mkdir()
+    runs = [subprocess.Popen([sys.executable, "-c", _TWICE, str(folder), str(log), str(source)],
+                             stdout=subprocess.PIPE, text=True) for _ in range(2)]
+    outs = [run.communicate(timeout=120)[0].strip() for run in runs]
+    assert [run.returncode for run in runs] == [0, 0]
+    assert outs == ["CachedResponse", "CachedResponse"]
+    assert log.read_text().count("computed") == 1
