@@ -1,6 +1,6 @@
 """The README's commands timed as a reader runs them, with and without OPENBLAS_NUM_THREADS=1.
 
-Run: python benchmarks/bench_readme.py [--threads default one both] [--skip-book] [--skip-tests] [--busy]
+Run: python benchmarks/bench_readme.py [--threads default one both] [--skip-book] [--skip-tests] [--busy [N]]
 
 For each thread mode (``default``: the BLAS thread variables unset, as the README's commands run;
 ``one``: set to 1, as .ci/run sets them), in a child process with that environment:
@@ -12,15 +12,19 @@ For each thread mode (``default``: the BLAS thread variables unset, as the READM
 - a 500-frequency exact sweep of alpha (the paper's grid), best of twenty;
 - the paper's 500-frequency wavenumber sweep of the slab track (its Eq. 14), once.
 
-With ``--busy`` another CPU-bound process runs all the while (a busy 2-core machine: a reader's
-browser, another build). Prints the wall times side by side. Nothing is asserted: the numbers go into the notes. Cell by
-cell times of the notebooks are :mod:`bench_book`'s job. Takes about twice (book + tests).
+With ``--busy N`` (``--busy``: two) N CPU-bound processes run all the while (a busy 2-core
+machine: a reader's browser, another build); a command that fails, the book beside them
+included, stops the script with its output. Prints the wall times side by side, and each
+chapter's execution time as the book's log gives it. Nothing is asserted: the numbers go into
+the notes. Cell by cell times of the notebooks are :mod:`bench_book`'s job. Takes about twice
+(book + tests).
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -55,7 +59,7 @@ print("fit", best(lambda: st.fit_equivalent(slab, layout="slab", n_bars=5, band=
 print("sweep", best(lambda: st.semi_infinite_receptance(slab, PAPER_GRID), 20))
 print("wavenumber", best(lambda: st.semi_infinite_receptance(slab, PAPER_GRID, method="wavenumber"), 1))
 """
-#: The busy job of ``--busy``: one core's worth of pure Python.
+#: A busy job of ``--busy``: one core's worth of pure Python.
 _BUSY = "while True: sum(i * i for i in range(10000))"
 
 
@@ -77,6 +81,12 @@ def timed(args: list[str], cwd: Path, env: dict[str, str]) -> tuple[float, str]:
     return wall, done.stdout
 
 
+def chapter_times(log: str) -> dict[str, float]:
+    """Each notebook's execution time (s) from the book's log ("<path>: Executed notebook in <s> seconds")."""
+    found = re.findall(r"([\w./-]+)\.ipynb: Executed notebook in ([\d.]+) seconds", log)
+    return {Path(path).name: float(seconds) for path, seconds in found}
+
+
 def measure(mode: str, skip_book: bool, skip_tests: bool) -> dict[str, float]:
     """The four figures of one thread mode (s)."""
     env = environment(mode)
@@ -87,7 +97,9 @@ def measure(mode: str, skip_book: bool, skip_tests: bool) -> dict[str, float]:
         # the copy's package, not this tree's editable install (pytest's doctests of src/ insist)
         env = {**env, "PYTHONPATH": str(copy / "src")}
         if not skip_book:
-            out["book"], _ = timed([str(BIN / "jupyter-book"), "build", ".", "--all"], copy, env)
+            out["book"], log = timed([str(BIN / "jupyter-book"), "build", ".", "--all"], copy, env)
+            chapters = sorted(chapter_times(log).items(), key=lambda item: -item[1])
+            print(f"{mode}: chapters " + ", ".join(f"{name} {seconds:.0f} s" for name, seconds in chapters), flush=True)
         if not skip_tests:
             out["tests"], _ = timed([sys.executable, "-m", "pytest", "-q"], copy, env)
     _, printed = timed([sys.executable, "-c", _CHILD], ROOT, env)
@@ -100,17 +112,18 @@ def main() -> None:
     parser.add_argument("--threads", choices=("default", "one", "both"), default="both")
     parser.add_argument("--skip-book", action="store_true")
     parser.add_argument("--skip-tests", action="store_true")
-    parser.add_argument("--busy", action="store_true", help="run another CPU-bound process all the while")
+    parser.add_argument("--busy", type=int, nargs="?", const=2, default=0, metavar="N",
+                        help="run N CPU-bound processes all the while (two when N is left out)")
     args = parser.parse_args()
     modes = ("default", "one") if args.threads == "both" else (args.threads,)
-    busy = subprocess.Popen([sys.executable, "-c", _BUSY]) if args.busy else None
+    busy = [subprocess.Popen([sys.executable, "-c", _BUSY]) for _ in range(max(0, args.busy))]
     print(f"{os.cpu_count()} CPUs; load average {os.getloadavg()[0]:.2f} at the start"
-          + ("; a CPU-bound job runs beside" if busy else ""), flush=True)
+          + (f"; {len(busy)} CPU-bound job(s) run beside" if busy else ""), flush=True)
     try:
         results = {mode: measure(mode, args.skip_book, args.skip_tests) for mode in modes}
     finally:
-        if busy is not None:
-            busy.kill()
+        for job in busy:
+            job.kill()
     labels = {"book": "jupyter-book build . --all (s)", "tests": "python -m pytest (s)",
               "fit": "fit_equivalent, slab, N = 5 (s)", "sweep": "500-frequency exact sweep (s)",
               "wavenumber": "500-frequency wavenumber sweep (s)"}

@@ -280,3 +280,74 @@ def test_a_cache_file_with_foreign_arrays_is_computed_again(tmp_path, spoil):
     clear_kernel_memo()
     again = cached_kernels(SLAB, NE, None, grid, 300, None, tmp_path)
     assert again.elapsed != first.elapsed and np.array_equal(again.impulse[0], first.impulse[0])
+
+
+def test_the_kernels_are_stored_in_the_loops_order(slab_kernels):
+    """``loop`` is what the step loop reads (row q: a loading wheel at phase q now, its forces m steps ago at
+    phase q - m); ``impulse`` reads it back by phase, and the cache stores the loop's order as it is."""
+    from semitrack.fe.kernels import loop_order
+
+    grid, kernels = slab_kernels
+    assert kernels.loop.shape == (len(grid.lags), grid.positions, kernels.memory) and kernels.loop.flags.c_contiguous
+    P = grid.positions
+    for r, lag in enumerate(grid.lags):
+        h = kernels.impulse[lag]
+        for q, m in [(0, 0), (3, 5), (P - 1, P + 2), (1, kernels.memory - 1)]:
+            assert kernels.loop[r, q, m] == h[(q - m) % P, m]
+        assert np.array_equal(loop_order(h), kernels.loop[r])
+        assert np.shares_memory(kernels.rows(lag), kernels.loop)
+
+
+def test_a_second_run_spends_its_time_in_the_loop(slab_kernels):
+    """With the kernels at hand a run re-arranges nothing and samples the roughness once: at least 80 % of its wall
+    time is the step loop (the best of three, a loaded machine slowing both alike)."""
+    pytest.importorskip("numba")
+    import time
+
+    grid, kernels = slab_kernels
+    group = st.WheelGroup((st.Wheel(), st.Wheel()), spacing=(0.0, -0.5))
+    run = {"x": 3 * grid.step, "speed": SPEED, "dt": DT, "kernels": kernels}
+    rough = _rough(SPEED)
+    st.moving_green_response(SLAB, group, rough, duration=0.03, **run)  # compiled and warm
+    shares = []
+    for _ in range(3):
+        start = time.perf_counter()
+        res = st.moving_green_response(SLAB, group, rough, duration=0.5, **run)
+        shares.append(res.elapsed / (time.perf_counter() - start))
+    assert max(shares) >= 0.8, shares
+
+
+def test_the_roughness_on_a_grid_is_its_sum_of_cosines():
+    """The block product of a period of no whole steps, and one sampling shared by wheels whole steps apart,
+    against the cosines sample by sample."""
+    from semitrack.interaction.excitation import rail_input
+
+    rough = _rough(SPEED).at_speed(SPEED * 1.0123)
+    dt, n = 7.3e-5, 4001
+    t = dt * np.arange(n)
+    assert rough.period / dt != round(rough.period / dt)
+    assert np.abs(rough.sampled(dt, n) - rough(t)).max() <= 1e-11 * np.abs(rough(t)).max()
+    h = rough.speed * dt
+    x = np.arange(n)[:, None] * h + np.array([0.0, -37 * h, 12 * h, 0.3 * h])[None, :]  # the last one off the grid
+    r = rail_input(rough, x, dt, 1e-9)  # no fade after step 0: a ramp of 1e-9 s
+    for i in range(x.shape[1]):
+        ref = rough(t + (x[0, i] - x[0, 0]) / rough.speed)
+        assert np.abs(r[1:, i] - ref[1:]).max() <= 1e-11 * np.abs(ref).max()
+
+
+def test_a_short_memory_is_warned_of_where_the_kernels_are_made(tmp_path):
+    """moving_green_kernels itself warns (naming the aliasing too), at its caller's line; a run that computes its
+    kernels warns once; a memory long enough does not warn."""
+    import warnings
+
+    clear_kernel_memo()
+    with pytest.warns(RuntimeWarning, match=r"aliasing\); give a longer memory") as caught:
+        short = st.moving_green_kernels(SLAB, SPEED, DT, memory=0.01, elements_per_bay=NE)
+    assert short.tail > 1e-3 and caught[0].filename == __file__
+    with pytest.warns(RuntimeWarning, match="give a longer memory") as caught:
+        st.moving_green_response(SLAB, st.Wheel(), speed=SPEED, dt=DT, duration=0.03, memory=0.01,
+                                 elements_per_bay=NE)
+    assert len([w for w in caught if "memory" in str(w.message)]) == 1 and caught[0].filename == __file__
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        assert st.moving_green_kernels(SLAB, SPEED, DT, memory=0.15, elements_per_bay=NE).tail < 1e-3

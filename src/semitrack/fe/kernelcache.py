@@ -38,9 +38,10 @@ def _digest(key: dict) -> str:
 
 
 def _write(path: Path, kernels: MovingKernels) -> None:
-    lags, starts = sorted(kernels.impulse), sorted(kernels.release)
-    arrays = {"key": np.array(json.dumps(kernels.key, sort_keys=True)), "lags": np.array(lags, dtype=np.int64),
-              "impulse": np.stack([kernels.impulse[lag] for lag in lags]),
+    starts = sorted(kernels.release)
+    arrays = {"key": np.array(json.dumps(kernels.key, sort_keys=True)),
+              "lags": np.array(kernels.grid.lags, dtype=np.int64),
+              "loop": kernels.loop,  # in the loop's order: read back, run as they are
               "starts": np.array(starts, dtype=np.int64).reshape(-1, 2),
               "release": np.stack([kernels.release[start] for start in starts]),
               "flexibility": kernels.flexibility,
@@ -62,10 +63,10 @@ def _read(path: Path, key: dict, grid: KernelGrid, starts: list) -> MovingKernel
         with np.load(path, allow_pickle=False) as data:
             if json.loads(str(data["key"][()])) != json.loads(json.dumps(key, sort_keys=True)):
                 return None
-            arrays = {name: data[name] for name in ("lags", "impulse", "starts", "release", "flexibility", "scalars")}
+            arrays = {name: data[name] for name in ("lags", "loop", "starts", "release", "flexibility", "scalars")}
         lags, stored = arrays["lags"].tolist(), [tuple(s) for s in arrays["starts"].tolist()]
-        floats = [arrays[name] for name in ("impulse", "release", "flexibility", "scalars")]
-        if (lags != list(grid.lags) or stored != starts or arrays["impulse"].shape != (len(lags), P, L)
+        floats = [arrays[name] for name in ("loop", "release", "flexibility", "scalars")]
+        if (lags != list(grid.lags) or stored != starts or arrays["loop"].shape != (len(lags), P, L)
                 or arrays["release"].shape != (len(starts), L) or arrays["flexibility"].shape != (P,)
                 or arrays["scalars"].shape != (3,) or not all(a.dtype == np.float64 and np.isfinite(a).all()
                                                                for a in floats)):
@@ -75,7 +76,7 @@ def _read(path: Path, key: dict, grid: KernelGrid, starts: list) -> MovingKernel
     tail, elapsed, ne = arrays["scalars"].tolist()
     if ne != int(ne) or ne < 2 or (key["mesh"][0] == "elements" and ne != key["mesh"][1]):
         return None
-    return MovingKernels(grid, {int(lag): arrays["impulse"][i] for i, lag in enumerate(lags)},
+    return MovingKernels(grid, arrays["loop"],
                          {(int(a), int(b)): arrays["release"][i] for i, (a, b) in enumerate(starts)},
                          arrays["flexibility"], float(tail), key, float(elapsed), int(ne), key["start"])
 

@@ -50,7 +50,8 @@ from ..model.tracks import Track
 from .bloch import BlochCell, CellWaves, warped_s
 from .models import DEFAULT_F_MAX
 
-__all__ = ["KernelGrid", "MovingKernels", "grid_of", "moving_kernels", "release_starts", "track_key", "kernel_key",
+__all__ = ["KernelGrid", "MovingKernels", "grid_of", "loop_order", "moving_kernels", "release_starts", "track_key",
+           "kernel_key",
            "ALIAS_FACTOR", "MAX_KERNEL_VALUES", "MAX_KERNEL_WORK"]
 
 #: The discrete Fourier transform's length over the kernels' memory: its anti-periodic wrap-around
@@ -138,9 +139,12 @@ class MovingKernels:
     ----------
     grid : KernelGrid
         Positions, speed and offsets.
-    impulse : dict of int to ndarray, shape (P, L)
-        ``impulse[Delta][p, k]`` (m/N): w at ``Delta + k`` grid steps ahead of a unit force at phase
-        p, k steps after it.
+    loop : ndarray, shape (n_lags, P, L)
+        The impulse kernels in the order the step loop reads them, one per lag of
+        :attr:`KernelGrid.lags` (in that order): ``loop[r, q, m] = h[(q - m) mod P, m]`` for
+        ``Delta = lags[r]`` (m/N), so that row q holds, for a loading wheel at phase q now, the
+        coefficients of its forces m steps ago (whose phase was ``q - m``): one contiguous dot
+        product per step, and no re-arrangement per run. :attr:`impulse` reads them by phase.
     release : dict of (int, int) to ndarray, shape (L,)
         ``release[Delta, p][n]`` (m/N): w at ``Delta + n`` grid steps ahead of a unit force that
         stood at phase p until step 0, n steps after it was taken off; for the wheels' starts
@@ -163,7 +167,7 @@ class MovingKernels:
     """
 
     grid: KernelGrid
-    impulse: dict
+    loop: np.ndarray
     release: dict
     flexibility: np.ndarray
     tail: float
@@ -175,13 +179,25 @@ class MovingKernels:
     @property
     def memory(self) -> int:
         """L, the steps each kernel holds."""
-        return next(iter(self.impulse.values())).shape[1]
+        return self.loop.shape[2]
+
+    @property
+    def impulse(self) -> dict:
+        """The impulse kernels by the load's phase: ``impulse[Delta][p, k]`` (m/N), w at ``Delta + k`` grid steps
+        ahead of a unit force at phase p, k steps after it.
+
+        Computed from :attr:`loop` on each access (a permutation of every kernel): for reading, not for a step loop.
+
+        Returns
+        -------
+        dict of int to ndarray, shape (P, L)
+        """
+        P, L = self.loop.shape[1:]
+        phase = np.mod(np.arange(P)[:, None] + np.arange(L)[None, :], P)  # h[p, m] = loop[(p + m) mod P, m]
+        return {lag: self.loop[r][phase, np.arange(L)[None, :]] for r, lag in enumerate(self.grid.lags)}
 
     def rows(self, lag: int) -> np.ndarray:
-        """The impulse kernel of ``lag`` as a step loop reads it: ``K[q, m] = h[(q - m) mod P, m]``.
-
-        Row q holds, for a loading wheel at phase q now, the coefficients of its forces m steps
-        ago (whose phase was ``q - m``): one contiguous dot product per step.
+        """The impulse kernel of ``lag`` as the step loop reads it: ``K[q, m] = h[(q - m) mod P, m]`` (a view).
 
         Parameters
         ----------
@@ -192,10 +208,23 @@ class MovingKernels:
         -------
         ndarray, shape (P, L)
         """
-        h = self.impulse[lag]
-        P, L = h.shape
-        phase = np.mod(np.arange(P)[:, None] - np.arange(L)[None, :], P)
-        return np.ascontiguousarray(h[phase, np.arange(L)[None, :]])
+        return self.loop[self.grid.lags.index(lag)]
+
+
+def loop_order(h: np.ndarray) -> np.ndarray:
+    """An impulse kernel by the load's phase, ``h[p, m]``, in the step loop's order ``K[q, m] = h[(q - m) mod P, m]``.
+
+    Parameters
+    ----------
+    h : ndarray, shape (P, L)
+
+    Returns
+    -------
+    ndarray, shape (P, L)
+    """
+    P, L = h.shape
+    phase = np.mod(np.arange(P)[:, None] - np.arange(L)[None, :], P)
+    return h[phase, np.arange(L)[None, :]]
 
 
 def track_key(track: Track) -> str:
@@ -425,22 +454,23 @@ def moving_kernels(track: Track, elements_per_bay: int | None, grid: KernelGrid,
         _near(cell, w, omega[part], dt, sums, block_weights)
         _far(cell, w, omega[part], dt, sums, block_weights)
     w0 = cell.waves(np.zeros(1))
-    impulse = {}
+    loop = np.empty((len(lags), P, L))
+    h0 = None
     for r, lag in enumerate(lags):
         out = np.zeros((P, L))
         for j in _cells(P, lag, L):
             _scatter(sums.impulse[j][r], j, lag, out)
-        impulse[lag] = out
+        loop[r] = loop_order(out)
+        h0 = out if lag == 0 else h0
     release = {}
     for r, (lag, p0) in enumerate(starts):  # e's first part: half the static receptance at every step on this grid
         out = np.zeros(L)
         for j in _cells(P, lag + p0, L):
             _scatter(sums.release[j][r] + 0.5 * _static_release(cell, w0, p0, j), j, lag, out, p0)
         release[lag, p0] = out
-    h0 = impulse[0]
     tail = float(np.abs(h0[:, 3 * L // 4:]).max() / np.abs(h0).max())
     flexibility = cell.model.local_flexibility(cell.grid)
     ne = int(cell.model.elements_per_bay)
-    return MovingKernels(grid, impulse, release, flexibility, tail,
+    return MovingKernels(grid, loop, release, flexibility, tail,
                          kernel_key(track, elements_per_bay, grid, L, f_ref, start, f_max),
                          time.perf_counter() - began, ne, int(start))

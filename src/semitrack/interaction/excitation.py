@@ -47,8 +47,23 @@ def rail_input(roughness: Roughness | None, x: np.ndarray, dt: float, ramp: floa
         r = np.zeros((rows, k))
     else:
         fade = sin2_ramp(dt * np.arange(rows), ramp)
-        r = np.column_stack([roughness.shifted(x[0, i] - x[0, 0]).sampled(dt, rows) * fade for i in range(k)])
+        r = _roughness_under(roughness, x[0] - x[0, 0], dt, rows) * fade[:, None]
     return r if profile is None else r + profile_along(profile, x)
+
+
+def _roughness_under(roughness: Roughness, shifts: np.ndarray, dt: float, rows: int) -> np.ndarray:
+    """The roughness under wheels ``shifts`` (m) from the first at the steps ``k dt``, ``k < rows``: (rows, k) (m).
+
+    Wheels whole steps ``speed dt`` apart (the moving Green's functions' grid) read one sampling of
+    the roughness at different rows; others each their own.
+    """
+    steps = shifts / (roughness.speed * dt)
+    whole = np.round(steps).astype(np.int64)
+    if np.all(np.abs(steps - whole) <= 1e-9 * np.maximum(1.0, np.abs(steps))):
+        low = int(whole.min())
+        once = roughness.shifted(low * roughness.speed * dt).sampled(dt, rows + int(whole.max()) - low)
+        return np.column_stack([once[g - low:g - low + rows] for g in whole])
+    return np.column_stack([roughness.shifted(d).sampled(dt, rows) for d in shifts])
 
 
 def profile_along(profile: Irregularity, x: np.ndarray) -> np.ndarray:

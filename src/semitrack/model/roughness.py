@@ -237,7 +237,7 @@ class Roughness:
             check_work(work, MAX_COSINE_WORK, f"{n} samples x {self.frequencies.size} roughness lines give {work} "
                        f"cosines (the period {self.period!r} s is no whole number of steps dt={dt!r} s)",
                        "use a period of whole steps, a larger dt, a shorter run or fewer lines")
-            return self(dt * np.arange(n))
+            return self._on_grid(dt, n)
         m = np.round(self.frequencies * self.period).astype(np.int64) % N
         mirrored = m > N - m  # cos(2 pi m k / N + phi) = cos(2 pi (N - m) k / N - phi)
         m, phases = np.where(mirrored, N - m, m), np.where(mirrored, -self.phases, self.phases)
@@ -247,6 +247,24 @@ class Roughness:
         np.add.at(spectrum, m, np.where(edge, weight * np.cos(phases), weight * np.exp(1j * phases)))
         period = np.fft.irfft(spectrum, N)
         return np.resize(period, n)
+
+    def _on_grid(self, dt: float, n: int) -> np.ndarray:
+        """The sums of cosines at ``k dt``, ``k < n``, as one complex matrix product (m).
+
+        With ``k = b B + j`` (blocks of B steps), ``cos(w k dt + phi) = Re(exp(i (w b B dt + phi)) exp(i w j dt))``:
+        the exponentials of the blocks' starts and of one block's steps, ``(n / B + B)`` per line, and the sum over
+        lines a product, where :meth:`__call__` takes one cosine per sample and line (measured 8-12x slower).
+        """
+        block = max(1, int(math.isqrt(n)))
+        starts = np.arange(0, n, block) * dt
+        omega = 2 * np.pi * self.frequencies
+        rows = max(1, _CHUNK // max(1, block * omega.size))  # bounds the exponentials held at once
+        steps = np.exp(1j * np.outer(omega, np.arange(block) * dt))  # (lines, B)
+        out = np.empty((starts.size, block))
+        for i in range(0, starts.size, rows):
+            heads = self.amplitudes * np.exp(1j * (np.outer(starts[i:i + rows], omega) + self.phases))
+            out[i:i + rows] = (heads @ steps).real
+        return out.ravel()[:n]
 
     def along_rail(self, start: float, length: float, *, fade: float = 1.0) -> RailProfile:
         """The roughness laid along the rail from ``start``: the profile a wheel meets at any speed.
