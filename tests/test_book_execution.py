@@ -7,7 +7,6 @@ import sys
 import time
 from pathlib import Path
 
-import nbclient
 import nbformat
 import pytest
 import yaml
@@ -60,17 +59,25 @@ def _notebook(path: Path, *sources: str) -> Path:
 def test_a_notebook_runs_in_its_own_folder_with_its_outputs_handed_over(execution, tmp_path):
     path = _notebook(tmp_path / "a.ipynb", "import os\nprint(os.getcwd())",
                      "import os\nos.environ['OPENBLAS_NUM_THREADS']")
-    text, seconds = execution.execute(path, 60, "python3", execution.kernel_environment(2))
+    text, seconds, error = execution.execute(path, 60, "python3", execution.kernel_environment(2))
     cells = nbformat.reads(text, as_version=4).cells
+    assert error is None and seconds > 0
     assert cells[0]["outputs"][0]["text"].strip() == str(tmp_path)
     assert cells[1]["outputs"][0]["data"]["text/plain"] == "'1'"
-    assert seconds > 0
 
 
-def test_a_failing_cell_fails_the_notebook(execution, tmp_path):
-    path = _notebook(tmp_path / "bad.ipynb", "x = 1", "raise ValueError('the claim does not hold')")
-    with pytest.raises(nbclient.exceptions.CellExecutionError, match="the claim does not hold"):
-        execution.execute(path, 60, "python3", execution.kernel_environment(1))
+def test_a_failing_cell_is_reported_and_shown_where_it_failed(execution, tmp_path):
+    path = _notebook(tmp_path / "bad.ipynb", "x = 1", "raise ValueError('the claim does not hold')", "y = 2")
+    text, _, error = execution.execute(path, 60, "python3", execution.kernel_environment(1))
+    assert error.startswith("CellExecutionError") and "the claim does not hold" in error
+    cells = nbformat.reads(text, as_version=4).cells
+    assert cells[1]["outputs"][0]["output_type"] == "error" and not cells[2]["outputs"]
+
+
+def test_a_cell_over_the_limit_is_reported(execution, tmp_path):
+    path = _notebook(tmp_path / "slow.ipynb", "import time\ntime.sleep(30)")
+    _, seconds, error = execution.execute(path, 2, "python3", execution.kernel_environment(1))
+    assert error is not None and "Timeout" in error and seconds < 25
 
 
 _CHILD = r"""

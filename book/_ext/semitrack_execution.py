@@ -7,10 +7,12 @@ next notebook as one finishes (a fresh kernel each, in the notebook's folder, th
 ``_config.yml``), and hands Sphinx the executed notebook in place of the file it reads; MyST-NB,
 with execution ``off``, renders those outputs as they are. Nothing is kept between builds.
 
-A cell that raises, or a notebook that passes its cell limit, fails the build: Sphinx stops with
-the notebook's name and the cell's traceback (``nbclient``'s error), as MyST-NB's ``force`` mode
-with ``allow_errors: false`` does. Each notebook's wall time is logged as MyST-NB logs it
-("Executed notebook in ... seconds"), so the build's log reads the same.
+A cell that raises, or a notebook that passes its cell limit, is a warning with the notebook's
+name and the cell's traceback (``nbclient``'s error), and the notebook is rendered as far as it
+ran: with ``-W`` (CI) the build fails on it, as MyST-NB's ``force`` mode with ``allow_errors:
+false`` does; a reader's build without ``-W`` still gives the rest of the book. Each notebook's
+wall time is logged as MyST-NB logs it ("Executed notebook in ... seconds"), so the build's log
+reads the same.
 """
 
 from __future__ import annotations
@@ -23,7 +25,6 @@ from pathlib import Path
 import nbclient
 import nbformat
 import yaml
-from sphinx.errors import ExtensionError
 from sphinx.util import logging
 
 logger = logging.getLogger(__name__)
@@ -63,18 +64,36 @@ def toc_notebooks(root: Path, toc: Path) -> list[Path]:
     return [path for path in candidates if path.is_file()]
 
 
-def execute(path: Path, timeout: int, kernel: str, env: dict[str, str]) -> tuple[str, float]:
-    """``path`` executed in a fresh kernel (environment ``env``) in its own folder: (the executed notebook as JSON,
-    wall time in s)."""
+def execute(path: Path, timeout: int, kernel: str, env: dict[str, str]) -> tuple[str, float, str | None]:
+    """``path`` executed in a fresh kernel (environment ``env``) in its own folder.
+
+    Returns
+    -------
+    text : str
+        The executed notebook as JSON: every cell's outputs, up to and with the error of a failing cell.
+    seconds : float
+        Wall time (s).
+    error : str or None
+        What failed (the cell and its traceback, or the timeout), None when every cell ran.
+    """
     notebook = nbformat.read(path, as_version=4)
-    start = time.perf_counter()
-    nbclient.NotebookClient(notebook, timeout=timeout, kernel_name=kernel, allow_errors=False,
-                            resources={"metadata": {"path": str(path.parent)}}).execute(env=env)
-    return nbformat.writes(notebook), time.perf_counter() - start
+    start, error = time.perf_counter(), None
+    client = nbclient.NotebookClient(notebook, timeout=timeout, kernel_name=kernel, allow_errors=False,
+                                     resources={"metadata": {"path": str(path.parent)}})
+    try:
+        client.execute(env=env)
+    except Exception as failure:  # noqa: BLE001 -- a cell's error, the cell limit, a dead kernel: all reported
+        error = f"{type(failure).__name__}: {failure}"
+    return nbformat.writes(notebook), time.perf_counter() - start, error
 
 
 def _execute_all(app) -> None:
-    """Run every notebook of the book in the pool; keep the executed ones for :func:`_hand_over`."""
+    """Run every notebook of the book in the pool; keep the executed ones for :func:`_hand_over`.
+
+    A notebook that fails is reported as a warning with its traceback and handed over as far as it
+    ran, its error shown: ``-W`` (CI) fails the build on it, a reader's build without it still
+    gives the book.
+    """
     app.semitrack_executed = {}
     if app.config.nb_execution_mode != "off":
         return  # MyST-NB executes them itself
@@ -85,18 +104,15 @@ def _execute_all(app) -> None:
     began, env = time.perf_counter(), kernel_environment(WORKERS)
     with ThreadPoolExecutor(WORKERS) as pool:  # the work is in the kernels' processes; threads only wait
         futures = {path: pool.submit(execute, path, timeout, app.config.semitrack_kernel, env) for path in notebooks}
-        failures = []
         for path, future in futures.items():
-            try:
-                text, seconds = future.result()
-            except Exception as error:  # noqa: BLE001: every failure is reported, then the build stops
-                failures.append(f"{path.relative_to(root)}: {type(error).__name__}: {error}")
-                continue
+            text, seconds, error = future.result()
             app.semitrack_executed[str(path.resolve())] = text
-            logger.info(f"{path}: Executed notebook in {seconds:.2f} seconds [semitrack]")
+            if error is None:
+                logger.info(f"{path}: Executed notebook in {seconds:.2f} seconds [semitrack]")
+            else:
+                logger.warning(f"{path.relative_to(root)} failed after {seconds:.1f} s: {error}",
+                               type="semitrack", subtype="execution")
     logger.info(f"all notebooks executed in {time.perf_counter() - began:.1f} s [semitrack]")
-    if failures:
-        raise ExtensionError("notebooks failed to execute:\n" + "\n\n".join(failures))
 
 
 def _hand_over(app, docname: str, source: list[str]) -> None:
