@@ -18,6 +18,7 @@ rotational spring (0: a hinge); w and the shear force stay continuous.
 
 from __future__ import annotations
 
+from collections import OrderedDict
 from collections.abc import Callable, Mapping
 
 import numpy as np
@@ -38,6 +39,31 @@ __all__ = ["SUPPORT_FIELDS", "InfiniteTrack", "support_dynamic_stiffness", "chec
 SUPPORT_FIELDS = ("kv", "kphi", "eta_pad", "sleeper_mass", "kb", "eta_ballast")
 #: Positions closer than this fraction of the spacing are one node.
 _SAME = 1e-9
+
+#: Semi-infinite ends kept for the process: (track, frequencies, cut) -> (k_right, k_left). A study of many local
+#: changes of one track asks for the same two ends at every change and every load point (the imperfect track's
+#: chapter: 656 computations of a few dozen distinct ones).
+_ENDS: OrderedDict = OrderedDict()
+_MAX_ENDS = 64
+
+
+def _end_stiffness(track: Track, omega: np.ndarray, x_cut: float) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`~.transfer.end_stiffness` of ``track``'s period at ``x_cut``, computed once per process (read-only)."""
+    key = (track, omega.tobytes(), float(x_cut))
+    try:
+        hash(key)
+    except TypeError:  # a track whose fields do not hash: computed each time
+        return end_stiffness(track.cell(), omega, x_cut)
+    if key in _ENDS:
+        _ENDS.move_to_end(key)
+        return _ENDS[key]
+    ends = tuple(np.array(k) for k in end_stiffness(track.cell(), omega, x_cut))
+    for k in ends:
+        k.setflags(write=False)
+    _ENDS[key] = ends
+    if len(_ENDS) > _MAX_ENDS:
+        _ENDS.popitem(last=False)
+    return ends
 
 
 def support_dynamic_stiffness(track: Track, f: np.ndarray, fields: Mapping[str, float] | None = None,
@@ -299,10 +325,10 @@ class InfiniteTrack:
             Z.add([psi_l[node], psi_r[node]], np.broadcast_to(k_rot * np.array([[1.0, -1.0], [-1.0, 1.0]]),
                                                               (f.size, 2, 2)))
         left_cell = self.track.cell()
-        Z.add([w[0], psi_l[0]], end_stiffness(left_cell, omega, left_cell.central_section + x_left)[1])
-        right_cell = left_cell if self.transition is None else self.right.cell()
-        x_cut = right_cell.central_section + (x_right if self.transition is None else x_right - self.x_t)
-        Z.add([w[-1], psi_r[-1]], end_stiffness(right_cell, omega, x_cut)[0])
+        Z.add([w[0], psi_l[0]], _end_stiffness(self.track, omega, left_cell.central_section + x_left)[1])
+        right_track = self.track if self.transition is None else self.right
+        x_cut = right_track.cell().central_section + (x_right if self.transition is None else x_right - self.x_t)
+        Z.add([w[-1], psi_r[-1]], _end_stiffness(right_track, omega, x_cut)[0])
         return Z, w, psi_l
 
     def receptance(self, f: ArrayLike, x_load: float, x: ArrayLike) -> np.ndarray:

@@ -23,6 +23,7 @@ Errors are relative (``|approx - reference| / |reference|``); tables give them i
 
 from __future__ import annotations
 
+import functools
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -222,9 +223,15 @@ def reflection_free_bays(track: Track, reach: float, attenuation: float = 40.0,
         The least attenuation of the track's free wave over the bands (dB/m,
         :attr:`semitrack.TrackDecayRate.wave_attenuation`).
     """
-    rate = track_decay_rate(track, band=band)
-    a_min = float(np.min(rate.wave_attenuation))
+    a_min = _least_attenuation(track, tuple(float(b) for b in band))
     return int(np.ceil((reach + attenuation / (2 * a_min)) / track.spacing)), a_min
+
+
+@functools.lru_cache(maxsize=32)
+def _least_attenuation(track: Track, band: tuple[float, float]) -> float:
+    """The least attenuation of ``track``'s free wave over ``band`` (dB/m), once per track and band for the process
+    (every run of the chapter on a track asks for it)."""
+    return float(np.min(track_decay_rate(track, band=band).wave_attenuation))
 
 
 @dataclass(frozen=True, eq=False)
