@@ -136,3 +136,19 @@ def paper_fits(fit_cache_dir):
     another one computed (waiting while it is being computed).
     """
     return _PaperFits(fit_cache_dir)
+
+
+# --- Hypothesis settings profiles (tests/test_property_*.py) ---------------------------------------------
+# "ci", the default: bounded (about two minutes of the suite on two cores), the same examples at every
+# run (derandomize), no shrinking and no example database; "long" on demand, with
+# `pytest --hypothesis-profile=long`: many more random examples, shrunk to the smallest.
+from hypothesis import HealthCheck, Phase, settings  # noqa: E402
+
+_HEALTH = [HealthCheck.too_slow, HealthCheck.data_too_large, HealthCheck.filter_too_much,
+           HealthCheck.function_scoped_fixture, HealthCheck.differing_executors]
+settings.register_profile("ci", max_examples=25, deadline=None, derandomize=True, database=None,
+                          phases=(Phase.explicit, Phase.generate), suppress_health_check=_HEALTH,
+                          print_blob=False)
+settings.register_profile("long", max_examples=1000, deadline=None, database=None, suppress_health_check=_HEALTH,
+                          print_blob=True)
+settings.load_profile("ci")

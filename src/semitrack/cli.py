@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import csv
 import functools
 import io
 import json
@@ -499,17 +500,12 @@ def _file_header(path: str) -> tuple[str, dict]:
             conventions = data.get("conventions")
             return str(data.get("format", "")), conventions if isinstance(conventions, dict) else {}
         if suffix == ".mat":
-            import scipy.io
-            from scipy.io.matlab import MatReadError
+            from .base.files import read_mat
+            from .equivalent.io import MAX_SYSTEM_BYTES
 
-            try:
-                raw = scipy.io.loadmat(path, variable_names=["format", "conventions_json"], simplify_cells=True)
-            except MatReadError:
-                return "", {}
+            raw = read_mat(Path(path), MAX_SYSTEM_BYTES, "system file", simplify=True)
             return str(raw.get("format", "")), json.loads(str(raw.get("conventions_json", "{}")))
         if suffix == ".csv":
-            import csv
-
             from .equivalent.io import MAX_SYSTEM_BYTES
 
             rows = list(csv.reader(read_text(Path(path), MAX_SYSTEM_BYTES, "system file").splitlines()))
@@ -523,8 +519,10 @@ def _file_header(path: str) -> tuple[str, dict]:
             return fmt, conventions
     except OSError as err:
         raise InputError(f"{path}: cannot read the system file ({err.strerror})") from None
-    except (ValueError, RecursionError, IndexError):
-        return "", {}  # not JSON, too deep, or not a .mat file: the system loader says what is wrong
+    except PackageInputError:
+        raise  # too large, not text, a damaged or inflating .mat file: refused once, not read again
+    except (ValueError, RecursionError, IndexError, csv.Error):
+        return "", {}  # not JSON, CSV or our layout: the system loader says what is wrong
     return "", {}
 
 

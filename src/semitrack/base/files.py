@@ -35,16 +35,16 @@ _NOT_REGULAR = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pi
                 (stat.S_ISSOCK, "a socket"))
 
 
-def _as_path(path: object, name: str) -> Path:
+def _as_path(path: object, name: str, what: str = "a file") -> Path:
     text = os.fspath(path) if isinstance(path, (str, os.PathLike)) else None
     if not isinstance(text, str):
         raise InputTypeError(f"{name} must be a str or os.PathLike (of str), got {type(path).__name__}")
     if text == "" or "\x00" in text:
-        raise InputError(f"{name} must name a file, got {text!r}")
+        raise InputError(f"{name} must name {what}, got {text!r}")
     return Path(text)
 
 
-def check_output_path(path: str | os.PathLike, name: str = "path") -> Path:
+def check_output_path(path: str | os.PathLike, name: str = "path", follow_links: bool = True) -> Path:
     """Check, before any work, that ``path`` can be written; return the file that will be written.
 
     Parameters
@@ -53,6 +53,10 @@ def check_output_path(path: str | os.PathLike, name: str = "path") -> Path:
         The output file as the user named it.
     name : str
         How messages call it (e.g. ``"-o"``).
+    follow_links : bool
+        A symbolic link at ``path`` is written through to its target (the user's own link, e.g.
+        ``-o latest.csv``); False replaces the link itself (a cache file: a link planted in the
+        package's cache folder must not make it write a file elsewhere).
 
     Returns
     -------
@@ -77,6 +81,15 @@ def check_output_path(path: str | os.PathLike, name: str = "path") -> Path:
     semitrack.base.errors.InputError: -o '/dev/null' is a character device: name a regular file to write
     """
     given = _as_path(path, name)
+    if not follow_links:
+        target = given
+        mode = None if not os.path.lexists(given) or given.is_symlink() else given.stat().st_mode
+        for is_kind, kind in _NOT_REGULAR:
+            if mode is not None and is_kind(mode):
+                raise InputError(f"{name} {str(given)!r} is {kind}: name a regular file to write")
+        if not os.access(given.parent, os.W_OK | os.X_OK):
+            raise InputError(f"{name} {str(given)!r}: the folder {str(given.parent)!r} is not writable")
+        return target
     target = Path(os.path.realpath(given)) if given.is_symlink() else given
     if target.is_symlink():  # realpath stops at a loop
         raise InputError(f"{name} {str(given)!r} is a loop of symbolic links: name a regular file to write")
@@ -99,20 +112,18 @@ def check_output_path(path: str | os.PathLike, name: str = "path") -> Path:
     return target
 
 
-def _create_temporary(target: Path) -> tuple[int, Path]:
-    """A new hidden file next to ``target``, created with mode 0o666 so that the umask applies.
-
-    (:func:`tempfile.mkstemp` would create it 0600, private whatever the user's umask.)
-    """
-    while True:
-        tmp = target.with_name(f".{target.name}.{secrets.token_hex(4)}.tmp")
-        try:
-            return os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0), 0o666), tmp
-        except FileExistsError:
-            continue
+def _temporary_name(target: Path) -> Path:
+    """A hidden name next to ``target`` for its temporary file."""
+    return target.with_name(f".{target.name}.{secrets.token_hex(4)}.tmp")
 
 
-def atomic_write(path: str | os.PathLike, write: Callable[[IO], Any], binary: bool = False) -> Path:
+def _create(tmp: Path) -> int:
+    """Create ``tmp`` (new, mode 0o666 less the umask: :func:`tempfile.mkstemp` would make it 0600)."""
+    return os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0), 0o666)
+
+
+def atomic_write(path: str | os.PathLike, write: Callable[[IO], Any], binary: bool = False,
+                 follow_links: bool = True) -> Path:
     """Call ``write(fh)`` on a temporary file next to ``path``'s target, then move it onto the target.
 
     Parameters
@@ -124,6 +135,9 @@ def atomic_write(path: str | os.PathLike, write: Callable[[IO], Any], binary: bo
         Writes the content to the open file object it is given.
     binary : bool
         Open the temporary file in binary mode (else text, UTF-8, no newline translation).
+    follow_links : bool
+        False: a symbolic link at ``path`` is replaced, not written through
+        (:func:`check_output_path`).
 
     Returns
     -------
@@ -138,10 +152,17 @@ def atomic_write(path: str | os.PathLike, write: Callable[[IO], Any], binary: bo
         When the file cannot be written (e.g. the disk is full); its ``filename`` is ``path``.
         On any error or interruption the temporary file is removed and the target is left as it was.
     """
-    target = check_output_path(path)
+    target = check_output_path(path, follow_links=follow_links)
     tmp = None
     try:
-        fd, tmp = _create_temporary(target)
+        while True:
+            # the name is held before the file exists: a signal between the two cannot leave it behind
+            tmp = _temporary_name(target)
+            try:
+                fd = _create(tmp)
+                break
+            except FileExistsError:
+                continue
         with os.fdopen(fd, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8", "newline": ""})) as fh:
             write(fh)
             fh.flush()
@@ -182,12 +203,102 @@ def exclusive(path: str | os.PathLike) -> Iterator[None]:
     except ImportError:  # no POSIX locks here: the atomic write alone
         yield
         return
-    with open(f"{os.fspath(path)}.lock", "a", encoding="utf-8") as handle:
-        fcntl.flock(handle.fileno(), fcntl.LOCK_EX)
+    lock = f"{os.fspath(path)}.lock"
+    if os.path.islink(lock):  # the lock's name is the package's own: a link there is not followed
+        os.unlink(lock)
+    fd = os.open(lock, os.O_WRONLY | os.O_CREAT | os.O_NOFOLLOW | getattr(os, "O_CLOEXEC", 0), 0o666)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
         try:
             yield
         finally:
-            fcntl.flock(handle.fileno(), fcntl.LOCK_UN)
+            fcntl.flock(fd, fcntl.LOCK_UN)
+    finally:
+        os.close(fd)
+
+
+def check_cache_folder(folder: str | os.PathLike, name: str = "cache") -> Path:
+    """Check, before any work, that ``folder`` can hold the package's cache files; create it.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        The cache folder (created with its parents when absent).
+    name : str
+        How messages call it (the parameter's name).
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    InputTypeError
+        If ``folder`` is not a str or path.
+    InputError
+        If it is empty, names a file, a dangling link or a loop of links, cannot be created or is
+        not writable; the message names ``name`` and the folder. Raised before any result is
+        computed, so that none is lost.
+    """
+    given = _as_path(folder, name, "a folder")
+    if os.path.lexists(given) and not given.is_dir():
+        kind = "a symbolic link that leads to no folder" if given.is_symlink() else "a file"
+        raise InputError(f"{name} {str(given)!r} is {kind}: name a folder for the cache")
+    try:
+        given.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise InputError(f"{name} {str(given)!r}: the folder cannot be created ({err.strerror})") from None
+    if not os.access(given, os.W_OK | os.X_OK):
+        raise InputError(f"{name} {str(given)!r}: the folder is not writable: name another one, or None")
+    return given
+
+
+def read_bytes(path: str | os.PathLike, max_bytes: int, what: str = "file") -> bytes:
+    """The bytes of an input file, at most ``max_bytes``: every reader of the package reads through it.
+
+    A FIFO with no writer (a named pipe nobody feeds) reads as empty instead of blocking the
+    open until Ctrl-C: the file is opened without waiting (``O_NONBLOCK``), then read as usual,
+    so a pipe that is being written (``/dev/stdin``, ``<(...)``) still works. A file larger than
+    the bound (``/dev/zero`` behind the name) is refused after reading one byte more than it.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    max_bytes : int
+        Largest content accepted (bytes).
+    what : str
+        What the file is, for messages (e.g. ``"track file"``).
+
+    Returns
+    -------
+    bytes
+
+    Raises
+    ------
+    OSError
+        If it cannot be opened or read (absent, a directory, no permission).
+    InputError
+        If it is larger than ``max_bytes``; the message names the file.
+    """
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
+    try:
+        if hasattr(os, "set_blocking"):
+            os.set_blocking(fd, True)  # the open did not wait for a writer; the reads do
+        chunks, size = [], 0
+        while size <= max_bytes:
+            chunk = os.read(fd, min(1 << 20, max_bytes + 1 - size))
+            if not chunk:
+                break
+            chunks.append(chunk)
+            size += len(chunk)
+    except IsADirectoryError as err:
+        raise OSError(err.errno, "a directory, not a file", os.fspath(path)) from None
+    finally:
+        os.close(fd)
+    if size > max_bytes:
+        raise InputError(f"{path}: larger than {max_bytes} bytes: not a {what}")
+    return b"".join(chunks)
 
 
 def read_text(path: str | os.PathLike, max_bytes: int, what: str = "file") -> str:
@@ -213,10 +324,7 @@ def read_text(path: str | os.PathLike, max_bytes: int, what: str = "file") -> st
     ValueError
         If it is larger than ``max_bytes`` or not UTF-8 text (naming the offending byte).
     """
-    with open(path, "rb") as fh:
-        data = fh.read(max_bytes + 1)
-    if len(data) > max_bytes:
-        raise InputError(f"{path}: larger than {max_bytes} bytes: not a {what}")
+    data = read_bytes(path, max_bytes, what)
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError as err:
@@ -258,6 +366,88 @@ def read_json(path: str | os.PathLike, max_bytes: int, what: str = "file"):
         raise InputError(f"{path}: not a JSON file: {err}") from None
 
 
+def read_npz(path: str | os.PathLike, max_bytes: int, names: tuple[str, ...], what: str = "file") -> dict:
+    """Arrays of a NumPy ``.npz`` file, each member's header checked against its stored size first.
+
+    :func:`numpy.load` allocates what a member's ``.npy`` header claims: a header that lies (a
+    shape of hundreds of GiB over a few stored bytes) would raise a raw ``MemoryError``, or take
+    the machine's memory. Here the archive's members are sized before any is read, their headers
+    are read alone and must claim exactly the bytes stored, in a dtype without Python objects
+    (never a pickle), and only then are the arrays read.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    max_bytes : int
+        Largest file, and largest total of its members once inflated (bytes).
+    names : tuple of str
+        The members to read (without ``.npy``).
+    what : str
+        What the file is, for messages.
+
+    Returns
+    -------
+    dict
+        ``{name: numpy.ndarray}``.
+
+    Raises
+    ------
+    OSError
+        If it cannot be opened or read.
+    InputError
+        If it is a link, too large, not an archive, lacks a member, or a member's header does not
+        match what it stores; one line naming the file.
+    """
+    import zipfile
+
+    source = os.fspath(path)
+    if os.path.islink(source) or not os.path.isfile(source):
+        raise InputError(f"{source}: not a regular file: not a {what}")
+    if os.path.getsize(source) > max_bytes:
+        raise InputError(f"{source}: larger than {max_bytes} bytes: not a {what}")
+    try:
+        with zipfile.ZipFile(source) as archive:
+            members = {info.filename: info for info in archive.infolist()}
+            if sum(info.file_size for info in members.values()) > max_bytes:
+                raise InputError(f"{source}: its members inflate to more than {max_bytes} bytes: not a {what}")
+            out = {}
+            for name in names:
+                info = members.get(f"{name}.npy")
+                if info is None:
+                    raise InputError(f"{source}: no member {name!r}: not a {what}")
+                with archive.open(info) as fh:
+                    out[name] = _npy_member(fh, info.file_size, f"{source}[{name!r}]")
+    except (zipfile.BadZipFile, zipfile.LargeZipFile, EOFError, zlib.error, ValueError) as err:
+        if isinstance(err, InputError):
+            raise
+        first = str(err).splitlines()[0] if str(err) else "damaged"
+        raise InputError(f"{source}: not a readable .npz {what} ({type(err).__name__}: {first})") from None
+    return out
+
+
+def _npy_member(fh, stored: int, source: str):
+    """One ``.npy`` member: its header read and checked against ``stored`` bytes, then its array."""
+    import numpy as np
+
+    version = np.lib.format.read_magic(fh)
+    header = {(1, 0): np.lib.format.read_array_header_1_0,
+              (2, 0): np.lib.format.read_array_header_2_0}.get(version)
+    if header is None:
+        raise InputError(f"{source}: an .npy format version {version} this package does not read")
+    shape, fortran, dtype = header(fh, max_header_size=10_000)
+    if dtype.hasobject:
+        raise InputError(f"{source}: holds Python objects (a pickle): never read")
+    claimed = dtype.itemsize
+    for n in shape:
+        claimed *= int(n)
+    if claimed != stored - fh.tell():
+        raise InputError(f"{source}: its header claims {claimed} bytes of data, the file stores "
+                         f"{stored - fh.tell()}: damaged or forged")
+    data = np.frombuffer(fh.read(claimed), dtype=dtype)
+    return data.reshape(shape, order="F" if fortran else "C").copy()
+
+
 #: The first bytes of a MATLAB 5 (and 7, compressed) file, as :func:`scipy.io.savemat` writes it.
 _MAT5_HEADER = b"MATLAB 5.0 MAT-file"
 _MAT_COMPRESSED = 15  # miCOMPRESSED: a zlib stream holding one variable
@@ -274,9 +464,12 @@ def _mat_inflated_size(data: bytes, limit: int, source: str) -> int:
         else:
             step = 8 + nbytes + (-nbytes % 8 if kind != _MAT_COMPRESSED else 0)
         if kind == _MAT_COMPRESSED:
-            inflater = zlib.decompressobj()
+            # inflated a megabyte at a time and counted, never held: a bomb costs time, not memory
+            inflater, pending = zlib.decompressobj(), data[pos + 8:pos + 8 + nbytes]
             try:
-                total += len(inflater.decompress(data[pos + 8:pos + 8 + nbytes], limit - total + 1))
+                while pending and total <= limit:
+                    total += len(inflater.decompress(pending, 1 << 20))
+                    pending = inflater.unconsumed_tail
             except zlib.error:
                 raise InputError(f"{source}: not a readable MAT file (a compressed variable is corrupt)") from None
         else:
@@ -301,8 +494,9 @@ def read_mat(path: str | os.PathLike, max_bytes: int, what: str = "file", max_in
         What the file is, for messages (e.g. ``"boundary file"``).
     max_inflated : int, optional
         Largest total size of the variables once their compression is undone (bytes); default
-        ``4 * max_bytes``. A small file whose compressed variable inflates to gigabytes is refused
-        after inflating at most this much.
+        ``max_bytes`` (the package writes its ``.mat`` files uncompressed: their variables take
+        what the file takes). A small file whose compressed variable inflates to gigabytes is
+        refused after inflating at most this much, counted a megabyte at a time, never held.
     simplify : bool
         Structs as dicts and cells as lists, squeezed (:func:`scipy.io.loadmat`'s
         ``simplify_cells``); else arrays as stored (``squeeze_me=False``).
@@ -321,16 +515,13 @@ def read_mat(path: str | os.PathLike, max_bytes: int, what: str = "file", max_in
         If it is empty, too large, not a MATLAB 5 file (JSON, random bytes, a v7.3/HDF5 file),
         truncated or corrupt; one line naming the file.
     """
-    with open(path, "rb") as fh:
-        data = fh.read(max_bytes + 1)
-    if len(data) > max_bytes:
-        raise InputError(f"{path}: larger than {max_bytes} bytes: not a {what}")
+    data = read_bytes(path, max_bytes, what)
     if data[:8] == b"\x89HDF\r\n\x1a\n" or data[512:520] == b"\x89HDF\r\n\x1a\n" or data[124:126] == b"\x00\x02":
         raise InputError(f"{path}: a MATLAB v7.3 (HDF5) file: save the {what} with -v7 (format 5)")
     if len(data) < 128 or not data.startswith(_MAT5_HEADER) or data[126:128] not in (b"IM", b"MI"):
         raise InputError(f"{path}: not a MATLAB 5 .mat file ({len(data)} bytes without its header): "
                          f"not a {what}")
-    _mat_inflated_size(data, 4 * max_bytes if max_inflated is None else max_inflated, str(path))
+    _mat_inflated_size(data, max_bytes if max_inflated is None else max_inflated, str(path))
     import scipy.io  # here, not at the top: it costs ~0.15 s of every command line's start-up
 
     try:

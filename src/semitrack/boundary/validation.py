@@ -19,6 +19,7 @@ slab track: 38 % error at 1 kHz) is refused with both tracks' numbers.
 
 from __future__ import annotations
 
+import json
 import math
 import warnings
 from pathlib import Path
@@ -27,6 +28,7 @@ import numpy as np
 
 from ..base.errors import InputError
 from ..base.files import read_json, read_mat
+from ..equivalent.exchange import check_conventions
 from ..model.tracks import Track
 from .fitting import MAX_POLES, track_end_limits
 from .passivity import BoundaryPassivityReport
@@ -86,6 +88,12 @@ def _mat_to_data(m: dict, source: str) -> dict:
             data[key] = value[0].item() if value.dtype.kind in "biuf" else str(value[0])
     if any(k in m for k in "ABC"):
         data["state_space"] = {k: _mat_value(m, k, source) for k in ("A", "B", "C", "D", "K0")}
+    if "conventions_json" in m:
+        text = _mat_text(m, "conventions_json", source)
+        try:
+            data["conventions"] = json.loads(text)
+        except (ValueError, RecursionError):
+            raise InputError(f"{source}: the variable 'conventions_json' is not JSON text") from None
     return data
 
 
@@ -108,7 +116,7 @@ def read_boundary_file(path: str | Path) -> dict:
     InputError
         For another suffix, a file larger than :data:`MAX_BOUNDARY_BYTES` (``/dev/zero`` behind a
         ``.json`` name), JSON that is not an object or nests too deeply, a ``.mat`` file that is
-        JSON, empty, truncated, HDF5 (v7.3), random bytes, inflates to more than 4 times that
+        JSON, empty, truncated, HDF5 (v7.3), random bytes, inflates to more than that
         size, lacks a variable or holds an empty one; one line naming the file (and the key).
     OSError
         If the file cannot be read.
@@ -210,11 +218,13 @@ def check_boundary_data(data: dict, source: str, fmt: str, version: int) -> dict
         Naming the source and the key: another format, an unknown version, a missing key, more
         than :data:`~.fitting.MAX_POLES` poles, shapes that do not match, non-finite numbers,
         text where a number belongs, a band that is not two increasing frequencies, negative
-        errors, enforcement rounds that are not a bounded integer, a track name that is not text.
+        errors, enforcement rounds that are not a bounded integer, a track name that is not text,
+        conventions that differ from the package's (e.g. ``side: "left"``).
     """
     if not isinstance(data, dict):
         raise InputError(f"{source}: not a boundary: it must be a dict, got {type(data).__name__}")
     _checked_version(data, source, fmt, version)
+    check_conventions(data.get("conventions"), source)
     raw = data.get("poles")
     if not isinstance(raw, (list, tuple, np.ndarray)):
         raise InputError(f"{source}: 'poles' must be a list of [re, im] pairs, got {str(raw)[:40]!r}")

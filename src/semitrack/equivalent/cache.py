@@ -58,7 +58,7 @@ import numpy as np
 from ..base import records
 from ..base.checks import as_frequencies, check_band
 from ..base.errors import InputError, InputTypeError
-from ..base.files import exclusive, read_text
+from ..base.files import atomic_write, check_cache_folder, exclusive, read_text
 from ..base.paper_values import FIT_BANDS
 from ..methods.receptance import CentralResponse, Method, central_response
 from ..model.curves import FrequencyCurve
@@ -66,7 +66,6 @@ from ..model.slab import Slab
 from ..model.tracks import Track, require_track
 from .assembly import Layout, check_layout
 from .fitting import FitResult, fit_equivalent
-from .io import atomic_write
 from .metrics import ErrorSummary
 from .systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent
 
@@ -218,13 +217,12 @@ def _computed_once(key: str, path: Path | None, kind: type, compute):
     if path is None:
         result = compute()
     else:
-        path.parent.mkdir(parents=True, exist_ok=True)
         with exclusive(path):  # a process computing the same key meanwhile: wait for its file
-            result = _load(path, kind)
+            result = None if path.is_symlink() else _load(path, kind)  # a planted link is not read
             if result is None:
                 result = compute()
                 text = records.dumps(result)
-                atomic_write(path, lambda fh: fh.write(text))
+                atomic_write(path, lambda fh: fh.write(text), follow_links=False)
     _MEMO[key] = result
     return result
 
@@ -275,7 +273,7 @@ def cached_fit(track: Track, layout: Layout, n_bars: int = 5, band: tuple[float,
     True
     """
     key = fit_cache_key(track, layout, n_bars, band, seed, **options)
-    path = None if cache_dir is None else Path(cache_dir) / f"fit-{key}.json"
+    path = None if cache_dir is None else check_cache_folder(cache_dir, "cache_dir") / f"fit-{key}.json"
     return _computed_once(key, path, FitResult,
                           lambda: fit_equivalent(**_bound_arguments(track, layout, n_bars, band, seed, options)))
 
@@ -360,7 +358,7 @@ def cached_central_response(track: Track, f, method: Method = "wavenumber",
     ((2, 2, 2), True)
     """
     key = response_cache_key(track, f, method, **settings)
-    path = None if cache_dir is None else Path(cache_dir) / f"response-{key}.json"
+    path = None if cache_dir is None else check_cache_folder(cache_dir, "cache_dir") / f"response-{key}.json"
 
     def compute() -> CachedResponse:
         start = time.perf_counter()

@@ -54,12 +54,12 @@ from pathlib import Path
 import numpy as np
 
 from ..base.errors import InputError, InputTypeError
-from ..base.files import atomic_write
+from ..base.files import atomic_write, read_json, read_mat, read_text
 from .mechanical import PORT_DOFS, MatrixSystem, MechanicalSystem
 
-__all__ = ["end_conventions", "conventions_text", "mat_conventions", "matrix_system_to_dict", "matrix_system_from_dict",
-           "save_matrix_system", "load_matrix_system", "save_nastran_dmig", "save_abaqus_matrix",
-           "MATRIX_FORMAT", "MATRIX_SUFFIXES", "CODE_AXES"]
+__all__ = ["end_conventions", "conventions_text", "check_conventions", "CHECKED_CONVENTIONS", "mat_conventions",
+           "matrix_system_to_dict", "matrix_system_from_dict", "save_matrix_system", "load_matrix_system",
+           "save_nastran_dmig", "save_abaqus_matrix", "MATRIX_FORMAT", "MATRIX_SUFFIXES", "CODE_AXES"]
 
 #: The ``format`` of a MatrixSystem file.
 MATRIX_FORMAT = "semitrack.mechanical.system"
@@ -69,6 +69,8 @@ MATRIX_SUFFIXES = (".json", ".csv", ".mat", ".bdf", ".inp")
 #: How the ports map to a finite-element code's axes (x along the track, y up): DOF and sign.
 CODE_AXES = {"w": {"dof": 2, "sign": -1.0, "note": "w = -u_y (downward deflection, y up)"},
              "psi": {"dof": 6, "sign": -1.0, "note": "psi = -theta_z (clockwise, z out of the x-y plane)"}}
+#: Largest M, C, K file read (bytes): an 800-DOF system in full precision is about 40 MB as JSON.
+MAX_MATRIX_BYTES = 50_000_000
 #: Node label of the first internal DOF in the .bdf and .inp files (one scalar point or node each).
 FIRST_INTERNAL_LABEL = 9_000_001
 
@@ -120,6 +122,58 @@ def conventions_text(track: str = "", band=None) -> str:
             "alone) at the cut; (Q, M) are the force and moment applied to that end, so the force on your end "
             "node is -(Q, M). For a left end (track to the left of the cut) use P K P with P = diag(1, -1) on "
             "the ports. SI units, time factor exp(i omega t)." + fitted)
+
+
+#: The conventions fields a program acts on (module docstring), checked when a file is read back:
+#: the rest (``w``, ``psi``, ``text``, ``track``, ``band_hz``, ``precision``) only describe.
+CHECKED_CONVENTIONS = ("side", "load_convention", "port_dofs", "port_indices", "left_end_mirror", "units",
+                       "time_factor")
+
+
+def _plain(value):
+    """A conventions value in one comparable form: arrays and tuples as lists, numbers as floats."""
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, (int, float, np.number)) and not isinstance(value, bool):
+        return float(value)
+    return value
+
+
+def check_conventions(conventions, source: str) -> None:
+    """Refuse an end file whose declared conventions differ from the package's, naming the field.
+
+    A file that declares millimetres, ``exp(-i omega t)``, the ports in another order, a left end
+    or another load convention would otherwise load as if it followed the package's conventions,
+    and its matrices would be used with the wrong signs or scale. A field the file does not
+    declare (an older or hand-written file) is taken as the package's; no conversion is made, the
+    message says what the package expects.
+
+    Parameters
+    ----------
+    conventions : dict or None
+        The file's ``conventions`` record, as read (None: the file declares none).
+    source : str
+        The file, quoted in the message.
+
+    Raises
+    ------
+    InputError
+        If the record is not a mapping, or a field of :data:`CHECKED_CONVENTIONS` differs from
+        :func:`end_conventions`.
+    """
+    if conventions is None:
+        return
+    if not isinstance(conventions, dict):
+        raise InputError(f"{source}: 'conventions' must be a record of fields, got {type(conventions).__name__}")
+    ours = end_conventions()
+    for field in CHECKED_CONVENTIONS:
+        if field in conventions and _plain(conventions[field]) != _plain(ours[field]):
+            raise InputError(f"{source}: conventions[{field!r}] is {_plain(conventions[field])!r:.80}, not the "
+                             f"package's {ours[field]!r}: convert the file to the package's conventions first")
 
 
 def _check_system(system) -> MechanicalSystem:
@@ -174,13 +228,17 @@ def matrix_system_from_dict(data: dict, source: str = "data") -> MatrixSystem:
     """
     if not isinstance(data, dict) or data.get("format") != MATRIX_FORMAT:
         raise InputError(f"{source}: not a {MATRIX_FORMAT} file (its 'format' must be {MATRIX_FORMAT!r})")
-    conv = data.get("conventions", {})
-    if not isinstance(conv, dict) or conv.get("side", "right") != "right" or \
-            list(conv.get("port_indices", [0, 1])) != [0, 1]:
-        raise InputError(f"{source}: conventions must describe a right end with the ports first")
+    check_conventions(data.get("conventions"), source)
+    conv = data.get("conventions") or {}
+    dofs = data.get("dof_names", ())
+    if not isinstance(dofs, (list, tuple)) or not all(isinstance(name, str) for name in dofs):
+        raise InputError(f"{source}: 'dof_names' must be a list of names, got {str(dofs)[:40]!r}")
+    if len(dofs) >= 2 and not (dofs[0].endswith("(m)") and dofs[1].endswith("(rad)")):
+        raise InputError(f"{source}: 'dof_names' must start with the ports, a deflection (m) then a rotation "
+                         f"(rad), got {dofs[:2]!r}: the matrices' DOFs are in another order")
     try:
         return MatrixSystem(np.asarray(data["M"], dtype=float), np.asarray(data["C"], dtype=float),
-                            np.asarray(data["K"], dtype=float), dofs=tuple(data.get("dof_names", ())),
+                            np.asarray(data["K"], dtype=float), dofs=tuple(dofs),
                             info=dict(data.get("info", {}), track=conv.get("track", ""), band_hz=conv.get("band_hz")))
     except KeyError as exc:
         raise InputError(f"{source}: missing key {exc.args[0]!r}") from None
@@ -210,7 +268,11 @@ def _csv_data(text: str, source: str) -> dict:
     import csv
 
     sections, current = {}, None
-    for row in csv.reader(text.splitlines()):
+    try:
+        rows = list(csv.reader(text.splitlines()))
+    except csv.Error as exc:
+        raise InputError(f"{source}: not a CSV file ({exc})") from None
+    for row in rows:
         if not row:
             continue
         if row[0].startswith("[") and row[0].endswith("]"):
@@ -225,8 +287,8 @@ def _csv_data(text: str, source: str) -> dict:
                 "dof_names": json.loads(meta["dof_names"]),
                 "conventions": {r[0]: json.loads(r[1]) for r in sections["conventions"][1:]}}
         data.update({name: [[float(v) for v in r] for r in sections[name]] for name in "MCK"})
-    except (KeyError, IndexError, ValueError) as exc:
-        raise InputError(f"{source}: not a {MATRIX_FORMAT} CSV file ({exc})") from None
+    except (KeyError, IndexError, ValueError, RecursionError) as exc:
+        raise InputError(f"{source}: not a {MATRIX_FORMAT} CSV file ({type(exc).__name__}: {exc})") from None
     return data
 
 
@@ -303,31 +365,53 @@ def load_matrix_system(path: str | os.PathLike) -> MatrixSystem:
     Parameters
     ----------
     path : str or os.PathLike
-        The file.
+        The file, at most :data:`MAX_MATRIX_BYTES` (a ``.mat`` file's variables too, once
+        inflated).
 
     Returns
     -------
     MatrixSystem
-    """
-    path = Path(path)
-    suffix = path.suffix.lower()
-    if suffix == ".json":
-        with open(path, encoding="utf-8") as fh:
-            return matrix_system_from_dict(json.load(fh), str(path))
-    if suffix == ".csv":
-        return matrix_system_from_dict(_csv_data(path.read_text(encoding="utf-8"), str(path)), str(path))
-    if suffix == ".mat":
-        import scipy.io
 
-        raw = scipy.io.loadmat(path, simplify_cells=True)
+    Raises
+    ------
+    InputError
+        For another suffix, a file too large (``/dev/zero`` behind the name), not UTF-8, not JSON or
+        nested too deeply, a damaged ``.mat`` file, a missing key or variable, conventions that
+        differ from the package's (:func:`check_conventions`), or matrices that are not a
+        system's; one line naming the file.
+    OSError
+        If the file cannot be opened or read.
+    """
+    source = str(path)
+    suffix = Path(path).suffix.lower()
+    if suffix == ".json":
+        return matrix_system_from_dict(read_json(path, MAX_MATRIX_BYTES, "system file"), source)
+    if suffix == ".csv":
+        return matrix_system_from_dict(_csv_data(read_text(path, MAX_MATRIX_BYTES, "system file"), source), source)
+    if suffix == ".mat":
+        raw = read_mat(path, MAX_MATRIX_BYTES, "system file", simplify=True)
         try:
             data = {"format": raw["format"], "M": np.atleast_2d(raw["M"]), "C": np.atleast_2d(raw["C"]),
                     "K": np.atleast_2d(raw["K"]), "dof_names": list(np.atleast_1d(raw["dof_names"])),
-                    "conventions": json.loads(raw["conventions_json"]), "info": json.loads(raw["info_json"])}
+                    "conventions": _json_variable(raw, "conventions_json", source),
+                    "info": _json_variable(raw, "info_json", source)}
         except KeyError as exc:
-            raise InputError(f"{path}: missing variable {exc.args[0]!r}") from None
-        return matrix_system_from_dict(data, str(path))
-    raise InputError(f"path must end in .json, .csv or .mat to be read, got {str(path)!r}")
+            raise InputError(f"{source}: missing variable {exc.args[0]!r}") from None
+        return matrix_system_from_dict(data, source)
+    raise InputError(f"path must end in .json, .csv or .mat to be read, got {source!r}")
+
+
+def _json_variable(raw: dict, name: str, source: str):
+    """A ``.mat`` variable holding JSON text, parsed (missing: KeyError)."""
+    text = raw[name]
+    if not isinstance(text, str):
+        raise InputError(f"{source}: the variable {name!r} must be JSON text, got {type(text).__name__}")
+    try:
+        return json.loads(text)
+    except RecursionError:
+        raise InputError(f"{source}: the variable {name!r} is nested too deeply") from None
+    except ValueError as err:
+        raise InputError(f"{source}: the variable {name!r} is not JSON ({err})") from None
 
 
 # --- Nastran and Abaqus ---------------------------------------------------------------------------

@@ -48,7 +48,8 @@ side (the semi-infinite track to the right of the cut), the load convention (for
 end; the force on the user's node is their negative), psi, the mirror ``P = diag(1, -1)`` of a left
 end, the port DOFs, units and the track and band fitted on: a ``conventions`` object in JSON, a
 ``[conventions]`` section in CSV (values as JSON), a ``conventions`` struct (and
-``conventions_json``) in MAT. Readers ignore it. :func:`export_system` also writes any other
+``conventions_json``) in MAT. Readers check the fields a program acts on and refuse a file that
+declares others (:func:`.exchange.check_conventions`). :func:`export_system` also writes any other
 :class:`~.mechanical.MechanicalSystem` (a broadband end's M, C, K) and the Nastran ``.bdf`` and
 Abaqus ``.inp`` files of :mod:`.exchange`.
 
@@ -71,7 +72,7 @@ import numpy as np
 from ..base.deprecation import renamed_keywords
 from ..base.errors import BadInput, InputError, InputTypeError
 from ..base.files import atomic_write, read_json, read_mat, read_text
-from .exchange import MATRIX_SUFFIXES, end_conventions, mat_conventions, save_matrix_system
+from .exchange import MATRIX_SUFFIXES, check_conventions, end_conventions, mat_conventions, save_matrix_system
 from .mechanical import MechanicalSystem
 from .systems import PARAMETER_UNITS, EquivalentSystem
 
@@ -246,6 +247,7 @@ def system_from_dict(data: dict[str, Any], source: str = "data") -> EquivalentSy
     for key in ("layout", "parameters"):
         if key not in data:
             raise InputError(f"{source}: missing key {key!r}")
+    check_conventions(data.get("conventions"), source)
     params = {name: _numbers(values, source, f"parameters[{name!r}]")
               for name, values in _entries(data, "parameters", source).items()}
     params["layout"] = data["layout"]
@@ -398,7 +400,17 @@ def load_system_csv(path: str | os.PathLike) -> EquivalentSystem:
             for label in "MCK" if label in sections
         },
     }
+    if "conventions" in sections:
+        data["conventions"] = {row[0]: _json_cell(row, path) for row in sections["conventions"][1:]}
     return system_from_dict(data, source=str(path))
+
+
+def _json_cell(row: list[str], path: Path):
+    """The value of a ``[conventions]`` row: JSON text in its second cell."""
+    try:
+        return json.loads(row[1])
+    except (IndexError, ValueError, RecursionError):
+        raise InputError(f"{path}: [conventions] {row[0]!r:.40} must hold one JSON value") from None
 
 
 def _csv_sections(path: Path) -> dict[str, list[list[str]]]:
@@ -508,8 +520,11 @@ def load_system_mat(path: str | os.PathLike) -> EquivalentSystem:
             "parameters": {n: np.atleast_1d(np.asarray(v, dtype=float)).ravel() for n, v in raw["parameters"].items()},
             "matrices": {n: np.atleast_2d(np.asarray(raw[n], dtype=float)) for n in "MCK" if n in raw},
         }
-    except (TypeError, ValueError, OverflowError) as err:
-        raise InputError(f"{path}: a variable is not a number or an array of numbers ({err})") from None
+        if "conventions_json" in raw:
+            data["conventions"] = json.loads(str(raw["conventions_json"]))
+    except (TypeError, ValueError, OverflowError, RecursionError) as err:
+        raise InputError(f"{path}: a variable is not a number, an array of numbers or JSON text "
+                         f"({type(err).__name__}: {err})") from None
     return system_from_dict(data, source=str(path))
 
 

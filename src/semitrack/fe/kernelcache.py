@@ -6,9 +6,10 @@ folder, in one file per key, ``kernels-<sha256>.npz``. The key holds everything 
 on: the track's parameters (every field, its name aside), the mesh, the damping's reference
 frequencies, the time step, the grid (steps per spacing, the wheels' offsets), the memory, and the
 digest of the package's source (code that changed recomputes). The file holds only numeric arrays
-and the key as text, read with ``allow_pickle=False``; its size is bounded before it is read, and a
-file that cannot be read, holds another key or arrays of the wrong shapes is computed again and
-written over (atomically).
+and the key as text, never a pickle; its size, and every member's header against what the member
+stores, are checked before any array is read (:func:`~semitrack.base.files.read_npz`). A file that
+cannot be read, is a link, holds another key or arrays of the wrong shapes is computed again and
+written over (atomically, replacing a link rather than writing through it).
 """
 
 from __future__ import annotations
@@ -16,12 +17,11 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import zipfile
 from pathlib import Path
 
 import numpy as np
 
-from ..base.files import atomic_write, exclusive
+from ..base.files import atomic_write, check_cache_folder, exclusive, read_npz
 from ..model.tracks import Track
 from .kernels import KernelGrid, MovingKernels, kernel_key, moving_kernels, release_starts
 
@@ -29,6 +29,9 @@ __all__ = ["MAX_KERNEL_BYTES", "cached_kernels", "clear_kernel_memo"]
 
 #: Largest kernel file read back (bytes): a bogie's kernels on the ballasted track at 20 us hold ~180 MB.
 MAX_KERNEL_BYTES = 2_000_000_000
+
+#: The members of a kernel file.
+_MEMBERS = ("key", "lags", "loop", "starts", "release", "flexibility", "scalars")
 
 _MEMO: dict[str, MovingKernels] = {}
 
@@ -46,24 +49,17 @@ def _write(path: Path, kernels: MovingKernels) -> None:
               "release": np.stack([kernels.release[start] for start in starts]),
               "flexibility": kernels.flexibility,
               "scalars": np.array([kernels.tail, kernels.elapsed, kernels.elements_per_bay])}
-    path.parent.mkdir(parents=True, exist_ok=True)
-    atomic_write(path, lambda fh: np.savez(fh, **arrays), binary=True)
+    atomic_write(path, lambda fh: np.savez(fh, **arrays), binary=True, follow_links=False)
 
 
 def _read(path: Path, key: dict, grid: KernelGrid, starts: list) -> MovingKernels | None:
     """The kernels stored at ``path`` for ``key``, or None: absent, too large (stored or inflated), unreadable,
     another key, or arrays that are not finite float64 of the grid's shapes and starts."""
     L, P = key["memory"], grid.positions
-    try:
-        if path.stat().st_size > MAX_KERNEL_BYTES:
+    try:  # sizes, links and every member's header checked before any array is read (read_npz)
+        arrays = read_npz(path, MAX_KERNEL_BYTES, _MEMBERS, "kernel file")
+        if json.loads(str(arrays.pop("key")[()])) != json.loads(json.dumps(key, sort_keys=True)):
             return None
-        with zipfile.ZipFile(path) as archive:  # the members' inflated sizes, before any is read
-            if sum(info.file_size for info in archive.infolist()) > MAX_KERNEL_BYTES:
-                return None
-        with np.load(path, allow_pickle=False) as data:
-            if json.loads(str(data["key"][()])) != json.loads(json.dumps(key, sort_keys=True)):
-                return None
-            arrays = {name: data[name] for name in ("lags", "loop", "starts", "release", "flexibility", "scalars")}
         lags, stored = arrays["lags"].tolist(), [tuple(s) for s in arrays["starts"].tolist()]
         floats = [arrays[name] for name in ("loop", "release", "flexibility", "scalars")]
         if (lags != list(grid.lags) or stored != starts or arrays["loop"].shape != (len(lags), P, L)
@@ -71,7 +67,7 @@ def _read(path: Path, key: dict, grid: KernelGrid, starts: list) -> MovingKernel
                 or arrays["scalars"].shape != (3,) or not all(a.dtype == np.float64 and np.isfinite(a).all()
                                                                for a in floats)):
             return None
-    except (OSError, ValueError, KeyError, TypeError, zipfile.BadZipFile):  # absent, not an npz, a pickle, ...
+    except (OSError, ValueError, KeyError, TypeError, RecursionError):  # absent, a link, damaged, forged, ...
         return None
     tail, elapsed, ne = arrays["scalars"].tolist()
     if ne != int(ne) or ne < 2 or (key["mesh"][0] == "elements" and ne != key["mesh"][1]):
@@ -100,7 +96,8 @@ def cached_kernels(track: Track, elements_per_bay: int | None, f_max: float | No
     f_ref : None, float or dict
         Reference frequencies of the viscous damping.
     cache : str or os.PathLike, optional
-        The folder of kernel files.
+        The folder of kernel files, checked before any work (:func:`~semitrack.base.files.check_cache_folder`);
+        a symbolic link planted in it under a kernel file's name is replaced, never followed.
     start : int
         The first wheel's phase at the start.
 
@@ -108,15 +105,15 @@ def cached_kernels(track: Track, elements_per_bay: int | None, f_max: float | No
     -------
     MovingKernels
     """
+    folder = None if cache is None else check_cache_folder(cache, "cache")  # before the work, not after
     key = kernel_key(track, elements_per_bay, grid, memory, f_ref, start, f_max)
     digest = _digest(key)
     if digest in _MEMO:
         return _MEMO[digest]
-    if cache is None:
+    if folder is None:
         kernels = moving_kernels(track, elements_per_bay, grid, memory, f_ref, f_max, start)
     else:
-        path = Path(cache) / f"kernels-{digest}.npz"
-        path.parent.mkdir(parents=True, exist_ok=True)
+        path = folder / f"kernels-{digest}.npz"
         with exclusive(path):  # a process computing the same kernels meanwhile: wait for its file
             kernels = _read(path, key, grid, release_starts(grid, start))
             if kernels is None:
