@@ -300,6 +300,6 @@ def test_slab_example_values_carry_their_units(name):
 def test_example_track_names_every_example():
     for name in EXAMPLES:
         assert example_track(name) == load_track_toml(example_path(name))
-    with pytest.raises(ValueError, match=r"example must be one of \('slab', 'ballasted', 'mortar-slab', "
+    with pytest.raises(ValueError, match=r"name must be one of \('slab', 'ballasted', 'mortar-slab', "
                                          r"'floating-slab'\), got 'tram'"):
         example_track("tram")

@@ -39,7 +39,7 @@ from .base.checks import MAX_FREQUENCIES, check_band, check_int_at_least, check_
 from .base.conventions import ALL_ELEMENTS, ELEMENT_UNITS, ELEMENTS
 from .base.errors import BadInput, caused_by_interrupt
 from .base.errors import InputError as PackageInputError
-from .base.files import atomic_write, check_output_path, read_text
+from .base.files import atomic_write, check_input_path, check_output_path, read_text
 from .base.paper_values import FIT_BANDS, PAPER_GRID_BAND, PAPER_GRID_STEP
 from .equivalent.io import export_system, load_system_json, save_system_json
 from .model.trackfile import EXAMPLES, TrackFileError, example_path, load_track_toml
@@ -52,8 +52,7 @@ if TYPE_CHECKING:  # imported when used, so that --help and bad input answer fas
 
     from .equivalent.systems import EquivalentSystem
 
-#: Highest frequency the CLI accepts (Hz): far above where a beam model of a rail holds, and far
-#: below where omega = 2 pi f overflows.
+#: Highest frequency the CLI accepts (Hz): far above where a beam model of a rail holds.
 MAX_FREQUENCY = 1e6
 BLOCK = 50  # frequencies per progress step
 #: Formats of ``receptance --plot``, by file suffix (matplotlib's names).
@@ -126,6 +125,7 @@ def frequency_grid(fmin: float, fmax: float, df: float) -> np.ndarray:
 
 
 def _track(path: str) -> Track:
+    checked(check_input_path, path, "track")
     try:
         return load_track_toml(path)
     except TrackFileError as err:
@@ -562,6 +562,7 @@ def cmd_export(args: argparse.Namespace) -> int:
     from .boundary.fitting import BroadbandBoundary
     from .boundary.io import export_boundary
 
+    checked(check_input_path, args.system, "system")
     source = load_end_file(args.system)
     output = args.output
     if output is None:  # beside the input, with the format's suffix

@@ -22,7 +22,7 @@ def _is_real_number(value: object) -> bool:
 def check_real(name: str, value: object) -> float:
     """Return ``value`` as a float, or raise TypeError if it is not a real number."""
     if not _is_real_number(value):
-        raise InputTypeError(f"{name} must be a real number, got {value!r} ({type(value).__name__})")
+        raise InputTypeError(f"{name} must be a real number, got {brief(value)} ({type(value).__name__})")
     return float(value)
 
 
@@ -69,21 +69,39 @@ def check_in_range(name: str, value: float, bounds: tuple[float, float], why: st
 def check_string(name: str, value: object) -> str:
     """A ``str`` (labels such as a track's name)."""
     if not isinstance(value, str):
-        raise InputTypeError(f"{name} must be a string, got {value!r}")
+        raise InputTypeError(f"{name} must be a string, got {brief(value)}")
     return value
 
 
 def check_choice(name: str, value: object, choices: tuple) -> object:
-    """One of ``choices`` (e.g. a method name), compared with ``==``."""
-    if value not in choices:
-        raise InputError(f"{name} must be one of {choices}, got {value!r}")
+    """One of ``choices`` (e.g. a method name), compared with ``==``; an array is never one."""
+    if isinstance(value, np.ndarray) or not any(_is_choice(value, c) for c in choices):
+        raise InputError(f"{name} must be one of {choices}, got {brief(value)}")
     return value
+
+
+def _is_choice(value: object, choice: object) -> bool:
+    """``value`` is ``choice``: equal text, the same None or bool, or an equal value of the same type."""
+    if isinstance(choice, str):
+        return isinstance(value, str) and value == choice
+    if choice is None or isinstance(choice, bool):
+        return value is choice
+    if _is_real_number(choice):
+        return _is_real_number(value) and value == choice
+    return type(value) is type(choice) and value == choice
+
+
+def check_flag(name: str, value: object) -> bool:
+    """A boolean (``True``/``False``, or numpy's): NaN, 1, ``'no'`` or an array are not read as one."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputTypeError(f"{name} must be True or False, got {brief(value)} ({type(value).__name__})")
+    return bool(value)
 
 
 def check_int_at_least(name: str, value: object, minimum: int) -> int:
     """An integer (not a bool) that is >= ``minimum``."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise InputTypeError(f"{name} must be an integer, got {value!r} ({type(value).__name__})")
+        raise InputTypeError(f"{name} must be an integer, got {brief(value)} ({type(value).__name__})")
     if value < minimum:
         raise InputError(f"{name} must be an integer >= {minimum}, got {value!r}")
     return int(value)
@@ -157,10 +175,71 @@ def check_steps(dt: float, duration: float, names: tuple[str, str] = ("dt", "dur
     return max(int(math.ceil(ratio - 1e-9 * ratio) if ceil else round(ratio)), 1)
 
 
+#: Highest frequency any call takes (Hz): far above any track's physics (rolling noise stops near
+#: 10 kHz; the ends' high-frequency limits are checked up to 1e8 Hz), far below where omega^2 m
+#: overflows (1e276 Hz made every linear solve fail).
+MAX_FREQUENCY = 1e9
+
+
+def as_real_array(value: ArrayLike, name: str, *, finite: bool = True, ndim: int | None = None,
+                  empty: bool = True) -> np.ndarray:
+    """``value`` as a float array, or the package's refusal naming ``name``: never a raw numpy error.
+
+    Strings (``'0.3'`` too), bytes, booleans, None, objects and ragged sequences are refused as a
+    type error: a number is never read from text.
+
+    Parameters
+    ----------
+    value : array_like
+        A number or (nested) sequence of numbers.
+    name : str
+        The parameter, for messages.
+    finite : bool
+        Refuse NaN and infinities.
+    ndim : int, optional
+        The number of dimensions required (a scalar has 0).
+    empty : bool
+        Accept an empty array.
+
+    Returns
+    -------
+    numpy.ndarray
+        A new float array.
+
+    Raises
+    ------
+    InputTypeError
+        If ``value`` is not numbers.
+    InputError
+        If it has the wrong number of dimensions, is empty (``empty=False``) or not finite.
+    """
+    try:
+        raw = np.array(value)
+    except (TypeError, ValueError):  # a ragged sequence
+        raise InputTypeError(f"{name} must be a number or an array of numbers, got a ragged sequence") from None
+    if raw.dtype.kind not in "iuf":
+        raise InputTypeError(f"{name} must be a number or an array of numbers, got {brief(value)} "
+                             f"({type(value).__name__})")
+    arr = raw.astype(float)
+    if ndim is not None and arr.ndim != ndim:
+        raise InputError(f"{name} must be {'a number' if ndim == 0 else f'a {ndim}-D array'}, got shape {arr.shape}")
+    if not empty and arr.size == 0:
+        raise InputError(f"{name} must hold at least one value, got an empty array")
+    if finite and not np.all(np.isfinite(arr)):
+        raise InputError(f"{name} must be finite, got {arr[~np.isfinite(arr)].ravel()[0]!r} in it")
+    return arr
+
+
+def brief(value: object) -> str:
+    """``repr(value)`` on one line, at most 60 characters: what a message quotes of a bad value."""
+    text = " ".join(repr(value).split())
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
 def as_frequencies(f: ArrayLike, name: str = "f") -> np.ndarray:
     """Frequencies in Hz as a float array (any shape); all must be positive and finite.
 
-    At most :data:`MAX_FREQUENCIES` of them per call.
+    At most :data:`MAX_FREQUENCIES` of them per call, each at most :data:`MAX_FREQUENCY`.
 
     Raises
     ------
@@ -174,7 +253,7 @@ def as_frequencies(f: ArrayLike, name: str = "f") -> np.ndarray:
     except (TypeError, ValueError):  # e.g. a ragged list
         raw = np.asarray(None)
     if raw.dtype.kind not in "iuf":
-        raise InputTypeError(f"{name} must be a number or an array of numbers in Hz, got {f!r}")
+        raise InputTypeError(f"{name} must be a number or an array of numbers in Hz, got {brief(f)}")
     arr = raw.astype(float)
     check_work(arr.size, MAX_FREQUENCIES, f"{name} holds {arr.size} frequencies", "split them over several calls")
     if arr.size == 0:
@@ -185,6 +264,9 @@ def as_frequencies(f: ArrayLike, name: str = "f") -> np.ndarray:
         raise InputError(
             f"{name} must be positive and finite (Hz); {int(bad.sum())} value(s) are not, e.g. {first!r}"
         )
+    if arr.max() > MAX_FREQUENCY:
+        raise InputError(f"{name} must be at most {MAX_FREQUENCY:g} Hz, got {arr.max()!r}: no track model here "
+                         f"holds at such frequencies")
     return arr
 
 

@@ -9,11 +9,25 @@ unexpected failure by its class alone.
 
 from __future__ import annotations
 
-__all__ = ["BadInput", "InputError", "InputTypeError", "caused_by_interrupt"]
+import re
+
+__all__ = ["BadInput", "InputError", "InputTypeError", "UnreadableFile", "caused_by_interrupt"]
 
 
 class BadInput(Exception):
-    """Input the package refuses; the message names the parameter (or file and key), its value and the rule."""
+    """Input the package refuses; the message names the parameter (or file and key), its value and the rule.
+
+    The message is one line whatever it quotes: a line break followed by indentation (a 2-D array
+    shown with ``repr``) is folded into one space, any other (in a path, in the user's text) is
+    written ``\\n``, so that the command line's refusals and a caller's log stay one line and
+    keep what they quote.
+    """
+
+    def __init__(self, *args):
+        if len(args) == 1 and isinstance(args[0], str) and ("\n" in args[0] or "\r" in args[0]):
+            text = re.sub(r"\r?\n[ \t]+", " ", args[0])
+            args = (text.replace("\r", "\\r").replace("\n", "\\n"),)
+        super().__init__(*args)
 
 
 class InputError(BadInput, ValueError):
@@ -22,6 +36,14 @@ class InputError(BadInput, ValueError):
 
 class InputTypeError(BadInput, TypeError):
     """An input of a type the package refuses."""
+
+
+class UnreadableFile(OSError, BadInput):
+    """An input file that cannot be opened or read (absent, a directory, no permission).
+
+    An :class:`OSError` (with ``errno`` and ``filename``), as callers that catch it expect, and a
+    :class:`BadInput`: the path is the user's input, and the package refuses it like any other.
+    """
 
 
 def caused_by_interrupt(error: BaseException) -> bool:

@@ -27,7 +27,7 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import IO, Any
 
-from .errors import InputError, InputTypeError
+from .errors import InputError, InputTypeError, UnreadableFile
 
 #: Kinds of file an output path must not name, by :mod:`stat` test: they are not ours to replace.
 _NOT_REGULAR = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
@@ -42,6 +42,48 @@ def _as_path(path: object, name: str, what: str = "a file") -> Path:
     if text == "" or "\x00" in text:
         raise InputError(f"{name} must name {what}, got {text!r}")
     return Path(text)
+
+
+def check_input_path(path: object, name: str = "path") -> Path:
+    """``path`` as a Path, refused at once (naming ``name``) when it is not a str or path, empty or holds NUL.
+
+    An empty string would otherwise name the current folder (``Path("") == Path(".")``).
+
+    Parameters
+    ----------
+    path : object
+        The file as the user named it.
+    name : str
+        How messages call it.
+
+    Returns
+    -------
+    Path
+    """
+    return _as_path(path, name)
+
+
+def file_suffix(path: object, format: object = None) -> str:
+    """The lower-case suffix a file goes by: ``format`` when given (``"mat"`` or ``".mat"``), else ``path``'s.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file (checked as :func:`check_input_path` does).
+    format : str, optional
+        The format named by the caller.
+
+    Returns
+    -------
+    str
+        E.g. ``".json"``; ``""`` for a path without a suffix.
+    """
+    given = _as_path(path, "path")
+    if format is None:
+        return given.suffix.lower()
+    if not isinstance(format, str):
+        raise InputTypeError(f"format must be a str such as 'json' or None, got {type(format).__name__}")
+    return f".{format.lower().lstrip('.')}"
 
 
 def check_output_path(path: str | os.PathLike, name: str = "path", follow_links: bool = True) -> Path:
@@ -276,12 +318,19 @@ def read_bytes(path: str | os.PathLike, max_bytes: int, what: str = "file") -> b
 
     Raises
     ------
-    OSError
-        If it cannot be opened or read (absent, a directory, no permission).
+    InputTypeError
+        If ``path`` is not a str or path; InputError if it is empty.
+    UnreadableFile
+        If it cannot be opened or read (absent, a directory, no permission): an OSError and a
+        BadInput.
     InputError
         If it is larger than ``max_bytes``; the message names the file.
     """
-    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
+    path = _as_path(path, "path")
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
+    except OSError as err:
+        raise UnreadableFile(err.errno, err.strerror, os.fspath(path)) from None
     try:
         if hasattr(os, "set_blocking"):
             os.set_blocking(fd, True)  # the open did not wait for a writer; the reads do
@@ -292,8 +341,9 @@ def read_bytes(path: str | os.PathLike, max_bytes: int, what: str = "file") -> b
                 break
             chunks.append(chunk)
             size += len(chunk)
-    except IsADirectoryError as err:
-        raise OSError(err.errno, "a directory, not a file", os.fspath(path)) from None
+    except OSError as err:  # EISDIR: a directory opens, and fails at its first read
+        why = "a directory, not a file" if isinstance(err, IsADirectoryError) else err.strerror
+        raise UnreadableFile(err.errno, why, os.fspath(path)) from None
     finally:
         os.close(fd)
     if size > max_bytes:
@@ -401,7 +451,7 @@ def read_npz(path: str | os.PathLike, max_bytes: int, names: tuple[str, ...], wh
     """
     import zipfile
 
-    source = os.fspath(path)
+    source = os.fspath(_as_path(path, "path"))
     if os.path.islink(source) or not os.path.isfile(source):
         raise InputError(f"{source}: not a regular file: not a {what}")
     if os.path.getsize(source) > max_bytes:

@@ -34,6 +34,7 @@ from numpy.typing import ArrayLike
 from ..base.checks import check_band, check_int_at_least, check_positive, check_positive_pair, check_work
 from ..base.deprecation import deprecated_alias
 from ..base.errors import InputError
+from ..base.fields import check_fields
 from ..base.threads import serial_blas
 from ..equivalent.mechanical import MatrixSystem
 from ..equivalent.metrics import ErrorSummary, error_band_grid, error_summary
@@ -144,6 +145,9 @@ class BroadbandBoundary:
     enforcement_rounds: int = 0
     orders_tried: dict = field(default_factory=dict)
     elapsed: float = 0.0
+
+    def __post_init__(self):
+        check_fields(self)  # a record built by hand is refused here, not in a method
 
     @property
     def median_error(self) -> float:

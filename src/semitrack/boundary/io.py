@@ -28,7 +28,7 @@ import numpy as np
 import scipy.io
 
 from ..base.errors import InputError, InputTypeError
-from ..base.files import atomic_write
+from ..base.files import atomic_write, file_suffix
 from ..equivalent.exchange import MATRIX_SUFFIXES, end_conventions, mat_conventions, save_matrix_system
 from ..equivalent.metrics import ErrorSummary
 from .fitting import BroadbandBoundary
@@ -139,8 +139,8 @@ def save_boundary(boundary: BroadbandBoundary, path, format: str | None = None) 
     format : {"json", "mat"}, optional
         The format, whatever the suffix.
     """
+    suffix = file_suffix(path, format)
     data = boundary_to_dict(boundary)
-    suffix = f".{format.lower().lstrip('.')}" if format is not None else Path(path).suffix.lower()
     if suffix == ".json":
         return atomic_write(path, lambda fh: json.dump(data, fh, indent=1), binary=False)
     if suffix == ".mat":
@@ -154,7 +154,7 @@ def save_boundary(boundary: BroadbandBoundary, path, format: str | None = None) 
                "conventions_json": json.dumps(data["conventions"]), "conventions": mat_conventions(data["conventions"]),
                **_second_order_variables(boundary)}
         return atomic_write(path, lambda fh: scipy.io.savemat(fh, mat), binary=True)
-    raise InputError(f"path must end in .json or .mat, got {str(path)!r}")
+    raise InputError(f"format must be json or mat (or path end in .json or .mat), got {suffix!r} for {str(path)!r}")
 
 
 def _second_order_variables(boundary: BroadbandBoundary) -> dict:
@@ -191,7 +191,7 @@ def export_boundary(boundary: BroadbandBoundary, path, format: str | None = None
     Path
     """
     b = _check_boundary(boundary)
-    key = f".{format.lower().lstrip('.')}" if format is not None else Path(path).suffix.lower()
+    key = file_suffix(path, format)
     if key not in MATRIX_SUFFIXES:
         raise InputError(f"format must be one of {', '.join(x[1:] for x in MATRIX_SUFFIXES)} (or a path with that "
                          f"suffix), got {format if format is not None else Path(path).suffix!r}")

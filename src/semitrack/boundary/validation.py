@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from ..base.errors import InputError
-from ..base.files import read_json, read_mat
+from ..base.files import check_input_path, read_json, read_mat
 from ..equivalent.exchange import check_conventions
 from ..model.tracks import Track
 from .fitting import MAX_POLES, track_end_limits
@@ -121,7 +121,7 @@ def read_boundary_file(path: str | Path) -> dict:
     OSError
         If the file cannot be read.
     """
-    source = str(path)
+    source = str(check_input_path(path, "path"))
     suffix = Path(path).suffix.lower()
     if suffix == ".json":
         data = read_json(path, MAX_BOUNDARY_BYTES, "boundary file")

@@ -31,7 +31,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from ..base.checks import check_int_at_least, check_work
+from ..base.checks import as_real_array, check_int_at_least, check_work
 from ..base.errors import InputError, InputTypeError
 from ..base.threads import serial_blas
 from .contact import HertzContacts
@@ -206,7 +206,7 @@ def _on_points(points: PointSet, u: np.ndarray, rows: int) -> np.ndarray:
 
 
 def _vector(name, x, n):
-    x = np.asarray(x, dtype=float)
+    x = as_real_array(x, name)
     if x.shape != (n,):
         raise InputError(f"{name} must have shape ({n},), got {x.shape}")
     return x.copy()
@@ -260,18 +260,11 @@ def simulate(system: SecondOrderSystem, stepper: Newmark, n_steps: int, *,
     >>> bool(abs(r["dofs"][-1, 0]) < 0.01)
     True
     """
-    if not isinstance(system, SecondOrderSystem):
-        raise InputTypeError(f"system must be a SecondOrderSystem, got {type(system).__name__}")
-    if not isinstance(stepper, Newmark):
-        raise InputTypeError(f"stepper must be a Newmark stepper, got {type(stepper).__name__}")
+    _check_types(system, stepper, contacts)
     n = system.n_dof
     n_steps = check_int_at_least("n_steps", n_steps, 1)
-    record = np.arange(n) if record is None else np.asarray(record, dtype=np.int64).ravel()
-    if record.size and (record.min() < 0 or record.max() >= n):
-        raise InputError(f"record must hold DOF indices in [0, {n}), got {record.tolist()[:5]}")
+    record = _record(record, n)
     probes = dict(probes or {})
-    if contacts is not None and not isinstance(contacts, HertzContacts):  # before its n_contacts is read
-        raise InputTypeError(f"contacts must be HertzContacts or None, got {type(contacts).__name__}")
     n_out = record.size + sum(p.n_points for p in probes.values()) + 3 * (contacts.n_contacts if contacts else 0)
     check_limits(n_steps, n, n_out)
     loads = _check_loads(loads, n, n_steps + 1)
@@ -285,6 +278,26 @@ def simulate(system: SecondOrderSystem, stepper: Newmark, n_steps: int, *,
                              f"{contacts.wheel_dofs.tolist()}")
     arrays = _prepare(system, stepper, n_steps, loads, contacts, probes, record, u0, v0)
     return _run(arrays, compiled, probes, contacts)
+
+
+def _check_types(system, stepper, contacts) -> None:
+    """The system, stepper and contacts of a run are what their names say (before any is read)."""
+    if not isinstance(system, SecondOrderSystem):
+        raise InputTypeError(f"system must be a SecondOrderSystem, got {type(system).__name__}")
+    if not isinstance(stepper, Newmark):
+        raise InputTypeError(f"stepper must be a Newmark stepper, got {type(stepper).__name__}")
+    if contacts is not None and not isinstance(contacts, HertzContacts):
+        raise InputTypeError(f"contacts must be HertzContacts or None, got {type(contacts).__name__}")
+
+
+def _record(record, n: int) -> np.ndarray:
+    """The recorded DOFs' indices (None: all), each in [0, n)."""
+    if record is None:
+        return np.arange(n)
+    raw = as_real_array(record, "record").ravel()
+    if raw.size and (np.any(raw != np.round(raw)) or raw.min() < 0 or raw.max() >= n):
+        raise InputError(f"record must hold DOF indices in [0, {n}), got {raw.tolist()[:5]}")
+    return raw.astype(np.int64)
 
 
 def _run(arrays: StepArrays, compiled: bool | None, probes, contacts) -> TimeResponse:
@@ -346,8 +359,9 @@ def continue_run(system: SecondOrderSystem, stepper: Newmark, n_steps: int, *, u
     -------
     Continued
     """
+    _check_types(system, stepper, contacts)
     n_steps = check_int_at_least("n_steps", n_steps, 1)
-    record = np.asarray(record, dtype=np.int64).ravel()
+    record = _record(record, system.n_dof)
     k = contacts.n_contacts if contacts is not None else 0
     check_limits(n_steps, system.n_dof, record.size + 3 * k)
     n = system.n_dof

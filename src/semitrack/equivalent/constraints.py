@@ -30,7 +30,7 @@ import numpy as np
 import scipy.linalg
 from numpy.typing import ArrayLike
 
-from ..base.checks import check_positive
+from ..base.checks import as_frequencies, check_positive
 from ..base.errors import InputError, InputTypeError
 from .systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent, parameter_array
 
@@ -135,6 +135,11 @@ def ballasted_constraints(m: ArrayLike, L: ArrayLike, f_n1: float, f_n2: float, 
     return {"k": k, "J": inertia_relation(m, L), "s": s, "mu": support_mass_relation(k, s, f_anti)}
 
 
+def _frequency(name: str, value: object) -> float:
+    """One characteristic frequency (Hz): a real number, positive, at most the package's highest."""
+    return float(as_frequencies(check_positive(name, value), name))
+
+
 def slab_from_free(m: ArrayLike, L: ArrayLike, c_l: ArrayLike, c_r: ArrayLike, k_phi: ArrayLike,
                    c_phi: ArrayLike, f_n: float) -> SlabEquivalent:
     """A :class:`SlabEquivalent` whose ``k`` and ``J`` follow Eq. (19)-(20) at ``f_n``.
@@ -168,6 +173,7 @@ def slab_from_free(m: ArrayLike, L: ArrayLike, c_l: ArrayLike, c_r: ArrayLike, k
     >>> st.cell_frequencies(bar).round(6)
     array([[100., 100.]])
     """
+    f_n = _frequency("f_n", f_n)
     derived = slab_constraints(m, L, f_n)
     return SlabEquivalent(m=m, J=derived["J"], L=L, k=derived["k"], c_l=c_l, c_r=c_r,
                           k_phi=k_phi, c_phi=c_phi)
@@ -214,6 +220,7 @@ def ballasted_from_free(m: ArrayLike, L: ArrayLike, c_l: ArrayLike, c_r: ArrayLi
     >>> st.cell_frequencies(bar).round(6)
     array([[117., 117., 465., 465.]])
     """
+    f_n1, f_n2, f_anti = (_frequency(name, v) for name, v in (("f_n1", f_n1), ("f_n2", f_n2), ("f_anti", f_anti)))
     derived = ballasted_constraints(m, L, f_n1, f_n2, f_anti)
     return BallastedEquivalent(m=m, J=derived["J"], L=L, k=derived["k"], c_l=c_l, c_r=c_r,
                                k_phi=k_phi, c_phi=c_phi, mu=derived["mu"], s=derived["s"],

@@ -54,7 +54,7 @@ from pathlib import Path
 import numpy as np
 
 from ..base.errors import InputError, InputTypeError
-from ..base.files import atomic_write, read_json, read_mat, read_text
+from ..base.files import atomic_write, check_input_path, file_suffix, read_json, read_mat, read_text
 from .mechanical import PORT_DOFS, MatrixSystem, MechanicalSystem
 
 __all__ = ["end_conventions", "conventions_text", "check_conventions", "CHECKED_CONVENTIONS", "mat_conventions",
@@ -313,7 +313,7 @@ def save_matrix_system(system: MechanicalSystem, path: str | os.PathLike, track:
     -------
     Path
     """
-    suffix = f".{format.lower().lstrip('.')}" if format is not None else Path(path).suffix.lower()
+    suffix = file_suffix(path, format)
     if suffix == ".bdf":
         return save_nastran_dmig(system, path, track, band)
     if suffix == ".inp":
@@ -382,7 +382,7 @@ def load_matrix_system(path: str | os.PathLike) -> MatrixSystem:
     OSError
         If the file cannot be opened or read.
     """
-    source = str(path)
+    source = str(check_input_path(path, "path"))
     suffix = Path(path).suffix.lower()
     if suffix == ".json":
         return matrix_system_from_dict(read_json(path, MAX_MATRIX_BYTES, "system file"), source)

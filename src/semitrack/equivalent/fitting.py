@@ -42,6 +42,7 @@ import numpy as np
 
 from ..base.checks import check_band, check_int_at_least, check_work
 from ..base.errors import InputError, InputTypeError
+from ..base.fields import check_fields
 from ..base.paper_values import FIT_BANDS
 from ..model.tracks import Track, require_track
 from .assembly import LAYOUTS, Layout, check_layout
@@ -173,6 +174,9 @@ class FitResult:
     at_bound: np.ndarray = field(repr=False)
     elapsed: float
     seed: int
+
+    def __post_init__(self):
+        check_fields(self)  # a record built by hand is refused here, not in a method
 
     def __setstate__(self, state: dict) -> None:
         readonly_state(self, state)

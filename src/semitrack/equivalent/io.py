@@ -69,9 +69,10 @@ from typing import Any, Literal
 
 import numpy as np
 
+from ..base.checks import check_band, check_string
 from ..base.deprecation import renamed_keywords
 from ..base.errors import BadInput, InputError, InputTypeError
-from ..base.files import atomic_write, read_json, read_mat, read_text
+from ..base.files import atomic_write, check_input_path, file_suffix, read_json, read_mat, read_text
 from .exchange import MATRIX_SUFFIXES, check_conventions, end_conventions, mat_conventions, save_matrix_system
 from .mechanical import MechanicalSystem
 from .systems import PARAMETER_UNITS, EquivalentSystem
@@ -117,9 +118,7 @@ def _check_system(system) -> EquivalentSystem:
 
 
 def _check_path(path) -> Path:
-    if not isinstance(path, (str, os.PathLike)):
-        raise InputTypeError(f"path must be a str or os.PathLike, got {type(path).__name__}")
-    return Path(path)
+    return check_input_path(path, "path")
 
 
 def _check_matrices(system: EquivalentSystem, stored: dict, source: str) -> None:
@@ -577,10 +576,13 @@ def export_system(system: MechanicalSystem, path: str | os.PathLike,
     >>> import shutil; shutil.rmtree(folder)
     """
     path = _check_path(path)
-    key = f".{format.lower().lstrip('.')}" if format is not None else path.suffix.lower()
+    key = file_suffix(path, format)
     if key not in MATRIX_SUFFIXES:
         raise InputError(f"format must be one of {', '.join(x[1:] for x in MATRIX_SUFFIXES)} (or a path with that "
                          f"suffix), got {format if format is not None else path.suffix!r}")
+    if track is not None:
+        check_string("track", track)
+    band = None if band is None else check_band(band)
     if isinstance(system, EquivalentSystem) and key in _WRITERS:
         return _WRITERS[key](system, path, track=track or "", band=band)
     if not isinstance(system, MechanicalSystem):

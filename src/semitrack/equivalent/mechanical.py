@@ -22,7 +22,7 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import as_frequencies
+from ..base.checks import as_frequencies, as_real_array
 from ..base.errors import InputError, InputTypeError
 from .assembly import IllConditionedError, dynamic_stiffness, end_loads, scaled_solve
 
@@ -369,7 +369,7 @@ class MechanicalSystem:
         ndarray, shape (n_internal,)
             Internal DOFs in the units of :meth:`dof_names`.
         """
-        u = np.asarray(u, dtype=float)
+        u = as_real_array(u, "u")
         if u.shape != (2,) or not np.all(np.isfinite(u)):
             raise InputError(f"u must be two finite numbers (w in m, psi in rad), got {u.tolist()!r}")
         return self._static_map() @ u

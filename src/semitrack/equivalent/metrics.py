@@ -14,9 +14,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import check_band
+from ..base.checks import MAX_FREQUENCIES, check_band, check_work
 from ..base.conventions import ELEMENTS
 from ..base.errors import InputError, InputTypeError
+from ..base.fields import check_fields
 
 # ELEMENTS (the compared elements and their (row, column) index) is re-exported from
 # base.conventions, where every layer reads it.
@@ -47,6 +48,9 @@ class ErrorSummary:
     median: float
     max: float
     per_element: dict[str, np.ndarray]
+
+    def __post_init__(self):
+        check_fields(self)  # a record built by hand is refused here, not in a method
 
     def element_medians(self) -> dict[str, float]:
         """Median error of each element over frequency (-)."""
@@ -153,5 +157,7 @@ def error_band_grid(band: tuple[float, float], df: float = 3.0) -> np.ndarray:
     lo, hi = check_band(band)
     if isinstance(df, bool) or not isinstance(df, (int, float)) or not (math.isfinite(df) and df > 0):
         raise InputError(f"df must be positive and finite (Hz), got {df!r}")
+    check_work((hi - lo) / df, MAX_FREQUENCIES, f"band={band!r} at df={df!r} Hz holds {(hi - lo) / df:.3g} frequencies",
+               "give a larger df")
     n = int(math.ceil((hi - lo) / df - 1e-12)) + 1
     return np.linspace(lo, hi, max(n, 2))

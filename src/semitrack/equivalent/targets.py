@@ -22,11 +22,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import (
-    as_frequencies,
-    check_band,
-    check_int_at_least,
-)
+from ..base.checks import MAX_FREQUENCIES, as_frequencies, check_band, check_int_at_least, check_positive, check_work
 from ..base.conventions import ELEMENTS
 from ..base.errors import InputError, InputTypeError
 from ..base.paper_values import TABLE4_FIT_FREQUENCIES, TABLE7_FIT_FREQUENCIES
@@ -175,7 +171,8 @@ _WITHOUT_CONSTRAINTS = ("fit without them (constrained=False; on the command lin
 def _ballasted_extrema(table, dips: np.ndarray, search_band) -> dict[str, float]:
     """``f_n1, f_n2`` = the two lowest dips, ``f_anti`` = the highest peak between them."""
     if dips.size < 2:
-        raise InputError(f"fewer than two dips of |det(alpha^-1)| in {search_band} Hz (found {dips.size}): "
+        raise InputError(f"layout 'ballasted' needs two dips of |det(alpha^-1)| in {search_band} Hz, found "
+                         f"{dips.size} (is it a ballasted track?): "
                          f"cannot set f_n1, f_n2 for the paper's constraints; {_WITHOUT_CONSTRAINTS}")
     f1, f2 = float(dips[0]), float(dips[1])
     peaks = table[(table["kind"] == "peak") & (table["f"] > f1) & (table["f"] < f2)]
@@ -234,7 +231,7 @@ def fit_characteristic_frequencies(track: Track, layout: Layout, *, target: Targ
     """
     layout = check_layout(layout)
     track = require_track(track)
-    search_band = check_band(search_band)
+    search_band = check_band(search_band, "search_band")
     if target is not None:
         target = normalise_target(target)
     else:  # keep to where a measured table is defined
@@ -299,9 +296,14 @@ def default_fit_frequencies(band: tuple[float, float], characteristic: Mapping[s
     """
     lo, hi = check_band(band)
     n = check_int_at_least("n", n, 4)
+    check_work(n, MAX_FREQUENCIES, f"n={n} frequencies", "a fit needs a few hundred")
+    characteristic = {} if characteristic is None else characteristic
+    if not isinstance(characteristic, Mapping):
+        raise InputTypeError(f"characteristic must be a dict of frequencies (Hz) by name, got "
+                             f"{type(characteristic).__name__}")
     f = [np.geomspace(lo, hi, n // 2), np.linspace(lo, hi, n - n // 2)]
-    for v in (characteristic or {}).values():
-        extra = np.array([0.94, 0.97, 0.99, 1.0, 1.01, 1.03, 1.06]) * float(v)
+    for key, v in characteristic.items():
+        extra = np.array([0.94, 0.97, 0.99, 1.0, 1.01, 1.03, 1.06]) * check_positive(f"characteristic[{key!r}]", v)
         f.append(extra[(extra >= lo) & (extra <= hi)])
     return np.unique(np.concatenate(f))
 

@@ -43,8 +43,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..base.checks import check_work
+from ..base.checks import as_real_array, check_choice, check_work
 from ..base.errors import InputError
+from ..base.fields import check_fields
 from ..equivalent.cache import canonical, package_source_digest
 from ..model.tracks import Track
 from .bloch import BlochCell, CellWaves, warped_s
@@ -103,6 +104,12 @@ class KernelGrid:
         return tuple(sorted({i - j for i in self.offsets for j in self.offsets}))
 
 
+#: Most grid steps per support spacing (a 0.6 m spacing at 1 m/s and 1e-6 s is 6e5).
+MAX_STEPS_PER_SPACING = 1e6
+#: Farthest a wheel may be from the first (m): a long train's length.
+MAX_OFFSET = 1000.0
+
+
 def grid_of(track: Track, speed: float, dt: float, offsets: Sequence[float] = (0.0,)) -> KernelGrid:
     """The grid of a contact at ``speed`` stepped by ``dt``: ``P = round(period / (speed dt))`` positions.
 
@@ -122,7 +129,15 @@ def grid_of(track: Track, speed: float, dt: float, offsets: Sequence[float] = (0
     KernelGrid
     """
     d = float(track.spacing)
-    P = max(1, int(round(d / (speed * dt))))
+    steps = d / (speed * dt)  # per spacing: inf for a speed of 1e-308 m/s, bounded before any int()
+    check_work(steps if math.isfinite(steps) else math.inf, MAX_STEPS_PER_SPACING,
+               f"speed={speed!r} m/s and dt={dt!r} s pass a support spacing in {steps:.3g} steps",
+               "give a higher speed or a longer dt (the kernels' set-up grows with the steps per spacing)")
+    offsets = as_real_array(offsets, "offsets", ndim=1, empty=False)
+    if np.abs(offsets).max() > MAX_OFFSET:
+        raise InputError(f"offsets must lie within {MAX_OFFSET:g} m of the first wheel (one vehicle), "
+                         f"got {np.abs(offsets).max()!r} m")
+    P = max(1, int(round(steps)))
     if P < 4:
         raise InputError(f"speed={speed!r} m/s and dt={dt!r} s pass a support spacing of {d} m in "
                          f"{d / (speed * dt):.3g} steps; the moving Green's functions need at least 4 steps per "
@@ -176,6 +191,12 @@ class MovingKernels:
     elements_per_bay: int = 0
     start: int = 0
 
+    def __post_init__(self):
+        check_fields(self)  # a record built by hand is refused here, not in a method
+        if self.loop.ndim != 3 or self.loop.shape[:2] != (len(self.grid.lags), self.grid.positions):
+            raise InputError(f"loop must have shape (lags, positions, memory) = ({len(self.grid.lags)}, "
+                             f"{self.grid.positions}, L) for its grid, got {self.loop.shape}")
+
     @property
     def memory(self) -> int:
         """L, the steps each kernel holds."""
@@ -208,7 +229,7 @@ class MovingKernels:
         -------
         ndarray, shape (P, L)
         """
-        return self.loop[self.grid.lags.index(lag)]
+        return self.loop[self.grid.lags.index(check_choice("lag", lag, self.grid.lags))]
 
 
 def loop_order(h: np.ndarray) -> np.ndarray:

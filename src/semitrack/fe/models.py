@@ -34,7 +34,15 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike
 
-from ..base.checks import as_frequencies, check_choice, check_int_at_least, check_positive, check_real, check_work
+from ..base.checks import (
+    as_frequencies,
+    as_real_array,
+    check_choice,
+    check_int_at_least,
+    check_positive,
+    check_real,
+    check_work,
+)
 from ..base.deprecation import deprecated_alias, renamed_keywords, warn_renamed
 from ..base.errors import InputError, InputTypeError
 from ..base.threads import serial_blas
@@ -238,7 +246,11 @@ class FETrack:
         if self.transition is not None or self.joints:
             raise InputError("changes: with_changes takes a model without a transition or joints; build the model "
                              "with its changes instead")
+        if changes is not None and not isinstance(changes, Mapping):
+            raise InputTypeError(f"changes must be a dict of support changes by index or None, got "
+                                 f"{type(changes).__name__}")
         infinite = None if not changes else _infinite_of(self.track, changes, None, None, None)  # its rules
+        self._check_changes_inside({} if infinite is None else infinite.changes)
         return self._with_checked_changes({} if infinite is None else infinite.changes, infinite)
 
     def _with_checked_changes(self, changes: dict, infinite: InfiniteTrack | None = None) -> FETrack:
@@ -278,6 +290,15 @@ class FETrack:
             if not -self.n_left * d < x < x_right:
                 raise InputError(f"joints must lie inside the model, {-self.n_left * d:.6g} < x < {x_right:.6g} m, "
                                  f"got {x!r}")
+        self._check_changes_inside({} if self._infinite is None else self._infinite.changes)
+
+    def _check_changes_inside(self, changes: Mapping) -> None:
+        """Every changed support is one of the model's, ``-n_left <= k < n_right``: a change beyond them
+        would be accepted and change nothing."""
+        outside = [k for k in changes if not -self.n_left <= k < self.n_right]
+        if outside:
+            raise InputError(f"changes: support {outside[0]} lies outside the model, whose supports are "
+                             f"{-self.n_left} to {self.n_right - 1}: give more bays or drop the change")
 
     def _check_elements(self, elements_per_bay: int | None) -> int:
         ne = elements_per_bay_of(self.tracks, elements_per_bay, self.f_max)
@@ -464,7 +485,7 @@ class FETrack:
         PointSet
             DOFs removed by a pinned end carry weight 0.
         """
-        xs = np.atleast_1d(np.asarray(x, dtype=float)).ravel()
+        xs = np.atleast_1d(as_real_array(x, "x")).ravel()
         dofs, weights = self._weights(xs, kind, name)
         removed = dofs < 0
         dofs, weights = np.where(removed, 0, dofs), np.where(removed, 0.0, weights)
@@ -492,7 +513,7 @@ class FETrack:
         ndarray
             The shape of ``x``.
         """
-        xs = np.asarray(x, dtype=float)
+        xs = as_real_array(x, "x")
         self._weights(xs.ravel(), "w", name)  # checks they lie on the rail
         e, xi = self.mesh.locate(xs.ravel())
         rail = [self.tracks[p] for p in range(len(self.tracks))]

@@ -38,7 +38,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import check_int_at_least, check_positive
+from ..base.checks import as_real_array, check_int_at_least, check_nonnegative, check_positive, check_work
 from ..base.errors import InputError
 from ..boundary.fitting import BroadbandBoundary, fit_boundary
 from ..methods.decay import track_decay_rate
@@ -59,6 +59,8 @@ DECAY_BAND = (50.0, 2500.0)
 DEFAULT_MOVE = 4
 #: Most bays a window may hold (its model's size is what a step costs).
 MAX_WINDOW_BAYS = 2_000
+#: Farthest a window moves from x = 0 (bays): 60 000 km of track at 0.6 m.
+MAX_OFFSET_BAYS = 100_000_000
 
 
 class WindowTrack:
@@ -219,7 +221,7 @@ class WindowTrack:
         -------
         ndarray
         """
-        j = np.asarray(bay, dtype=float)
+        j = as_real_array(bay, "bay")
         if self.transition is None:
             return j * self.track.spacing
         kt = self.transition
@@ -259,7 +261,7 @@ class WindowTrack:
         -------
         ndarray of int
         """
-        x = np.asarray(x, dtype=float)
+        x = as_real_array(x, "x")
         first = np.floor(x / self.track.spacing + 1e-12)
         if self.transition is None:
             return first.astype(np.int64)
@@ -283,6 +285,9 @@ class WindowTrack:
         -------
         tuple of int
         """
+        span = check_nonnegative("span", span)
+        check_work(span / self.spacing, MAX_WINDOW_BAYS, f"span={span!r} m is {span / self.spacing:.3g} bays",
+                   "a vehicle is shorter than the window's bays")
         n_left = self.behind + math.ceil(span / self.spacing - 1e-9) + self.move
         n_right = self.ahead + self.move
         if n_left + n_right > MAX_WINDOW_BAYS:
@@ -349,6 +354,8 @@ class WindowTrack:
             (built once) with the window's changes (:meth:`FETrack.with_changes`); across a
             transition or with joints, built afresh.
         """
+        offset = check_int_at_least("offset", offset, -MAX_OFFSET_BAYS)
+        n_left, n_right = (check_int_at_least(name, n, 1) for name, n in (("n_left", n_left), ("n_right", n_right)))
         changes = self.local_changes(offset, n_left, n_right)
         joints = self._local_joints(offset, n_left, n_right)
         kt = None if self.transition is None else self.transition - offset

@@ -10,6 +10,8 @@ Every route samples its input here (:func:`rail_input`).
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from ..base.errors import InputError, InputTypeError
@@ -88,4 +90,9 @@ def profile_along(profile: Irregularity, x: np.ndarray) -> np.ndarray:
     if np.any(r[0] != 0):
         raise InputError(f"the wheels must start off the profile (it spans {profile.extent} m): it is "
                          f"{r[0].tolist()} m under them at the start")
+    lo, hi = profile.extent
+    if hi < x.min() or lo > x.max():  # nothing silently ignored: a profile no wheel reaches is said so
+        warnings.warn(f"the profile spans {lo:.6g} to {hi:.6g} m, and the wheels run from {x.min():.6g} to "
+                      f"{x.max():.6g} m: no wheel meets it, and the run is that of a smooth rail; start the "
+                      "wheels before it or run longer", RuntimeWarning, stacklevel=4)
     return r

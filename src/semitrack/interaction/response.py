@@ -12,7 +12,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..base.checks import check_real
 from ..base.errors import InputError
+from ..base.fields import check_fields
 from ..fe.gaps import GapResponse
 from ..fe.trackforces import TrackForces
 from ..methods.infinite import InfiniteTrack
@@ -106,6 +108,9 @@ class ContactResponse:
     route: str = "fe model"
     speeds: np.ndarray | None = None
 
+    def __post_init__(self):
+        check_fields(self)  # a record built by hand is refused here, not in a method
+
     @property
     def dt(self) -> float:
         """The time step (s)."""
@@ -149,7 +154,7 @@ class ContactResponse:
         amplitude : ndarray
             Force amplitude at each frequency (N); a column per wheel for several wheels.
         """
-        late = self.t >= after
+        late = self.t >= check_real("after", after)
         if np.count_nonzero(late) < 2:
             raise InputError(f"after={after!r} s leaves fewer than two samples of a {self.t[-1]:.6g} s record")
         force = self.force[late] - self.force[late].mean(axis=0)

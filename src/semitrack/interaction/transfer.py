@@ -17,6 +17,7 @@ import numpy as np
 from ..base.bands import third_octave_bands
 from ..base.checks import check_int_at_least
 from ..base.errors import InputError, InputTypeError
+from ..base.fields import check_fields
 from ..methods.wheelrail import wheel_rail_force
 from .response import ContactResponse
 
@@ -52,6 +53,9 @@ class ContactTransfer:
     centres: np.ndarray
     level: np.ndarray
     linear_level: np.ndarray
+
+    def __post_init__(self):
+        check_fields(self)  # a record built by hand is refused here, not in a method
 
     @property
     def error_db(self) -> np.ndarray:

@@ -36,9 +36,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..base.bands import third_octave_bands
-from ..base.checks import check_choice, check_positive, check_real
+from ..base.checks import MAX_FREQUENCIES, check_choice, check_positive, check_real, check_work
 from ..base.deprecation import deprecated_alias, renamed_keywords
 from ..base.errors import InputError, InputTypeError
+from ..base.fields import check_fields
 from ..model.tracks import Track
 from .infinite import InfiniteTrack
 from .transfer import cyclic_reduction, period_dynamic_stiffness, vanishing_damping
@@ -51,6 +52,9 @@ __all__ = ["EN15461_BAYS", "ISO3095_TDR_LIMIT", "FRF_KINDS", "TrackDecayRate", "
 #: 12, 16, 20, 24, 30, 36, 42, 48, 54 and 66.
 EN15461_BAYS = (0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.25, 2.5, 3.0, 3.5, 4.0, 5.0, 6.0, 7.0, 8.0,
                 10.0, 12.0, 16.0, 20.0, 24.0, 30.0, 36.0, 42.0, 48.0, 54.0, 66.0)
+#: Highest band centre of a decay rate (Hz): EN 15461 stops at 5 kHz, rolling noise near 10 kHz.
+MAX_BAND_CENTRE = 20_000.0
+
 #: The lower limits of the vertical track decay rate of ISO 3095:2013 (its Figure 3), dB/m by
 #: one-third-octave band (Hz); below 250 Hz it sets none. As transcribed by the acoustics package
 #: phonometry (``REFERENCE_TRACK_DECAY_LIMITS_DB_PER_M["vertical"]``), not checked against the
@@ -160,6 +164,9 @@ class TrackDecayRate:
 
     positions = deprecated_alias("distances", "positions")
 
+    def __post_init__(self):
+        check_fields(self)  # a record built by hand is refused here, not in a method
+
     def table(self):
         """The rates as a :class:`pandas.DataFrame`, a row per band, with the checks beside them."""
         import pandas as pd  # the tables' library: imported for the table only
@@ -176,6 +183,8 @@ def _band_edges(band) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         raise InputTypeError(f"band must be a pair (lowest, highest) of band centres in Hz, got {band!r}") from None
     if not lo <= hi:
         raise InputError(f"band must be (lowest, highest) band centres, lowest first, got {band!r}")
+    if hi > MAX_BAND_CENTRE:
+        raise InputError(f"band must end at most at {MAX_BAND_CENTRE:g} Hz (EN 15461 asks 100-5000 Hz), got {band!r}")
     return third_octave_bands(lo, hi)
 
 
@@ -245,6 +254,8 @@ def track_decay_rate(track: Track | InfiniteTrack, *, band: tuple[float, float] 
     frf = check_choice("frf", frf, FRF_KINDS)
     df, x = check_positive("df", df), check_real("x", x)
     centres, lower, upper = _band_edges(band)
+    check_work(float(np.sum(upper - lower)) / df, MAX_FREQUENCIES, f"df={df!r} Hz puts "
+               f"{float(np.sum(upper - lower)) / df:.3g} lines in the bands", "give a larger df")  # before arange
     lines = [np.arange(np.ceil(lo / df), np.ceil(hi / df)) * df for lo, hi in zip(lower, upper)]
     if any(line.size == 0 for line in lines):
         raise InputError(f"df={df!r} Hz leaves a band without a line: the narrowest band, {lower[0]:.4g}-"

@@ -8,7 +8,7 @@ with sampled data only by a parabola through the three grid points in log|y|.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 
 import numpy as np
 import pandas as pd
@@ -17,7 +17,7 @@ from scipy.optimize import minimize_scalar
 
 from ..base.checks import MAX_FREQUENCIES, as_frequencies, check_band, check_choice, check_positive, check_work
 from ..base.conventions import ELEMENTS
-from ..base.errors import InputError
+from ..base.errors import InputError, InputTypeError
 from ..base.paper_values import PAPER_GRID_BAND, PAPER_GRID_STEP
 from ..model.tracks import PeriodicCell, Track, require_cell
 from .receptance import CentralResponse, Method, central_response, check_frequency_work, semi_infinite_receptance
@@ -131,6 +131,19 @@ def refine_extremum(func: Callable[[float], complex], f_lo: float, f_hi: float, 
     return float(res.x)
 
 
+def _evaluated(evaluate: Callable, f: float, name: str) -> complex:
+    """``evaluate(f)[name]``, refused naming ``evaluate`` when it does not give that curve's number."""
+    values = evaluate(f)
+    if not isinstance(values, Mapping) or name not in values or not _is_number(values[name]):
+        raise InputError(f"evaluate must return a dict holding the number of curve {name!r} at f, got "
+                         f"{type(values).__name__}")
+    return values[name]
+
+
+def _is_number(value: object) -> bool:
+    return isinstance(value, (int, float, complex, np.number)) and not isinstance(value, (bool, np.bool_))
+
+
 def find_extrema(f: ArrayLike, curves: dict[str, np.ndarray],
                  evaluate: Callable[[float], dict[str, complex]] | None = None) -> pd.DataFrame:
     """All peaks and dips of the magnitude of each curve, refined between grid points.
@@ -153,16 +166,24 @@ def find_extrema(f: ArrayLike, curves: dict[str, np.ndarray],
     f = as_frequencies(f)
     if f.ndim != 1 or np.any(np.diff(f) <= 0):
         raise InputError("f must be a 1-D increasing frequency grid")
+    if evaluate is not None and not callable(evaluate):
+        raise InputTypeError(f"evaluate must be a function of f (Hz) or None, got {type(evaluate).__name__}")
+    if not isinstance(curves, Mapping):
+        raise InputTypeError(f"curves must be a dict of curves by name, got {type(curves).__name__}")
     rows = []
     for name, y in curves.items():
+        y = np.asarray(y)
+        if y.shape != f.shape or y.dtype.kind not in "iufc":
+            raise InputError(f"curves[{name!r}] must be numbers sampled on f ({f.size} values), got "
+                             f"{y.dtype} of shape {y.shape}")
         peaks, dips = grid_extrema(y)
         for kind, idx in (("peak", peaks), ("dip", dips)):
             for i in idx:
                 if evaluate is None:
                     fr = parabolic_refine(f, y, i)
                 else:
-                    fr = refine_extremum(lambda x, n=name: evaluate(x)[n], f[i - 1], f[i + 1], kind)
-                mag = abs(evaluate(fr)[name]) if evaluate is not None else float(np.abs(y[i]))
+                    fr = refine_extremum(lambda x, n=name: _evaluated(evaluate, x, n), f[i - 1], f[i + 1], kind)
+                mag = abs(_evaluated(evaluate, fr, name)) if evaluate is not None else float(np.abs(y[i]))
                 rows.append((name, kind, float(f[i]), fr, mag))
     df = pd.DataFrame(rows, columns=["quantity", "kind", "f_grid", "f", "magnitude"])
     return df.sort_values(["quantity", "f"], ignore_index=True)

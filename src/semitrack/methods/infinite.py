@@ -25,7 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.linalg import solve_banded
 
-from ..base.checks import as_frequencies, check_int_at_least, check_nonnegative, check_real
+from ..base.checks import as_frequencies, as_real_array, check_int_at_least, check_nonnegative, check_real, check_work
 from ..base.deprecation import renamed_keywords
 from ..base.errors import InputError, InputTypeError
 from ..model.curves import FrequencyCurve, as_curve, stiffness_values
@@ -37,6 +37,15 @@ __all__ = ["SUPPORT_FIELDS", "InfiniteTrack", "support_dynamic_stiffness", "chec
 
 #: The fields of a support that ``changes`` may set.
 SUPPORT_FIELDS = ("kv", "kphi", "eta_pad", "sleeper_mass", "kb", "eta_ballast")
+#: Most response points of one call, and most (frequency, point) pairs: each point is a node of the
+#: band system, each pair four complex receptances held at once.
+MAX_RESPONSE_POINTS = 20_000
+MAX_RESPONSE_VALUES = 2_000_000
+#: Most supports between the farthest changes and points of one solve (12 km at 0.6 m: a solve of
+#: about a second per frequency).
+MAX_CORE_SUPPORTS = 20_000
+#: Farthest support index from the centre (60 000 km at 0.6 m): beyond it, positions lose their metres.
+MAX_SUPPORT_INDEX = 100_000_000
 #: Positions closer than this fraction of the spacing are one node.
 _SAME = 1e-9
 
@@ -220,6 +229,9 @@ class InfiniteTrack:
         -------
         float
         """
+        support = check_int_at_least("support", support, -MAX_SUPPORT_INDEX)
+        if support > MAX_SUPPORT_INDEX:
+            raise InputError(f"support must be within {MAX_SUPPORT_INDEX} of the centre, got {support}")
         if self.transition is not None and support >= self.transition:
             return self.x_t + (support - self.transition + 0.5) * self.right.spacing
         return (support + 0.5) * self.track.spacing
@@ -271,6 +283,9 @@ class InfiniteTrack:
     def _nodes(self, points: np.ndarray) -> tuple[np.ndarray, dict, float, float]:
         """Node positions, ``{node: support index}`` and the cuts."""
         x_left, x_right = self._core(points)
+        spanned = (x_right - x_left) / min(self.track.spacing, self.right.spacing if self.right is not None else np.inf)
+        check_work(spanned, MAX_CORE_SUPPORTS, f"the changes, joints, load and response points span {spanned:.3g} "
+                   "supports", "bring them closer together (each support between them is a node of the solve)")
         supports = {}
         if self.transition is None:
             ks = range(int(round(x_left / self.track.spacing)), int(round(x_right / self.track.spacing)))
@@ -352,7 +367,10 @@ class InfiniteTrack:
         """
         f = np.atleast_1d(as_frequencies(f))
         x_load = check_real("x_load", x_load)
-        xr = np.atleast_1d(np.asarray(x, dtype=float)).ravel()
+        xr = np.atleast_1d(as_real_array(x, "x")).ravel()
+        check_work(xr.size, MAX_RESPONSE_POINTS, f"x holds {xr.size} response points", "split them over calls")
+        check_work(f.size * xr.size, MAX_RESPONSE_VALUES, f"{f.size} frequencies at {xr.size} points",
+                   "split the frequencies or the points over calls")
         points = np.concatenate([[x_load], xr])
         if not np.all(np.isfinite(points)) or np.any(np.abs(points) > 1e6):
             raise InputError(f"x_load and x must be finite positions within 1e6 m, got {points[:5]}")

@@ -23,6 +23,7 @@ from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies, check_choice, check_real, check_work
 from ..base.errors import InputError, InputTypeError
+from ..base.fields import check_fields
 from ..model.tracks import PeriodicCell, Track, require_cell
 from .transfer import end_stiffness, infinite_response, same_section, slab_cut_end_stiffness
 from .wavenumber import WavenumberSettings, central_quantities
@@ -70,6 +71,9 @@ class CentralResponse:
     M1: np.ndarray
     method: str
     separable: bool = True
+
+    def __post_init__(self):
+        check_fields(self)  # a record built by hand is refused here, not in a method
 
     def _require_separable(self, what: str) -> None:
         if not self.separable:

@@ -30,7 +30,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import as_frequencies, check_real
+from ..base.checks import as_frequencies, as_real_array, check_real
 from ..model.tracks import PeriodicCell, Track, require_track
 from ..model.vehicle import Vehicle, as_vehicle
 from ..model.wheel import Wheel
@@ -85,7 +85,8 @@ def wheel_rail_force(track: Track | PeriodicCell | InfiniteTrack, f: ArrayLike,
     vehicle = as_vehicle(wheel)  # refuses what is no wheel or vehicle before anything else
     origin = "midspan" if origin is None and isinstance(track, InfiniteTrack) else position_origin(
         origin, "wheel_rail_force")
-    if isinstance(wheel, Wheel) and np.ndim(x) == 0 and not isinstance(track, InfiniteTrack):
+    if isinstance(wheel, Wheel) and as_real_array(x, "x", finite=False).ndim == 0 and \
+            not isinstance(track, InfiniteTrack):
         alpha_r = point_receptance(track, f, check_real("x", x), origin=origin)[..., 0, 0]
         # -1 / (1/z_W + alpha_C + alpha_R) written with the wheel's dynamic stiffness z_W, which is 0
         # (not its receptance infinite) at an undamped primary suspension's resonance: the force is 0 there

@@ -43,7 +43,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import check_choice, check_positive, check_string
+from ..base.checks import as_real_array, check_choice, check_positive, check_string
 from ..base.deprecation import renamed_keywords
 from ..base.errors import InputError, InputTypeError
 
@@ -99,7 +99,7 @@ class FrequencyCurve:
         ValueError
             Naming ``name``, the first offending frequency and the rule.
         """
-        f = np.asarray(f, dtype=float)
+        f = as_real_array(f, "f", finite=False)
         values = np.asarray(self._evaluate(f))
         if values.dtype.kind not in "iufc":
             raise InputTypeError(f"{name}: the curve returned {values.dtype} values, not numbers")
@@ -173,7 +173,7 @@ def check_passive(name: str, kind: str, f: np.ndarray, values: np.ndarray, allow
     bad = ~np.isfinite(values)
     if np.any(bad):
         i = np.flatnonzero(bad.ravel())[0]
-        raise InputError(f"{name} is not finite at {f.ravel()[i]:g} Hz: got {values.ravel()[i]!r}")
+        raise InputError(f"{name} is not finite at {f.ravel()[i]:g} Hz of f: got {values.ravel()[i]!r}")
     if kind == "stiffness" and not allow_zero and np.any(values == 0):
         i = np.flatnonzero(values.ravel() == 0)[0]
         raise InputError(f"{name} is zero at {f.ravel()[i]:g} Hz: a pad that carries nothing is no support "

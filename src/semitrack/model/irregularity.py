@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import check_positive, check_real
+from ..base.checks import as_real_array, check_in_range, check_positive, check_real
 from ..base.errors import InputError
 
 __all__ = ["Irregularity", "DippedWeld", "RailProfile"]
@@ -70,8 +70,10 @@ class DippedWeld(Irregularity):
         object.__setattr__(self, "angle", check_positive("angle", self.angle))
         if self.angle > 0.2:
             raise InputError(f"angle is the total dip angle in rad (a weld: 0.005-0.05), got {self.angle!r}")
-        object.__setattr__(self, "length", check_positive("length", self.length))
-        object.__setattr__(self, "x", check_real("x", self.x))
+        object.__setattr__(self, "length", check_in_range("length", check_positive("length", self.length),
+                                                           (0.0, 100.0), "m, a dip decimetres long"))
+        object.__setattr__(self, "x", check_in_range("x", check_real("x", self.x), (-1e7, 1e7),
+                                                      "m, a finite position on a line"))
 
     @property
     def depth(self) -> float:
@@ -94,7 +96,7 @@ class DippedWeld(Irregularity):
         -------
         ndarray
         """
-        s = np.abs(np.asarray(x, dtype=float) - self.x)
+        s = np.abs(as_real_array(x, "x") - self.x)
         return np.where(s < 0.5 * self.length, 0.5 * self.angle * (0.5 * self.length - s), 0.0)
 
 
@@ -115,7 +117,7 @@ class RailProfile(Irregularity):
     r: np.ndarray
 
     def __post_init__(self):
-        x, r = (np.asarray(v, dtype=float).ravel() for v in (self.x, self.r))
+        x, r = (as_real_array(v, name, finite=False).ravel() for name, v in (("x", self.x), ("r", self.r)))
         if x.size < 2 or x.shape != r.shape or not np.all(np.isfinite(x) & np.isfinite(r)):
             raise InputError(f"x and r must be finite samples of the same size >= 2, got {x.size} and {r.size}")
         if not np.all(np.diff(x) > 0):
@@ -141,4 +143,4 @@ class RailProfile(Irregularity):
         -------
         ndarray
         """
-        return np.interp(np.asarray(x, dtype=float), self.x, self.r, left=0.0, right=0.0)
+        return np.interp(as_real_array(x, "x"), self.x, self.r, left=0.0, right=0.0)

@@ -32,7 +32,16 @@ from numpy.typing import ArrayLike
 
 from ..base.bands import HALF_BAND as _HALF_BAND
 from ..base.bands import third_octave_bands
-from ..base.checks import check_int_at_least, check_nonnegative, check_positive, check_real, check_work
+from ..base.checks import (
+    as_real_array,
+    check_in_range,
+    check_int_at_least,
+    check_nonnegative,
+    check_positive,
+    check_real,
+    check_string,
+    check_work,
+)
 from ..base.errors import InputError, InputTypeError
 from ..dynamics.signals import sin2_ramp
 from .irregularity import RailProfile
@@ -53,6 +62,16 @@ ISO3095_ROUGHNESS_LIMIT = MappingProxyType({
 REFERENCE_ROUGHNESS = 1e-6
 #: Most lines of a multisine (each costs one cosine per time step).
 MAX_LINES = 100_000
+#: Largest roughness band level (dB re 1 um) in magnitude.
+MAX_LEVEL = 100.0
+#: Most samples of one call of :meth:`Roughness.sampled` (8 bytes each).
+MAX_SAMPLES = 20_000_000
+#: The speeds a roughness is passed at (m/s): from walking pace to well beyond any train.
+SPEED_RANGE = (1e-3, 1e3)
+#: Longest period and time a roughness is read at (s): beyond it the phases 2 pi f t lose their digits.
+MAX_PERIOD = 1e7
+#: Farthest a roughness is shifted along the rail (m): the Earth's circumference 250 times.
+MAX_DISTANCE = 1e10
 #: Most samples x lines summed as cosines by :meth:`Roughness.sampled` when its period is no whole
 #: number of steps (~10 ns each: 2e9 ~ 20 s); the inverse FFT of the other case costs milliseconds.
 MAX_COSINE_WORK = 2_000_000_000
@@ -101,8 +120,11 @@ class Roughness:
     label: str = field(default="", compare=False)
 
     def __post_init__(self):
-        speed, period = check_positive("speed", self.speed), check_positive("period", self.period)
-        arrays = [np.atleast_1d(np.asarray(getattr(self, k), dtype=float)).copy()
+        speed = check_in_range("speed", check_positive("speed", self.speed), SPEED_RANGE, "m/s, a vehicle's")
+        period = check_in_range("period", check_positive("period", self.period), (0.0, MAX_PERIOD),
+                                "s, a roughness of at most 10 million seconds")
+        check_string("label", self.label)
+        arrays = [np.atleast_1d(as_real_array(getattr(self, k), k, finite=False))
                   for k in ("frequencies", "amplitudes", "phases")]
         f, a, phi = arrays
         if f.ndim != 1 or a.shape != f.shape or phi.shape != f.shape:
@@ -181,7 +203,8 @@ class Roughness:
         Roughness
             The same lines, their phases advanced by ``2 pi f distance / speed``.
         """
-        distance = check_real("distance", distance)
+        distance = check_in_range("distance", check_real("distance", distance), (-MAX_DISTANCE, MAX_DISTANCE),
+                                  "m along the rail")
         return replace(self, phases=np.mod(self.phases + 2 * np.pi * self.frequencies * distance / self.speed,
                                            2 * np.pi))
 
@@ -229,6 +252,7 @@ class Roughness:
         True
         """
         dt, n = check_positive("dt", dt), check_int_at_least("n", n, 1)
+        check_work(n, MAX_SAMPLES, f"n={n} samples", "sample a shorter record, or in parts")
         self.warn_aliasing(dt)
         steps = self.period / dt
         N = int(round(steps))
@@ -347,7 +371,9 @@ class Roughness:
         ndarray
             r(t) (m), the shape of ``t``.
         """
-        t = np.asarray(t, dtype=float)
+        t = as_real_array(t, "t")
+        if t.size and np.abs(t).max() > MAX_PERIOD:
+            raise InputError(f"t must be within {MAX_PERIOD:g} s of the start, got {np.abs(t).max()!r}")
         flat = t.ravel()
         out = np.empty(flat.size)
         step = max(1, _CHUNK // max(1, self.frequencies.size))
@@ -433,6 +459,9 @@ def roughness_from_spectrum(speed: float, wavelengths: ArrayLike | None = None, 
     levels = np.atleast_1d(_numbers(levels, "levels"))
     if levels.shape != n.shape or not np.all(np.isfinite(levels)):
         raise InputError(f"levels must be finite, one per wavelength ({n.size}), got {levels!r}")
+    if np.any(np.abs(levels) > MAX_LEVEL):
+        raise InputError(f"levels must lie within +-{MAX_LEVEL:g} dB re 1 um (+{MAX_LEVEL:g} dB is a 10 cm "
+                         f"roughness), got {levels[np.abs(levels) > MAX_LEVEL][0]!r}")
     lines, amplitudes = [], []
     for k, level in zip(n, levels):
         lam_lo, lam_hi = 10.0 ** (k / 10 - _HALF_BAND), 10.0 ** (k / 10 + _HALF_BAND)

@@ -31,6 +31,7 @@ from ..base.checks import (
     check_int_at_least,
     check_nonnegative,
     check_positive,
+    check_work,
 )
 from ..base.errors import InputError, InputTypeError
 from .beam import beam_scaling, beam_state_matrix, wave_dynamic_stiffness
@@ -42,6 +43,8 @@ SLAB_CUTS = ("joint", "centre")
 
 #: Most fasteners on one slab: each adds a node to the batched solves of every frequency.
 MAX_FASTENERS = 200
+#: Most free-free modes asked of one call.
+MAX_MODES = 100_000
 
 
 @dataclass(frozen=True)
@@ -105,6 +108,11 @@ class Slab:
             object.__setattr__(self, key, check_nonnegative(key, getattr(self, key)))
         if self.shear_stiffness is not None:
             object.__setattr__(self, "shear_stiffness", check_positive("shear_stiffness", self.shear_stiffness))
+        with np.errstate(over="ignore", invalid="ignore"):
+            modes = self._frequencies(4)
+        if not np.all(np.isfinite(modes)):
+            raise InputError("length, E, I, mass_per_length and support_stiffness give no finite natural frequency "
+                             f"(got {modes.tolist()} Hz): a value is far outside any slab's")
         s = check_int_at_least("fasteners", self.fasteners, 1)
         if s > MAX_FASTENERS:
             raise InputError(f"fasteners must be at most {MAX_FASTENERS} (a slab is a few metres long), got {s}")
@@ -164,6 +172,10 @@ class Slab:
             Increasing, Hz.
         """
         n = check_int_at_least("n", n, 1)
+        check_work(n, MAX_MODES, f"n={n} modes", "a slab's response needs a few dozen")
+        return self._frequencies(n)
+
+    def _frequencies(self, n: int) -> np.ndarray:
         beta_l = np.zeros(n)
         for k in range(2, n):
             beta_l[k] = _free_free_root(k - 1)

@@ -28,12 +28,11 @@ from __future__ import annotations
 import math
 import os
 import re
-from pathlib import Path
 
 import numpy as np
 
 from ..base.errors import InputError
-from ..base.files import read_text
+from ..base.files import check_input_path, read_text
 from .curves import MAX_TABLE_POINTS, FrequencyTable
 
 __all__ = ["load_frequency_table", "MAX_TABLE_BYTES"]
@@ -70,7 +69,7 @@ def load_frequency_table(path: str | os.PathLike, quantity: str = "stiffness", o
         (frequencies not increasing, a value that is not passive): one line, naming the file
         and, for a row, its line.
     """
-    path = Path(path)
+    path = check_input_path(path, "path")
     try:
         text = read_text(path, MAX_TABLE_BYTES, "CSV table")
     except OSError as err:

@@ -41,7 +41,7 @@ from typing import NoReturn
 
 from ..base.checks import check_choice
 from ..base.errors import InputError
-from ..base.files import read_text
+from ..base.files import check_input_path, read_text
 from .curves import OUTSIDE, FrequencyCurve, FrequencyFunction, FrequencyTable, StandardLinearSolid
 from .slab import Slab
 from .tablefile import load_frequency_table
@@ -82,7 +82,7 @@ class TrackFileError(InputError):
 def example_path(name: str) -> Path:
     """Path of a shipped example file, by its name in :data:`EXAMPLES` (``"floating-slab"`` is
     ``floating_slab.toml``)."""
-    check_choice("example", name, EXAMPLES)
+    check_choice("name", name, EXAMPLES)
     return Path(str(resources.files("semitrack") / "examples" / f"{name.replace('-', '_')}.toml"))
 
 
@@ -159,7 +159,7 @@ def load_track_toml(path: str | Path) -> Track:
         UTF-8 text or larger than :data:`MAX_FILE_BYTES`. The message names the file, line,
         key, value and rule.
     """
-    path = Path(path)
+    path = check_input_path(path, "path")
     try:
         text = read_text(path, MAX_FILE_BYTES, "track file")
     except OSError as err:

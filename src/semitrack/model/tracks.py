@@ -39,6 +39,7 @@ from numpy.typing import ArrayLike
 
 from ..base.checks import (
     as_frequencies,
+    as_real_array,
     check_choice,
     check_int_at_least,
     check_nonnegative,
@@ -364,7 +365,7 @@ class Track:
         """
         if eta is None:
             eta = self.loss_factors()[family]
-        f = np.asarray(f, dtype=float)
+        f = as_real_array(f, "f", finite=False)
         absent = (family == "ballast" and not self.is_ballasted) or (family in ("slab", "layer")
                                                                       and not self.has_flexible_slab)
         if absent:
@@ -478,7 +479,7 @@ class Track:
                                  "frequency-dependent pad")
             c = 1 + 1j * self.eta_pad
             return self.kv * c, self.kphi * c
-        f = np.asarray(f, dtype=float)
+        f = as_real_array(f, "f", finite=False)
         c = 1 + 1j * self.loss_factor("pad", f)
         return stiffness_values("kv", self.kv, f, c), stiffness_values("kphi", self.kphi, f, c, allow_zero=True)
 
@@ -696,11 +697,17 @@ class PeriodicCell:
 
     def __post_init__(self):
         require_track(self.track)
+        if self.foundation is not None and not callable(self.foundation):
+            raise InputTypeError(f"foundation must be a function of f (Hz) or None, got "
+                                 f"{type(self.foundation).__name__}")
         if self.foundation is not None and self.track.foundation is not None:
             raise InputError("a PeriodicCell's foundation would replace the track's measured foundation: give one "
                              "of them")
         check_positive("period", self.period)
-        pos = tuple(float(x) for x in self.positions)
+        given = np.atleast_1d(as_real_array(self.positions, "positions"))
+        if given.ndim != 1:
+            raise InputError(f"positions must be a 1-D sequence of support positions (m), got shape {given.shape}")
+        pos = tuple(float(x) for x in given)
         if len(pos) == 0:
             raise InputError("positions must hold at least one support position, got none")
         for x in pos:
@@ -731,6 +738,7 @@ class PeriodicCell:
         PeriodicCell
             Supports at 0, d, ..., (S - 1) d in a period of S d (m).
         """
+        track = require_track(track)
         s = check_int_at_least("supports_per_period", supports_per_period, 1)
         return cls(track, s * track.spacing, tuple(track.spacing * np.arange(s)))
 

@@ -32,13 +32,27 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import as_frequencies, check_nonnegative, check_positive, check_real
+from ..base.checks import (
+    as_frequencies,
+    as_real_array,
+    brief,
+    check_in_range,
+    check_nonnegative,
+    check_positive,
+    check_real,
+)
 from ..base.errors import InputError, InputTypeError
 from ..dynamics.newmark import Newmark
 from ..dynamics.system import SecondOrderSystem
-from .wheel import Wheel
+from .wheel import MASS_RANGE, Wheel
 
 __all__ = ["Vehicle", "WheelGroup", "Bogie", "as_vehicle", "vehicle_step"]
+
+#: Farthest a wheel starts from x = 0 (m): 10 000 km, beyond any line (and where positions keep
+#: their millimetres in a double).
+MAX_POSITION = 1e7
+#: Longest wheelbase of a bogie or group (m): a car's bogie centres are ~20 m apart.
+MAX_WHEELBASE = 50.0
 
 
 class Vehicle:
@@ -125,11 +139,16 @@ class Vehicle:
         """
         k = len(self.wheels)
         try:
-            xs = np.atleast_1d(np.asarray(x, dtype=float)).ravel()
+            xs = np.atleast_1d(as_real_array(x, name, finite=False)).ravel()
         except (TypeError, ValueError):
-            raise InputTypeError(f"{name} must be a position (m) or one per wheel, got {x!r}") from None
+            raise InputTypeError(f"{name} must be a position (m) or one per wheel, got {brief(x)}") from None
         if not np.all(np.isfinite(xs)):
-            raise InputError(f"{name} must be finite (m), got {x!r}")
+            raise InputError(f"{name} must be finite (m), got {brief(x)}")
+        if xs.size == 0:
+            raise InputError(f"{name} must give a position (m), got an empty array")
+        if np.abs(xs).max() > MAX_POSITION:
+            raise InputError(f"{name} must lie within {MAX_POSITION:g} m of x = 0 (a line's length), got "
+                             f"{np.abs(xs).max()!r} m")
         offsets = self.offsets
         if xs.size == 1 and k > 1 and np.any(offsets):
             return xs[0] + offsets
@@ -174,9 +193,11 @@ class WheelGroup(Vehicle):
     spacing: tuple = field(default=())
 
     def __post_init__(self):
-        members = tuple(self.members)
+        members = tuple(self.members) if isinstance(self.members, (list, tuple)) else ()
         if not members or not all(isinstance(w, Wheel) for w in members):
             raise InputTypeError(f"wheels must be semitrack Wheels (e.g. st.Wheel()), got {self.members!r}")
+        if not isinstance(self.spacing, (list, tuple, np.ndarray)):
+            raise InputTypeError(f"spacing must be a sequence of offsets (m), got {type(self.spacing).__name__}")
         offsets = tuple(check_real("spacing", s) for s in self.spacing) or (0.0,) * len(members)
         if not all(np.isfinite(offsets)):
             raise InputError(f"spacing must be finite offsets (m), got {self.spacing!r}")
@@ -227,7 +248,7 @@ class WheelGroup(Vehicle):
         -------
         ndarray
         """
-        return np.asarray(w_wheels, dtype=float).copy()
+        return as_real_array(w_wheels, "w_wheels")
 
 
 @dataclass(frozen=True)
@@ -277,10 +298,15 @@ class Bogie(Vehicle):
         if not self.wheel.primary_stiffness > 0:
             raise InputError("a bogie's frame rests on its wheels' primary suspensions: wheel.primary_stiffness "
                              f"must be > 0 N/m, got {self.wheel.primary_stiffness!r}")
-        for key in ("wheelbase", "frame_mass", "frame_inertia"):
-            object.__setattr__(self, key, check_positive(key, getattr(self, key)))
+        object.__setattr__(self, "wheelbase", check_in_range("wheelbase", check_positive("wheelbase", self.wheelbase),
+                                                              (0.0, MAX_WHEELBASE), "m, a bogie's"))
+        for key in ("frame_mass", "frame_inertia"):  # the wheel's range: beyond it the matrices overflow
+            object.__setattr__(self, key, check_in_range(key, check_positive(key, getattr(self, key)), MASS_RANGE,
+                                                         "kg or kg m^2, as a wheel's mass"))
         for key in ("body_mass", "secondary_stiffness", "secondary_damping"):
             object.__setattr__(self, key, check_nonnegative(key, getattr(self, key)))
+        if self.body_mass > MASS_RANGE[1]:
+            raise InputError(f"body_mass must be at most {MASS_RANGE[1]:g} kg, got {self.body_mass!r}")
         if self.body_mass > 0 and not self.secondary_stiffness > 0:
             raise InputError("a car body rests on the secondary suspension: secondary_stiffness must be > 0 N/m "
                              f"with body_mass={self.body_mass!r} kg")
@@ -335,7 +361,9 @@ class Bogie(Vehicle):
         ndarray
             ``(w1, w2, z, theta[, z_body])``.
         """
-        w = np.asarray(w_wheels, dtype=float)
+        w = as_real_array(w_wheels, "w_wheels")
+        if w.shape != (2,):
+            raise InputError(f"w_wheels must be the two wheels' displacements (m), got shape {w.shape}")
         z_theta = np.linalg.solve(self._lever(), w)
         return np.concatenate([w, z_theta, [z_theta[0]] if self.body_mass > 0 else []])
 

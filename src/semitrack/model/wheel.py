@@ -18,9 +18,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import as_frequencies, check_in_range, check_nonnegative, check_positive
+from ..base.checks import as_frequencies, as_real_array, check_in_range, check_nonnegative, check_positive
 from ..base.errors import InputError
 
+#: Largest approach of wheel and rail read by the contact law (m): a real one is below 0.1 mm.
+MAX_APPROACH = 0.1
 #: A Hertz constant typical of a 0.46 m wheel on a 0.3 m rail head (N/m^1.5), the Wheel default.
 DEFAULT_HERTZ_CONSTANT = 9.3e10
 
@@ -130,7 +132,11 @@ class Wheel:
         ndarray
             The force (N), the shape of ``approach``.
         """
-        return self.hertz_constant * np.maximum(np.asarray(approach, dtype=float), 0.0) ** 1.5
+        approach = as_real_array(approach, "approach")
+        if approach.size and np.abs(approach).max() > MAX_APPROACH:
+            raise InputError(f"approach must be within {MAX_APPROACH:g} m (a contact, not a collision), got "
+                             f"{np.abs(approach).max()!r}")
+        return self.hertz_constant * np.maximum(approach, 0.0) ** 1.5
 
     def receptance(self, f: ArrayLike) -> np.ndarray:
         """Vertical receptance of the wheel, downward displacement per downward force (m/N).

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from ..base.checks import check_flag, check_in_range, check_positive
 from ..base.errors import InputError
 from ..base.paper_values import PAPER_GRID, TABLE3_SLAB_FREQUENCIES, TABLE6_BALLASTED_FREQUENCIES
 from ..methods.features import characteristic_frequencies, curves_of, find_extrema
@@ -83,6 +84,9 @@ def paper_frequency_table(track: Track, with_wavenumber: bool = True, rel_window
         ``with_wavenumber``, wavenumber (Hz) and its deviation (%).
     """
     track = require_track(track)
+    with_wavenumber = check_flag("with_wavenumber", with_wavenumber)
+    rel_window = check_in_range("rel_window", check_positive("rel_window", rel_window), (0.0, 1.0),
+                                "of the paper's frequency, a window around it")
     exact = characteristic_frequencies(track)
     wn = None
     if with_wavenumber:

@@ -16,6 +16,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from ..base.checks import as_frequencies, check_positive
 from ..base.paper_values import (
     CONSTRAINT_FREQUENCIES,
     TABLE4,
@@ -206,5 +207,7 @@ def paper_consistency_report(f_n: float = PAPER_FREQUENCIES["f_n_slab"],
     f_anti : float
         Table 7: the anti-resonance omega_anti / 2 pi of Eq. (23) (Hz).
     """
+    f_n, f_n1, f_anti = (check_positive(name, v) for name, v in (("f_n", f_n), ("f_n1", f_n1), ("f_anti", f_anti)))
+    f_n2_candidates = tuple(np.atleast_1d(as_frequencies(f_n2_candidates, "f_n2_candidates")))
     return {"table4": table4_consistency(f_n),
             "table7": table7_consistency(f_n1=f_n1, f_n2_candidates=f_n2_candidates, f_anti=f_anti)}

@@ -163,8 +163,10 @@ def window_against_path(track: Track, changes: Mapping, boundary: BroadbandBound
     if not path:
         return WindowRun(res_w, None, t_w, math.nan, res_w.n_dof, 0, [], window.behind, window.ahead)
     start = vehicle.positions(x0, "x")
-    model = TruncatedTrack(track, path_model_bays(track, start, length), BoundaryEnd.name, system=boundary,
-                           changes=changes, elements_per_bay=window.elements_per_bay)
+    bays = path_model_bays(track, start, length)
+    inside = {k: v for k, v in (changes or {}).items() if -bays <= k < bays}  # the path model's own supports
+    model = TruncatedTrack(track, bays, BoundaryEnd.name, system=boundary, changes=inside,
+                           elements_per_bay=window.elements_per_bay)
     res_p, t_p = _timed(model, vehicle, roughness, **run)
     agreement = [force_agreement(res_w, res_p, wheel=i, after=after) for i in range(len(vehicle.wheels))]
     return WindowRun(res_w, res_p, t_w, t_p, res_w.n_dof, res_p.n_dof, agreement, window.behind, window.ahead)

@@ -1,0 +1,107 @@
+"""Result records checked as they are built: each field is what its annotation says.
+
+The package's result records (:class:`~semitrack.CentralResponse`, :class:`~semitrack.ErrorSummary`,
+:class:`~semitrack.FitResult`, ...) are frozen dataclasses that the package builds and readers
+may build by hand (from stored numbers, in a test). A record built with text for a number, or a
+string where a track belongs, would be accepted and fail later, in a method, with a raw numpy
+error far from its cause. :func:`check_fields` refuses it where it is built, naming the field.
+
+Only the kind of each field is checked, from its annotation (``np.ndarray``: numbers of any
+shape, NaN allowed, as results hold them; ``float``/``int``/``bool``/``str``; ``dict`` and
+``tuple``; a class of the package: an instance of it; ``X | None``: None too); numbers given
+as a list are held as an array, as the record's methods read them. Annotations this
+reading does not know (callables, ``Any``) are not checked. The values' physics is the job of
+the code that computed them.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import sys
+from collections.abc import Mapping
+
+import numpy as np
+
+from .checks import brief
+from .errors import InputTypeError
+
+__all__ = ["check_fields"]
+
+
+def _is_numbers(value: object) -> bool:
+    if isinstance(value, (str, bytes)) or value is None:
+        return False
+    try:
+        kind = np.asarray(value).dtype.kind
+    except (TypeError, ValueError):  # a ragged sequence
+        return False
+    return kind in "biufc"
+
+
+#: What each plain annotation admits, and how messages say it.
+_PLAIN = {
+    "np.ndarray": (_is_numbers, "numbers (an array)"),
+    "float": (lambda v: isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool),
+              "a real number"),
+    "int": (lambda v: isinstance(v, (int, np.integer)) and not isinstance(v, bool), "an integer"),
+    "bool": (lambda v: isinstance(v, (bool, np.bool_)), "True or False"),
+    "str": (lambda v: isinstance(v, str), "a string"),
+    "dict": (lambda v: isinstance(v, Mapping), "a dict"),
+    "tuple": (lambda v: isinstance(v, (tuple, list)), "a tuple"),
+}
+
+
+def _rule(annotation: str, namespace: dict):
+    """``(accepts, description)`` of one annotation string, or None when it is not checked."""
+    parts = [p.strip() for p in annotation.split("|")]
+    optional = "None" in parts
+    parts = [p for p in parts if p != "None"]
+    if len(parts) != 1:
+        return None
+    head = parts[0].split("[", 1)[0]
+    if head in _PLAIN:
+        accepts, said = _PLAIN[head]
+    else:
+        kind = namespace.get(head)
+        if not isinstance(kind, type):
+            return None
+        accepts, said = (lambda v, kind=kind: isinstance(v, kind)), f"a {kind.__name__}"
+    if optional:
+        return (lambda v, accepts=accepts: v is None or accepts(v)), f"{said} or None"
+    return accepts, said
+
+
+@functools.cache
+def _rules(cls: type) -> tuple:
+    """The checked fields of a dataclass: ``((name, accepts, description), ...)``, read once per class."""
+    namespace = vars(sys.modules[cls.__module__])
+    out = []
+    for spec in dataclasses.fields(cls):
+        annotation = spec.type if isinstance(spec.type, str) else getattr(spec.type, "__name__", "")
+        rule = _rule(annotation, namespace)
+        if rule is not None:
+            out.append((spec.name, *rule))
+    return tuple(out)
+
+
+def check_fields(record) -> None:
+    """Refuse a result record whose fields are not of their annotated kinds, naming the first that is not.
+
+    Parameters
+    ----------
+    record : dataclass instance
+        The record, as built.
+
+    Raises
+    ------
+    InputTypeError
+        ``"<Record>.<field> must be <kind>, got <value>"``.
+    """
+    for name, accepts, said in _rules(type(record)):
+        value = getattr(record, name)
+        if not accepts(value):
+            raise InputTypeError(f"{type(record).__name__}.{name} must be {said}, got {brief(value)} "
+                                 f"({type(value).__name__})")
+        if accepts is _is_numbers and not isinstance(value, np.ndarray):  # a list of numbers: held as an array
+            object.__setattr__(record, name, np.asarray(value))

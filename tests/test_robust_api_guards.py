@@ -1,0 +1,141 @@
+"""The public API's guards, one class of issue 34 at a time: work refused before it is allocated, nothing
+outside a model's reach silently ignored, strings never taken as numbers, refusals in one line naming
+the parameter.
+
+Each case failed on the code before these guards (a raw ``MemoryError``, a run still going at 30 s, a
+change accepted and ignored, a numpy error, a message over several lines); each refusal here must
+come within 1 s (:func:`refusals.refused`). The property-based suite (``tests/test_property_api.py``)
+draws such arguments for every public callable; these are the cases the issue names, kept as
+plain tests so that a regression names its class.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from refusals import refused
+
+import semitrack as st
+import semitrack.interaction.moving_green  # noqa: F401 - imported here: a refusal's second is not the imports'
+from semitrack.base.errors import BadInput, InputError, InputTypeError, UnreadableFile
+
+SLAB, BALLASTED = st.slab_track(), st.ballasted_track()
+ONE_SECOND = 1.0
+
+
+# --- work guarded before any allocation -------------------------------------------------------------
+@pytest.mark.parametrize(("options", "words"), [
+    ({"df": 1e-6}, ("df=1e-06", "lines")),  # was a raw MemoryError after 2.4 s (1.1 GB asked)
+    ({"df": 1e-4}, ("df=0.0001", "lines")),  # was refused only after 9 s
+    ({"band": (100, 1e6)}, ("band", "20000 Hz")),  # ran for more than 20 s
+])
+def test_the_decay_rate_refuses_its_work_before_allocating_it(options, words):
+    refused(lambda: st.track_decay_rate(SLAB, **options), InputError, *words, seconds=ONE_SECOND)
+
+
+@pytest.mark.parametrize("case", ["far change", "far response point", "a million points"])
+def test_the_exact_track_refuses_a_solve_it_cannot_finish(case):
+    calls = {"far change": lambda: st.InfiniteTrack(SLAB, {10**6: {"kv": 1e8}}).receptance([100.0], 0.0, [0.0]),
+             "far response point": lambda: st.InfiniteTrack(SLAB, {0: {"kv": 1e8}}).receptance([100.0], 0.0, [5e5]),
+             "a million points": lambda: st.InfiniteTrack(SLAB).receptance([100.0, 200.0], 0.0, np.zeros(10**6))}
+    refused(calls[case], InputError, "more than the limit", seconds=ONE_SECOND)
+
+
+def test_a_near_change_still_solves():
+    h = st.InfiniteTrack(SLAB, {3: {"kv": 1e8}}).receptance([100.0], 0.0, [0.0, 2.0])
+    assert h.shape == (1, 2, 2, 2) and np.all(np.isfinite(h))
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    (lambda: st.moving_green_kernels(BALLASTED, 1e-308, dt=1e-4), ("speed=1e-308", "steps")),
+    (lambda: st.roughness_from_spectrum(20.0).sampled(1e-4, 10**10), ("n=10000000000",)),
+    (lambda: st.default_fit_frequencies((3.0, 300.0), n=10**9), ("n=1000000000",)),
+    (lambda: st.error_band_grid((3.0, 300.0), 1e-100), ("df=1e-100",)),
+])
+def test_hostile_sizes_are_refused_before_the_allocation(call, words):
+    refused(call, InputError, *words, seconds=ONE_SECOND)
+
+
+# --- nothing outside a model's reach silently ignored -------------------------------------------------
+def test_a_change_beyond_a_truncated_model_is_refused():
+    refused(lambda: st.TruncatedTrack(SLAB, 4, changes={100: {"kv": 1e8}}), InputError, "changes", "support 100",
+            "outside the model")
+    model = st.TruncatedTrack(SLAB, 4)
+    refused(lambda: model.with_changes({-5: {"kv": 1e8}}), InputError, "support -5", "outside the model")
+    assert model.with_changes({3: {"kv": 1e8}}).changes  # the model's own last support is one of its own
+
+
+def test_a_profile_no_wheel_reaches_is_warned():
+    model = st.TruncatedTrack(BALLASTED, 4, elements_per_bay=4)
+    with pytest.warns(RuntimeWarning, match="no wheel meets it"):
+        st.wheel_rail_response(model, st.Wheel(), speed=20.0, dt=1e-4, duration=0.02, ramp=0.005,
+                               profile=st.DippedWeld(0.01, x=500.0))
+
+
+# --- strings, NaN and wrong shapes: refused naming the parameter ----------------------------------------
+@pytest.mark.parametrize(("offsets", "cls"), [([np.nan], InputError), (["0.3"], InputTypeError),
+                                              ([[0.0, 2.5], [0.0, 2.5]], InputError), ([], InputError)])
+def test_offsets_that_are_not_positions(offsets, cls):
+    refused(lambda: st.moving_green_kernels(BALLASTED, 20.0, dt=1e-4, offsets=offsets), cls, "offsets",
+            seconds=ONE_SECOND)
+
+
+@pytest.mark.parametrize(("x", "cls"), [([], InputError), ("0.3", InputTypeError), ([1.0, [2.0]], InputTypeError),
+                                        (1e308, InputError)])
+def test_a_contact_position_that_is_not_one(x, cls):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", FutureWarning)
+        refused(lambda: st.wheel_rail_force(SLAB, [100.0], st.Wheel(), x=x), cls, "x")
+
+
+def test_the_old_name_of_x_takes_no_string_either():
+    model = st.TruncatedTrack(BALLASTED, 4, elements_per_bay=4)
+    with pytest.warns(DeprecationWarning):
+        with pytest.raises(InputTypeError, match="x"):
+            st.wheel_rail_response(model, st.Wheel(), speed=20.0, dt=1e-4, duration=0.02, x_contact="0")
+
+
+@pytest.mark.parametrize("x", [np.nan, np.inf, 1e308])
+def test_a_weld_is_somewhere(x):
+    refused(lambda: st.DippedWeld(0.01, x=x), InputError, "x")
+
+
+@pytest.mark.parametrize("levels", [[1e308], [200.0]])
+def test_roughness_levels_beyond_any_rail_name_the_levels(levels):
+    refused(lambda: st.roughness_from_spectrum(20.0, wavelengths=[0.05], levels=levels), InputError, "levels")
+
+
+def test_an_array_in_a_message_stays_on_one_line():
+    message = refused(lambda: st.slab_track(E=np.ones((2, 2))), InputTypeError, "E")
+    assert "array([[1., 1.], [1., 1.]])" in message
+    assert str(InputError("path a\nb.toml")) == "path a\\nb.toml"  # a line break in the user's text: written \n
+
+
+def test_a_choice_is_never_an_array():
+    refused(lambda: st.example_track(np.array(["slab", "slab"])), BadInput, "name")
+    refused(lambda: st.TruncatedTrack(SLAB, 2, ends=np.ones((2, 2))), BadInput, "ends")
+
+
+def test_a_record_built_by_hand_is_refused_naming_the_field():
+    refused(lambda: st.ErrorSummary(median="", max=1.0, per_element={}), InputTypeError, "ErrorSummary.median")
+    refused(lambda: st.CentralResponse(f=("50", "200"), w1=np.ones(2), psi2=np.ones(2), Q2=np.ones(2),
+                                       M1=np.ones(2), method="transfer"), InputTypeError, "CentralResponse.f")
+    summary = st.ErrorSummary(median=0.1, max=0.2, per_element={"alpha11": [0.1, 0.2]})
+    assert summary.element_maxima() == {"alpha11": 0.2}
+
+
+# --- paths ---------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("loader", [st.load_boundary, st.load_matrix_system, st.load_system_json,
+                                    st.load_track_toml, st.load_frequency_table])
+def test_a_path_of_the_wrong_type_or_empty_is_refused_naming_path(loader):
+    refused(lambda: loader(1.5), InputTypeError, "path")
+    refused(lambda: loader(""), BadInput, "path")
+
+
+def test_a_missing_file_is_both_an_oserror_and_a_refusal(tmp_path):
+    with pytest.raises(UnreadableFile) as info:
+        st.load_system_json(tmp_path / "missing.json")
+    assert isinstance(info.value, OSError) and isinstance(info.value, BadInput)
+    assert info.value.filename == str(tmp_path / "missing.json")
