@@ -22,7 +22,7 @@ import semitrack.interaction.moving_green  # noqa: F401 - imported here: a refus
 from semitrack.base.errors import BadInput, InputError, InputTypeError, UnreadableFile
 
 SLAB, BALLASTED = st.slab_track(), st.ballasted_track()
-ONE_SECOND = 1.0
+ONE_SECOND = 1.0  # of CPU: the work before the refusal, whatever else the machine runs
 
 
 # --- work guarded before any allocation -------------------------------------------------------------
@@ -32,7 +32,7 @@ ONE_SECOND = 1.0
     ({"band": (100, 1e6)}, ("band", "20000 Hz")),  # ran for more than 20 s
 ])
 def test_the_decay_rate_refuses_its_work_before_allocating_it(options, words):
-    refused(lambda: st.track_decay_rate(SLAB, **options), InputError, *words, seconds=ONE_SECOND)
+    refused(lambda: st.track_decay_rate(SLAB, **options), InputError, *words, cpu=ONE_SECOND)
 
 
 @pytest.mark.parametrize("case", ["far change", "far response point", "a million points"])
@@ -40,7 +40,7 @@ def test_the_exact_track_refuses_a_solve_it_cannot_finish(case):
     calls = {"far change": lambda: st.InfiniteTrack(SLAB, {10**6: {"kv": 1e8}}).receptance([100.0], 0.0, [0.0]),
              "far response point": lambda: st.InfiniteTrack(SLAB, {0: {"kv": 1e8}}).receptance([100.0], 0.0, [5e5]),
              "a million points": lambda: st.InfiniteTrack(SLAB).receptance([100.0, 200.0], 0.0, np.zeros(10**6))}
-    refused(calls[case], InputError, "more than the limit", seconds=ONE_SECOND)
+    refused(calls[case], InputError, "more than the limit", cpu=ONE_SECOND)
 
 
 def test_a_near_change_still_solves():
@@ -55,7 +55,7 @@ def test_a_near_change_still_solves():
     (lambda: st.error_band_grid((3.0, 300.0), 1e-100), ("df=1e-100",)),
 ])
 def test_hostile_sizes_are_refused_before_the_allocation(call, words):
-    refused(call, InputError, *words, seconds=ONE_SECOND)
+    refused(call, InputError, *words, cpu=ONE_SECOND)
 
 
 # --- nothing outside a model's reach silently ignored -------------------------------------------------
@@ -79,7 +79,7 @@ def test_a_profile_no_wheel_reaches_is_warned():
                                               ([[0.0, 2.5], [0.0, 2.5]], InputError), ([], InputError)])
 def test_offsets_that_are_not_positions(offsets, cls):
     refused(lambda: st.moving_green_kernels(BALLASTED, 20.0, dt=1e-4, offsets=offsets), cls, "offsets",
-            seconds=ONE_SECOND)
+            cpu=ONE_SECOND)
 
 
 @pytest.mark.parametrize(("x", "cls"), [([], InputError), ("0.3", InputTypeError), ([1.0, [2.0]], InputTypeError),
@@ -137,5 +137,7 @@ def test_a_path_of_the_wrong_type_or_empty_is_refused_naming_path(loader):
 def test_a_missing_file_is_both_an_oserror_and_a_refusal(tmp_path):
     with pytest.raises(UnreadableFile) as info:
         st.load_system_json(tmp_path / "missing.json")
-    assert isinstance(info.value, OSError) and isinstance(info.value, BadInput)
+    assert isinstance(info.value, FileNotFoundError) and isinstance(info.value, BadInput)  # callers' except holds
     assert info.value.filename == str(tmp_path / "missing.json")
+    with pytest.raises(IsADirectoryError):
+        st.load_system_json(tmp_path)

@@ -219,3 +219,16 @@ def test_the_packages_own_conventions_pass_in_every_form(files):
     for kind, path in files.items():
         _loader(kind)(path)  # the round trip of every kind, conventions included
     assert copy.deepcopy(end_conventions()) == end_conventions()
+
+
+def test_a_system_with_plain_dof_names_reads_back(tmp_path):
+    """Names without units are the user's; only names whose units contradict the ports are refused."""
+    system = st.MatrixSystem(np.eye(3), np.zeros((3, 3)), np.eye(3) * 1e6, dofs=("w", "psi", "q1"))
+    for suffix in (".json", ".csv", ".mat"):
+        assert st.load_matrix_system(st.export_system(system, tmp_path / f"plain{suffix}")).dofs == system.dofs
+
+
+def test_units_the_file_leaves_out_or_adds_are_not_a_contradiction(files, tmp_path):
+    units = {"length": "m", "force": "N", "temperature": "K"}
+    path = _with_conventions(files["mck.json"], tmp_path, "units", units)
+    assert st.load_matrix_system(path).n_dof > 2

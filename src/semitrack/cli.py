@@ -52,7 +52,9 @@ if TYPE_CHECKING:  # imported when used, so that --help and bad input answer fas
 
     from .equivalent.systems import EquivalentSystem
 
-#: Highest frequency the CLI accepts (Hz): far above where a beam model of a rail holds.
+#: Lowest and highest frequency the CLI accepts (Hz): below 1 mHz a track's response is its static
+#: one (and the exact method's scaling underflows near 1e-95 Hz), above 1 MHz no beam model of a rail holds.
+MIN_FREQUENCY = 1e-3
 MAX_FREQUENCY = 1e6
 BLOCK = 50  # frequencies per progress step
 #: Formats of ``receptance --plot``, by file suffix (matplotlib's names).
@@ -106,10 +108,10 @@ def number(text: str) -> Typed:
 
 
 def frequency(name: str, value: float) -> float:
-    """A frequency from the command line (Hz): positive, finite and at most :data:`MAX_FREQUENCY`."""
+    """A frequency from the command line (Hz): finite, from :data:`MIN_FREQUENCY` to :data:`MAX_FREQUENCY`."""
     checked(check_positive, name, value)
-    if value > MAX_FREQUENCY:
-        raise InputError(f"{name} must be at most {MAX_FREQUENCY:g} Hz, got {value!r}")
+    if not MIN_FREQUENCY <= value <= MAX_FREQUENCY:
+        raise InputError(f"{name} must be from {MIN_FREQUENCY:g} to {MAX_FREQUENCY:g} Hz, got {value!r}")
     return float(value)
 
 
@@ -352,7 +354,7 @@ def cmd_decay(args: argparse.Namespace) -> int:
 
     track = _track(args.track)
     fmin, fmax = checked(check_band, args.band, "--band")
-    frequency("--band", fmax)
+    frequency("--band", fmin), frequency("--band", fmax)
     checked(check_positive, "--df", args.df)
     out, plot = output_paths(("-o", None if args.output == "-" else args.output), ("--plot", args.plot),
                              inputs=input_files(args.track, track))
@@ -379,7 +381,7 @@ def cmd_decay(args: argparse.Namespace) -> int:
 def cmd_fit(args: argparse.Namespace) -> int:
     track = _track(args.track)
     fmin, fmax = checked(check_band, args.band, "--band")
-    frequency("--band", args.band[1])
+    frequency("--band", args.band[0]), frequency("--band", args.band[1])
     checked(check_int_at_least, "--seed", args.seed, 0)
     (out,) = output_paths(("-o", args.output), inputs=input_files(args.track, track))
     _fit_options_agree(args)
@@ -504,7 +506,7 @@ def _file_header(path: str) -> tuple[str, dict]:
             from .equivalent.io import MAX_SYSTEM_BYTES
 
             raw = read_mat(Path(path), MAX_SYSTEM_BYTES, "system file", simplify=True)
-            return str(raw.get("format", "")), json.loads(str(raw.get("conventions_json", "{}")))
+            return str(raw.get("format", "")), _json_or_empty(str(raw.get("conventions_json", "{}")))
         if suffix == ".csv":
             from .equivalent.io import MAX_SYSTEM_BYTES
 
@@ -515,7 +517,7 @@ def _file_header(path: str) -> tuple[str, dict]:
             for row in rows[start + 2:] if start is not None else []:
                 if not row or row[0].startswith("["):
                     break
-                conventions[row[0]] = json.loads(row[1])
+                conventions[row[0]] = _json_or_empty(row[1]) if len(row) > 1 else {}
             return fmt, conventions
     except OSError as err:
         raise InputError(f"{path}: cannot read the system file ({err.strerror})") from None
@@ -524,6 +526,15 @@ def _file_header(path: str) -> tuple[str, dict]:
     except (ValueError, RecursionError, IndexError, csv.Error):
         return "", {}  # not JSON, CSV or our layout: the system loader says what is wrong
     return "", {}
+
+
+def _json_or_empty(text: str):
+    """JSON text parsed, or ``{}``: a damaged conventions record must not lose the file's format (its loader,
+    chosen by the format, then refuses the record naming it)."""
+    try:
+        return json.loads(text)
+    except (ValueError, RecursionError):
+        return {}
 
 
 def load_end_file(path: str):
@@ -657,7 +668,7 @@ def cmd_features(args: argparse.Namespace) -> int:
     track = _track(args.track)
     f = frequency_grid(args.fmin, args.fmax, args.df)
     if f.size < 3:
-        raise InputError("the frequency grid needs at least 3 points to find peaks and dips")
+        raise InputError("--fmin, --fmax and --df give fewer than 3 frequencies: peaks and dips need at least 3")
     stdout()
     table = features_table(track, f, args.df)
     if args.csv:

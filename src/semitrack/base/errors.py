@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["BadInput", "InputError", "InputTypeError", "UnreadableFile", "caused_by_interrupt"]
+__all__ = ["BadInput", "InputError", "InputTypeError", "UnreadableFile", "unreadable_file", "caused_by_interrupt"]
 
 
 class BadInput(Exception):
@@ -43,7 +43,32 @@ class UnreadableFile(OSError, BadInput):
 
     An :class:`OSError` (with ``errno`` and ``filename``), as callers that catch it expect, and a
     :class:`BadInput`: the path is the user's input, and the package refuses it like any other.
+    :func:`unreadable_file` gives the subclass that is also the built-in error of its errno
+    (``FileNotFoundError``, ``PermissionError``, ...), so ``except FileNotFoundError`` keeps working.
     """
+
+
+_BY_ERRNO: dict[int, type] = {}
+
+
+def unreadable_file(err: OSError, path: str, why: str | None = None) -> UnreadableFile:
+    """The :class:`UnreadableFile` of ``err`` for ``path``: also ``type(err)`` (e.g. ``FileNotFoundError``).
+
+    Parameters
+    ----------
+    err : OSError
+        The error the operating system gave.
+    path : str
+        The file, as the user named it.
+    why : str, optional
+        The reason in words (default: ``err.strerror``).
+    """
+    base = type(err) if type(err) is not OSError and not isinstance(err, BadInput) else None
+    cls = UnreadableFile
+    if base is not None:
+        cls = _BY_ERRNO.get(err.errno) or _BY_ERRNO.setdefault(err.errno, type(f"Unreadable{base.__name__}",
+                                                                              (UnreadableFile, base), {}))
+    return cls(err.errno, why or err.strerror, path)
 
 
 def caused_by_interrupt(error: BaseException) -> bool:

@@ -27,7 +27,7 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import IO, Any
 
-from .errors import InputError, InputTypeError, UnreadableFile
+from .errors import InputError, InputTypeError, unreadable_file
 
 #: Kinds of file an output path must not name, by :mod:`stat` test: they are not ours to replace.
 _NOT_REGULAR = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
@@ -129,6 +129,8 @@ def check_output_path(path: str | os.PathLike, name: str = "path", follow_links:
         for is_kind, kind in _NOT_REGULAR:
             if mode is not None and is_kind(mode):
                 raise InputError(f"{name} {str(given)!r} is {kind}: name a regular file to write")
+        if not given.parent.is_dir():
+            raise InputError(f"{name} {str(given)!r}: the folder {str(given.parent)!r} does not exist")
         if not os.access(given.parent, os.W_OK | os.X_OK):
             raise InputError(f"{name} {str(given)!r}: the folder {str(given.parent)!r} is not writable")
         return target
@@ -248,7 +250,14 @@ def exclusive(path: str | os.PathLike) -> Iterator[None]:
     lock = f"{os.fspath(path)}.lock"
     if os.path.islink(lock):  # the lock's name is the package's own: a link there is not followed
         os.unlink(lock)
-    fd = os.open(lock, os.O_WRONLY | os.O_CREAT | os.O_NOFOLLOW | getattr(os, "O_CLOEXEC", 0), 0o666)
+    try:
+        fd = os.open(lock, os.O_WRONLY | os.O_CREAT | os.O_NOFOLLOW | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0),
+                     0o666)
+    except OSError as err:  # a link planted meanwhile (ELOOP), a FIFO nobody reads (ENXIO), ...
+        raise InputError(f"the cache's lock file {lock!r} cannot be opened ({err.strerror}): remove it") from None
+    if not stat.S_ISREG(os.fstat(fd).st_mode):
+        os.close(fd)
+        raise InputError(f"the cache's lock file {lock!r} is not a regular file: remove it")
     try:
         fcntl.flock(fd, fcntl.LOCK_EX)
         try:
@@ -298,9 +307,10 @@ def check_cache_folder(folder: str | os.PathLike, name: str = "cache") -> Path:
 def read_bytes(path: str | os.PathLike, max_bytes: int, what: str = "file") -> bytes:
     """The bytes of an input file, at most ``max_bytes``: every reader of the package reads through it.
 
-    A FIFO with no writer (a named pipe nobody feeds) reads as empty instead of blocking the
-    open until Ctrl-C: the file is opened without waiting (``O_NONBLOCK``), then read as usual,
-    so a pipe that is being written (``/dev/stdin``, ``<(...)``) still works. A file larger than
+    A FIFO is opened without waiting for a writer (``O_NONBLOCK``), then read as usual: a pipe a
+    running command writes (``/dev/stdin``, ``<(...)``) is read whole, and a named pipe nobody has
+    opened for writing reads as empty (and is refused as no file of its kind) instead of blocking
+    the open until Ctrl-C. A writer that opens the FIFO only later is not waited for. A file larger than
     the bound (``/dev/zero`` behind the name) is refused after reading one byte more than it.
 
     Parameters
@@ -330,7 +340,7 @@ def read_bytes(path: str | os.PathLike, max_bytes: int, what: str = "file") -> b
     try:
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
     except OSError as err:
-        raise UnreadableFile(err.errno, err.strerror, os.fspath(path)) from None
+        raise unreadable_file(err, os.fspath(path)) from None
     try:
         if hasattr(os, "set_blocking"):
             os.set_blocking(fd, True)  # the open did not wait for a writer; the reads do
@@ -342,8 +352,8 @@ def read_bytes(path: str | os.PathLike, max_bytes: int, what: str = "file") -> b
             chunks.append(chunk)
             size += len(chunk)
     except OSError as err:  # EISDIR: a directory opens, and fails at its first read
-        why = "a directory, not a file" if isinstance(err, IsADirectoryError) else err.strerror
-        raise UnreadableFile(err.errno, why, os.fspath(path)) from None
+        why = "a directory, not a file" if isinstance(err, IsADirectoryError) else None
+        raise unreadable_file(err, os.fspath(path), why) from None
     finally:
         os.close(fd)
     if size > max_bytes:

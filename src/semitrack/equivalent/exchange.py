@@ -171,6 +171,10 @@ def check_conventions(conventions, source: str) -> None:
         raise InputError(f"{source}: 'conventions' must be a record of fields, got {type(conventions).__name__}")
     ours = end_conventions()
     for field in CHECKED_CONVENTIONS:
+        theirs = conventions.get(field)
+        if field == "units" and isinstance(theirs, dict) and \
+                all(_plain(value) == _plain(ours["units"].get(key, value)) for key, value in theirs.items()):
+            continue  # each unit the file declares is ours (one it leaves out is taken as ours)
         if field in conventions and _plain(conventions[field]) != _plain(ours[field]):
             raise InputError(f"{source}: conventions[{field!r}] is {_plain(conventions[field])!r:.80}, not the "
                              f"package's {ours[field]!r}: convert the file to the package's conventions first")
@@ -233,7 +237,7 @@ def matrix_system_from_dict(data: dict, source: str = "data") -> MatrixSystem:
     dofs = data.get("dof_names", ())
     if not isinstance(dofs, (list, tuple)) or not all(isinstance(name, str) for name in dofs):
         raise InputError(f"{source}: 'dof_names' must be a list of names, got {str(dofs)[:40]!r}")
-    if len(dofs) >= 2 and not (dofs[0].endswith("(m)") and dofs[1].endswith("(rad)")):
+    if len(dofs) >= 2 and (dofs[0].endswith("(rad)") or dofs[1].endswith("(m)")):  # named units that contradict
         raise InputError(f"{source}: 'dof_names' must start with the ports, a deflection (m) then a rotation "
                          f"(rad), got {dofs[:2]!r}: the matrices' DOFs are in another order")
     try:
