@@ -310,8 +310,8 @@ def read_bytes(path: str | os.PathLike, max_bytes: int, what: str = "file") -> b
     A FIFO is opened without waiting for a writer (``O_NONBLOCK``), then read as usual: a pipe a
     running command writes (``/dev/stdin``, ``<(...)``) is read whole, and a named pipe nobody has
     opened for writing reads as empty (and is refused as no file of its kind) instead of blocking
-    the open until Ctrl-C. A writer that opens the FIFO only later is not waited for. A file larger than
-    the bound (``/dev/zero`` behind the name) is refused after reading one byte more than it.
+    the open until Ctrl-C. A writer that opens the FIFO only later is not waited for. A file
+    larger than the bound (``/dev/zero`` behind the name) is refused after reading one byte more.
 
     Parameters
     ----------
