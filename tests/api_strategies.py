@@ -701,9 +701,29 @@ add("load_matrix_system", lambda **kw: st.load_matrix_system(**kw), lambda: {"pa
 
 # The wheel, vehicles, irregularities and roughness.
 _WHEEL = {"mass": 600.0, "preload": 1e5, "hertz_constant": 9.3e10, "primary_stiffness": 1e6, "primary_damping": 1e4}
-add("Wheel", lambda **kw: st.Wheel(**kw), lambda: dict(_WHEEL),
+_DEFECTS = hs.one_of(hostile, hs.lists(hs.one_of(hostile, hs.builds(st.WheelFlat, hs.floats(1e-3, 0.9)),
+                                                 hs.builds(st.WheelPolygon, hs.integers(1, 40), hs.floats(0, 1e-3))),
+                                       max_size=3))
+add("Wheel", lambda **kw: st.Wheel(**kw),
+    lambda: dict(_WHEEL) | {"radius": 0.46, "defects": (st.WheelFlat(0.05, position=0.5),), "contact": "centre_path"},
     lambda w, a: (finite("wheel receptance", w.receptance(F3)),
-                  finite("force", st.wheel_rail_force(FX.slab, F3, w, origin="support"))))
+                  finite("force", st.wheel_rail_force(FX.slab, F3, w, origin="support")),
+                  finite("centre path", st.wheel_centre_path(w, np.linspace(0.0, 1.0, 11)))),
+    kinds={"defects": _DEFECTS, "contact": hs.one_of(hs.just("point"), hostile)})
+add("Wheel.tread_profile", method(lambda: st.Wheel(defects=[st.WheelFlat(0.05, shape="rounded")]), "tread_profile"),
+    lambda: {"arc_length": [0.0, 0.01, 1.0]}, lambda r, a: finite("deviation", r),
+    kinds={"arc_length": hostile_array})
+add("WheelFlat", lambda **kw: st.WheelFlat(**kw),
+    lambda: {"length": 0.05, "depth": None, "shape": "new", "position": 0.3},
+    lambda f, a: finite("depth", f.depth_on(0.46)), kinds={"shape": hs.one_of(hs.just("rounded"), hostile)})
+add("WheelFlat.depth_on", method(lambda: st.WheelFlat(0.05), "depth_on"), lambda: {"radius": 0.46},
+    lambda d, a: finite("depth", d))
+add("WheelPolygon", lambda **kw: st.WheelPolygon(**kw), lambda: {"order": 20, "amplitude": 5e-5, "phase": 0.0},
+    lambda p, a: finite("centre path", st.wheel_centre_path(st.Wheel(defects=[p]), np.linspace(0.0, 0.5, 11))))
+add("wheel_centre_path", lambda **kw: st.wheel_centre_path(**kw),
+    lambda: {"wheel": st.Wheel(defects=[st.WheelFlat(0.06, shape="rounded")]), "x": [-0.02, 0.0, 0.02, 1.0],
+             "profile": st.DippedWeld(0.01, 0.4, 0.5)},
+    lambda r, a: finite("centre path", r))
 add("Wheel.from_radii", lambda **kw: st.Wheel.from_radii(**kw),
     lambda: {"wheel_radius": 0.46, "rail_radius": 0.3, "E": 2.1e11, "poisson": 0.3, "mass": 600.0},
     lambda w, a: finite("hertz constant", w.hertz_constant))

@@ -5,7 +5,8 @@ periodic FE track's moving Green's functions), the vehicle by its matrices. Both
 :func:`convolved_run` the loop's kernels, pairs, releases, phases and local flexibility
 (:func:`semitrack.dynamics.convolved.convolved_steps` says what each is); it starts the vehicle
 at rest in the static equilibrium under the preloads, the rail deflected by the standing
-preloads ``w_0 = e[0] P0 + flexibility P0``, and runs the loop, compiled or in Python.
+preloads ``w_0 = e[0] P0 + flexibility P0`` (a wheel standing on its flat is ``r[0]`` lower), and
+runs the loop, compiled or in Python.
 """
 
 from __future__ import annotations
@@ -60,7 +61,7 @@ def convolved_run(vehicle: Vehicle, kernels: np.ndarray, pair: np.ndarray, relea
     k = len(wheels)
     preload = np.array([w.preload for w in wheels])
     w_rail0 = release[:, :, 0] @ preload + flexibility[phase0] * preload
-    u0 = vehicle.static_state(w_rail0 + np.array([w.static_approach for w in wheels]))
+    u0 = vehicle.static_state(w_rail0 + np.array([w.static_approach for w in wheels]) + r[0])  # r[0]: on a flat
     loads = vehicle.static_loads(u0)
     rows = r.shape[0]
     force, w_wheel, w_rail = np.tile(preload, (rows, 1)), np.empty((rows, k)), np.empty((rows, k))

@@ -183,8 +183,8 @@ def wheel_rail_response(track: FETrack, wheel: Wheel | Vehicle | Sequence[Wheel]
     points = contact_points(model, path, run.moving)
     flexibility = model.local_flexibility(path if run.moving else path[:1]) * bool(element_flexibility)
     gaps = sleeper_gaps(model, ballast_gaps) if ballast_gaps else None
-    u0, vehicle_loads = static_start(model, vehicle, rail.K, points, flexibility[0], gaps)
-    r = rail_input(roughness, path, dt, run.ramp, profile)
+    r = rail_input(roughness, path, dt, run.ramp, profile, wheels)
+    u0, vehicle_loads = static_start(model, vehicle, rail.K, points, flexibility[0], gaps, r[0])
     watch = watched_dofs(model, watch_supports, bending_at)
     vehicle_dofs = model.n_dof + np.arange(vehicle_loads.size)
     contacts = all_contacts(vehicle_dofs[:k], points, wheels, r, flexibility, gaps)

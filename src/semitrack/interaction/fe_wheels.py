@@ -21,11 +21,12 @@ __all__ = ["static_start", "all_contacts", "gap_response", "contact_points"]
 
 
 def static_start(model: FETrack, vehicle: Vehicle, K: sp.csc_matrix, contacts: PointSet,
-                  flexibility: np.ndarray, gaps: SleeperGaps | None) -> tuple[np.ndarray, np.ndarray]:
+                  flexibility: np.ndarray, gaps: SleeperGaps | None, r0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The static equilibrium under the preloads with the contacts at their first positions.
 
     ``flexibility`` is the rail elements' own deflection under each contact at the start (m/N);
-    hanging sleepers rest on their ballast where the preloads close their gaps.
+    hanging sleepers rest on their ballast where the preloads close their gaps; ``r0`` is each
+    wheel's input at the start (m: a wheel may start standing on its flat).
     Returns the state ``u0`` (model DOFs, then the vehicle's) and the constant loads on the
     vehicle's DOFs (:meth:`semitrack.model.vehicle.Vehicle.static_loads`: each contact at its
     wheel's preload, a suspension to a still bogie carrying none of it).
@@ -34,7 +35,7 @@ def static_start(model: FETrack, vehicle: Vehicle, K: sp.csc_matrix, contacts: P
     preload = np.array([w.preload for w in wheels])
     load = contacts.matrix(n, 0).T @ preload
     u_track = factorise(K).solve(load) if gaps is None else static_with_gaps(K, load, gaps)
-    w0 = contacts.values(u_track, 0) + flexibility * preload + np.array([w.static_approach for w in wheels])
+    w0 = contacts.values(u_track, 0) + flexibility * preload + np.array([w.static_approach for w in wheels]) + r0
     u_vehicle = vehicle.static_state(w0)
     return np.concatenate([u_track, u_vehicle]), vehicle.static_loads(u_vehicle)
 

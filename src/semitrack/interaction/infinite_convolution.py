@@ -18,7 +18,9 @@ the convolution (:func:`semitrack.dynamics.contact.solve_hertz`). The start is t
 :func:`semitrack.wheel_rail_response`, the roughness faded in the same way, so that
 :func:`semitrack.contact_transfer` takes the result as it takes an FE run's.
 
-Limits: stationary wheels only (a rolling wheel's kernel changes with its position: the moving
+Given ``speed``, the wheels turn at it while the rail passes under them (the moving-irregularity
+model): a roughness passes at that speed and each wheel's defects come round once per
+revolution. Limits: stationary wheels only (a rolling wheel's kernel changes with its position: the moving
 Green's functions of a periodic track); the cost per step grows with the memory (a dot product
 over it per wheel pair).
 """
@@ -30,7 +32,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..base.checks import check_positive
+from ..base.checks import check_nonnegative, check_positive
 from ..base.deprecation import renamed_keywords
 from ..methods.infinite import InfiniteTrack
 from ..model.roughness import Roughness
@@ -39,7 +41,7 @@ from ..model.vehicle import Vehicle
 from ..model.wheel import Wheel
 from .convolved_run import convolved_run
 from .excitation import rail_input
-from .inputs import DEFAULT_DT, check_run
+from .inputs import DEFAULT_DT, check_roughness_speed, check_run
 from .response import ContactResponse, contact_response
 
 __all__ = ["WRAP_TOLERANCE", "rail_impulse_responses", "convolution_response"]
@@ -93,7 +95,7 @@ def rail_impulse_responses(infinite: InfiniteTrack, x: np.ndarray, dt: float, me
 def convolution_response(track: Track | InfiniteTrack, wheel: Wheel | Vehicle | Sequence[Wheel],
                          roughness: Roughness | None = None, *, x: float | Sequence[float] = 0.0,
                          dt: float = DEFAULT_DT, duration: float = 0.1, ramp: float = 0.02,
-                         memory: float = 0.4) -> ContactResponse:
+                         memory: float = 0.4, speed: float = 0.0) -> ContactResponse:
     """Stationary wheels or a vehicle on the exact infinite track, in time (see the module docstring).
 
     Parameters
@@ -111,6 +113,11 @@ def convolution_response(track: Track | InfiniteTrack, wheel: Wheel | Vehicle | 
         Time step, duration and fade-in (s).
     memory : float
         How long the rail's impulse responses are kept (s): longer than they take to die away.
+    speed : float
+        The speed the wheels turn at (m/s), >= 0: the rail passes under them at it, so that their
+        defects (:class:`semitrack.WheelFlat`, ...) come round once per revolution and a roughness
+        passes at it (its ``speed`` must be this one). The wheels stay where they are on the track
+        (the moving-irregularity model). 0 (default): wheels that do not turn.
 
     Returns
     -------
@@ -119,6 +126,11 @@ def convolution_response(track: Track | InfiniteTrack, wheel: Wheel | Vehicle | 
     """
     infinite = track if isinstance(track, InfiniteTrack) else InfiniteTrack(track)
     run = check_run(wheel, roughness, x, 0.0, dt, duration, ramp)
+    turning = check_nonnegative("speed", speed)
+    check_roughness_speed(roughness, turning)
+    if turning == 0 and any(w.defects for w in run.vehicle.wheels):
+        warnings.warn("speed=0: the wheels do not turn, and each stays on the point of its tread it starts on; give "
+                      "speed= for their defects to come round", RuntimeWarning, stacklevel=3)
     memory = check_positive("memory", memory)
     h, static, wrap = rail_impulse_responses(infinite, run.x0, run.dt, memory)
     if wrap > WRAP_TOLERANCE:
@@ -126,7 +138,8 @@ def convolution_response(track: Track | InfiniteTrack, wheel: Wheel | Vehicle | 
                       "their peak over its second half: the convolution cuts off their tail; give a longer memory",
                       RuntimeWarning, stacklevel=3)  # past the renamed-keywords wrapper, at the caller
     path = run.path()
-    r = rail_input(roughness, path, run.dt, run.ramp)
+    r = rail_input(roughness, path, run.dt, run.ramp, wheels=run.vehicle.wheels,
+                   rolled=np.repeat(turning * run.t[:, None], run.k, axis=1))
     force, w_wheel, w_rail, elapsed = convolved_run(run.vehicle, *_loop_arrays(h, static, run.dt, r.shape[0]),
                                                     np.zeros(run.k, dtype=np.int64), np.zeros(1), r, run.dt, None)
     return contact_response(route="convolution", t=run.t, force=force, w_wheel=w_wheel, w_rail=w_rail, roughness=r,

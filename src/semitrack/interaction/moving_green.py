@@ -270,7 +270,7 @@ def moving_green_response(track: Track, wheel: Wheel | Vehicle | Sequence[Wheel]
     _check_work(kernels, n_steps, k, f"duration={duration!r} s / dt={dt!r} s with {k} wheel(s)")
     _warn_short_memory(kernels)
     path = (g[None, :] + np.arange(n_steps + 1)[:, None]) * kernels.grid.step
-    r = rail_input(None if roughness is None else roughness.at_speed(v), path, dt, run.ramp, profile)
+    r = rail_input(None if roughness is None else roughness.at_speed(v), path, dt, run.ramp, profile, vehicle.wheels)
     stack, pair, release = _loop_arrays(kernels, g, phase0)
     force, w_wheel, w_rail, elapsed = convolved_run(vehicle, stack, pair, release, phase0, kernels.flexibility, r,
                                                     dt, compiled)

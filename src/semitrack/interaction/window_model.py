@@ -177,8 +177,8 @@ def window_response(track: WindowTrack, wheel: Wheel | Vehicle | Sequence[Wheel]
     n_nodes = n_left + n_right
     check_work(longest * 2 * n_nodes, MAX_RECORDED, f"a stretch of {longest} steps x {2 * n_nodes} DOFs of the shadow "
                "nodes", "use a larger speed or dt, or a larger move")
-    r = rail_input(roughness, path, run.dt, run.ramp, profile)
-    steps = _Steps(track, model, system, stepping, run, path, offsets, element_flexibility, reach, watched)
+    r = rail_input(roughness, path, run.dt, run.ramp, profile, run.vehicle.wheels)
+    steps = _Steps(track, model, system, stepping, run, path, offsets, element_flexibility, reach, watched, r[0])
     for i, (offset, first, last) in enumerate(stretches):
         if i:
             steps.jump(offset, windows.at(offset))
@@ -336,7 +336,7 @@ class _Steps:
     """The run's state across the window's moves, and its records."""
 
     def __init__(self, track: WindowTrack, model: FETrack, system, stepping, run, path: np.ndarray,
-                 offsets: np.ndarray, element_flexibility: bool, reach: _Reach, watched: _Watched):
+                 offsets: np.ndarray, element_flexibility: bool, reach: _Reach, watched: _Watched, r0: np.ndarray):
         self.track, self.run, self.path, self.reach, self.watched = track, run, path, reach, watched
         self.flexible = bool(element_flexibility)
         self.offset = int(offsets[0])
@@ -345,7 +345,7 @@ class _Steps:
         K_track = system.K[:self.n_track, :self.n_track]  # the vehicle meets the track through its contacts only
         self.u, self.vehicle_loads = static_start(model, run.vehicle, K_track, model.points(local0[0]),
                                                   model.local_flexibility(local0)[0] * self.flexible,
-                                                  self._gaps(self.offset))
+                                                  self._gaps(self.offset), r0)
         self.v, self.a = np.zeros_like(self.u), None
         self.x = np.zeros(stepping[0].n_states)
         n_nodes = model.n_left + model.n_right

@@ -13,13 +13,23 @@ is a spring of stiffness k_H = dF/ddelta = 1.5 C_H^(2/3) P0^(1/3).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import as_frequencies, as_real_array, check_in_range, check_nonnegative, check_positive
-from ..base.errors import InputError
+from ..base.checks import (
+    as_frequencies,
+    as_real_array,
+    brief,
+    check_choice,
+    check_in_range,
+    check_nonnegative,
+    check_positive,
+)
+from ..base.errors import InputError, InputTypeError
+from .wheel_defects import RADIUS_RANGE, WheelDefect
 
 #: Largest approach of wheel and rail read by the contact law (m): a real one is below 0.1 mm.
 MAX_APPROACH = 0.1
@@ -32,6 +42,12 @@ DEFAULT_HERTZ_CONSTANT = 9.3e10
 #: the wheel's omega^2 m and a time step's M / dt^2 over- or underflow beside the contact stiffness
 #: (at 1e300 or 1e-300 kg the contact forces were NaN).
 MASS_RANGE = (1e-9, 1e15)
+#: How the wheel meets the rail's profile and its own defects: its centre's path over them
+#: (:func:`semitrack.wheel_centre_path`, the wheel's radius in the contact) or the profile under
+#: its centre (a point contact, the model before 0.3).
+CONTACT_GEOMETRIES = ("centre_path", "point")
+#: Most defects one wheel carries.
+MAX_DEFECTS = 100
 
 
 @dataclass(frozen=True)
@@ -51,6 +67,19 @@ class Wheel:
         (default) for a free unsprung mass, which the suspension barely changes above ~20 Hz.
     primary_damping : float
         Viscous damping of the primary suspension (N s/m).
+    radius : float
+        Rolling radius R (m), within :data:`RADIUS_RANGE`: the circle its defects lie on and its
+        centre's path rolls (the Hertz constant is given apart, or by :meth:`from_radii`).
+    defects : sequence of WheelFlat or WheelPolygon
+        Defects of the tread (:mod:`semitrack.model.wheel_defects`); their deviations add up.
+        Each route meets them once per revolution of the rolling wheel.
+    contact : {"centre_path", "point"}
+        How the wheel meets the rail's profile (a :class:`semitrack.DippedWeld`, a
+        :class:`semitrack.RailProfile`) and its own defects: "centre_path" (default), by the path
+        of its centre rolled over them (:func:`semitrack.wheel_centre_path`); "point", by the
+        profile under its centre and the tread's deviation at the point in contact, as before 0.3.
+        A roughness (:class:`semitrack.Roughness`) enters as given either way: it is a signal
+        already met by a wheel.
 
     Examples
     --------
@@ -65,6 +94,9 @@ class Wheel:
     hertz_constant: float = DEFAULT_HERTZ_CONSTANT
     primary_stiffness: float = 0.0
     primary_damping: float = 0.0
+    radius: float = 0.46
+    defects: Sequence[WheelDefect] = ()
+    contact: str = "centre_path"
 
     def __post_init__(self):
         for key in ("mass", "preload", "hertz_constant"):
@@ -73,6 +105,11 @@ class Wheel:
                        "beyond, omega^2 m over- or underflows beside the contact stiffness")
         for key in ("primary_stiffness", "primary_damping"):
             object.__setattr__(self, key, check_nonnegative(key, getattr(self, key)))
+        radius = check_in_range("radius", check_positive("radius", self.radius), RADIUS_RANGE,
+                                "m, a wheel's rolling radius")
+        object.__setattr__(self, "radius", radius)
+        object.__setattr__(self, "defects", _checked_defects(self.defects, self.radius))
+        check_choice("contact", self.contact, CONTACT_GEOMETRIES)
 
     @classmethod
     def from_radii(cls, wheel_radius: float = 0.46, rail_radius: float = 0.3, E: float = 2.1e11,
@@ -103,11 +140,44 @@ class Wheel:
         """
         r_w, r_r, e = (check_positive(k, v) for k, v in
                        (("wheel_radius", wheel_radius), ("rail_radius", rail_radius), ("E", E)))
+        check_in_range("wheel_radius", r_w, RADIUS_RANGE, "m, a wheel's rolling radius")
         nu = check_nonnegative("poisson", poisson)
         if not nu < 0.5:
             raise InputError(f"poisson must be in [0, 0.5), got {poisson!r}")
         e_star = e / (2 * (1 - nu**2))
-        return cls(hertz_constant=4.0 / 3.0 * e_star * np.sqrt(np.sqrt(r_w * r_r)), **wheel)
+        if "radius" in wheel:
+            raise InputError("radius: from_radii takes the wheel's radius as wheel_radius")
+        return cls(hertz_constant=4.0 / 3.0 * e_star * np.sqrt(np.sqrt(r_w * r_r)), radius=r_w, **wheel)
+
+    @property
+    def circumference(self) -> float:
+        """2 pi R (m)."""
+        return 2 * np.pi * self.radius
+
+    def tread_profile(self, arc_length: ArrayLike) -> np.ndarray:
+        """The tread's radial deviation at ``arc_length`` (m): positive where material is missing (m).
+
+        The sum of the defects' deviations (:mod:`semitrack.model.wheel_defects`); the arc length
+        from the point in contact at the run's start, periodic in the circumference.
+
+        Parameters
+        ----------
+        arc_length : array_like
+            Arc lengths along the tread (m).
+
+        Returns
+        -------
+        ndarray
+            The deviation (m), the shape of ``arc_length``.
+        """
+        s = as_real_array(arc_length, "arc_length")
+        if s.size and np.abs(s).max() > 1e7:
+            raise InputError(f"arc_length must be within 1e7 m (arc lengths on a tread keep their micrometres), got "
+                             f"{np.abs(s).max()!r}")
+        out = np.zeros(s.shape)
+        for defect in self.defects:
+            out = out + defect._deviation(s, self.radius)
+        return out
 
     @property
     def contact_stiffness(self) -> float:
@@ -171,3 +241,17 @@ class Wheel:
         """
         omega = 2 * np.pi * as_frequencies(f)
         return self.primary_stiffness + 1j * omega * self.primary_damping - omega**2 * self.mass
+
+
+def _checked_defects(defects: object, radius: float) -> tuple[WheelDefect, ...]:
+    """The wheel's defects as a tuple, each checked on a wheel of ``radius`` (m)."""
+    if isinstance(defects, WheelDefect) or isinstance(defects, (str, bytes, np.ndarray)) or \
+            not isinstance(defects, Sequence):
+        raise InputTypeError(f"defects must be a sequence of WheelFlat or WheelPolygon, got {brief(defects)}")
+    if len(defects) > MAX_DEFECTS:
+        raise InputError(f"defects must be at most {MAX_DEFECTS} on one wheel, got {len(defects)}")
+    for k, defect in enumerate(defects):
+        if not isinstance(defect, WheelDefect):
+            raise InputTypeError(f"defects[{k}] must be a WheelFlat or a WheelPolygon, got {type(defect).__name__}")
+        defect._check_on(radius)
+    return tuple(defects)
