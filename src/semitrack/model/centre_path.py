@@ -157,10 +157,12 @@ def _outline_samples(wheel: Wheel) -> tuple[np.ndarray, np.ndarray]:
             margin = 2e-3 + 0.1 * (b - a)
             pieces.append(np.arange(a - margin, b + margin, TREAD_SPACING))
     corners = np.mod(np.concatenate([d._corners(R) for d in wheel.defects]), circumference)
-    u = np.mod(np.concatenate(pieces), circumference)
-    u = np.unique(np.concatenate([u[np.min(np.abs(u[:, None] - corners[None, :]), axis=1, initial=np.inf) > 1e-9]
-                                  if corners.size else u, corners]))
-    return u, np.isin(u, corners)
+    u = np.unique(np.concatenate([np.mod(np.concatenate(pieces), circumference), corners]))
+    corner = np.isin(u, corners)
+    # a sample within 1e-9 m of a corner is dropped: the corner stands for it (sorted, so only neighbours)
+    close = np.diff(u) <= 1e-9
+    drop = ~corner & (np.r_[close & corner[1:], False] | np.r_[False, close & corner[:-1]])
+    return u[~drop], corner[~drop]
 
 
 def tread_drop(wheel: Wheel, x: ArrayLike) -> np.ndarray:

@@ -130,8 +130,12 @@ class WheelFlat(WheelDefect):
             if not self.length < 2 * radius:
                 raise InputError(f"radius: a new flat of length {self.length!r} m is a chord, on a wheel of radius "
                                  f"above {0.5 * self.length!r} m, got {radius!r}")
-            return radius - math.sqrt(radius**2 - 0.25 * self.length**2)
+            return self._chord_depth(radius)
         return self.length**2 / (16.0 * radius)
+
+    def _chord_depth(self, radius: float) -> float:
+        """The depth of a chord of ``length`` on a circle of ``radius`` (m): a new flat's."""
+        return radius - math.sqrt(radius**2 - 0.25 * self.length**2)
 
     def _check_on(self, radius: float) -> None:
         circumference = 2 * math.pi * radius
@@ -145,7 +149,7 @@ class WheelFlat(WheelDefect):
             raise InputError(f"position is an arc length on the tread, in [0, {circumference!r}) m for this wheel's "
                              f"circumference, got {self.position!r}")
         if self.shape == "new" and self.depth is not None:
-            chord = radius - math.sqrt(radius**2 - 0.25 * self.length**2)
+            chord = self._chord_depth(radius)
             if not math.isclose(self.depth, chord, rel_tol=1e-3):
                 raise InputError(f"depth of a new flat follows from its length: {chord!r} m for length="
                                  f"{self.length!r} m on a wheel of radius {radius!r} m, got {self.depth!r}; a flat of "
