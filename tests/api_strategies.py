@@ -544,7 +544,8 @@ add("WavenumberSettings", lambda **kw: st.WavenumberSettings(**kw),
     lambda: {"beta_max": 78.54, "dbeta": 0.0157, "j_max": 20, "dx": 0.04},
     lambda w, a: [finite(n, getattr(w, n)) for n in ("beta_max", "dbeta", "j_max", "dx")])
 add("track_decay_rate", lambda **kw: st.track_decay_rate(**kw),
-    lambda: {"track": FX.slab, "band": (100.0, 400.0), "frf": "accelerance", "df": 20.0, "x": 0.0},
+    lambda: {"track": FX.slab, "band": (100.0, 400.0), "frf": "accelerance", "df": 20.0, "x": 0.0,
+             "bays": (0.0, 0.5, 1.0, 2.0, 4.0)},
     lambda r, a: finite("decay rate", r.decay_rate), weight=0.5)
 record("TrackDecayRate", lambda: FX.decay, then=lambda r: _frame_ok(r.table()))
 record("CentralResponse", lambda: st.central_response(FX.slab, F3))
@@ -906,6 +907,7 @@ HUGE: dict[str, tuple[str, str, Callable[[], Any]]] = {
     "wavenumber j_max 1e9": ("semi_infinite_receptance[wavenumber]", "j_max", lambda: 10**9),
     "weld 1e9 m long": ("DippedWeld", "length", lambda: 1e9),
     "decay x 1e9 m": ("track_decay_rate", "x", lambda: 1e9),
+    "decay grid to 1e9 bays": ("track_decay_rate", "bays", lambda: np.arange(0.0, 1e9, 1e3)),
     "far change": ("InfiniteTrack", "changes", lambda: {10**8: {"kv": 1e8}}),
     "1e6 response points": ("InfiniteTrack.receptance", "x", lambda: np.zeros(10**6)),
 }

@@ -81,6 +81,35 @@ def test_the_standard_s_checks_and_the_frf_kinds():
     assert np.isnan(changed.wave_attenuation).all()
 
 
+def test_a_longer_grid_adds_the_tail_the_standard_s_grid_leaves_out():
+    """The soft-pad slab track near 800 Hz: on 66 bays its far point is not 10 dB down and the
+    rate reads high; on 300 bays the band is valid and lower. The shared positions hold the same
+    levels, and the standard's grid given by hand is the default."""
+    slab = st.slab_track()
+    standard = st.track_decay_rate(slab, band=(800, 800), df=5.0)
+    np.testing.assert_array_equal(st.track_decay_rate(slab, band=(800, 800), df=5.0, bays=EN15461_BAYS).decay_rate,
+                                  standard.decay_rate)
+    grid = np.concatenate((EN15461_BAYS, np.arange(72.0, 301.0, 6.0)))
+    long = st.track_decay_rate(slab, band=(800, 800), df=5.0, bays=grid)
+    assert not standard.valid[0] and long.valid[0] and long.far_point_drop[0] > 30
+    assert 0.20 < long.decay_rate[0] < 0.24 < 0.25 < standard.decay_rate[0]
+    np.testing.assert_allclose(long.levels[0, :len(EN15461_BAYS)], standard.levels[0], rtol=1e-12)
+    assert long.distances[-1] == pytest.approx(300 * slab.spacing) and long.floor == pytest.approx(4.343 / 195.0)
+
+
+@pytest.mark.parametrize("bays, words", [((0.0,), "2 to 1000"), ((1.0, 2.0), "start at 0"),
+                                         ((0.0, 2.0, 1.0), "increase"), ((0.0, 0.0, 1.0), "increase"),
+                                         ((0.0, np.nan), "finite"),
+                                         ((0.0, 6000.0), "within 5000"), (np.arange(1001.0), "2 to 1000"),
+                                         ([[0.0, 1.0]], "1-D")])
+def test_a_bad_grid_is_refused_by_name(bays, words):
+    with pytest.raises(st.BadInput, match="bays") as caught:
+        st.track_decay_rate(st.slab_track(), band=(800, 800), df=50.0, bays=bays)
+    assert words in str(caught.value)
+    with pytest.raises(TypeError, match="bays"):
+        st.track_decay_rate(st.slab_track(), band=(800, 800), df=50.0, bays="0 1 2")
+
+
 def test_bad_input():
     with pytest.raises(ValueError, match="frf must be one of"):
         st.track_decay_rate(st.slab_track(), frf="velocity")

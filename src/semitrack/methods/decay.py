@@ -36,7 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..base.bands import third_octave_bands
-from ..base.checks import MAX_FREQUENCIES, check_choice, check_positive, check_real, check_work
+from ..base.checks import MAX_FREQUENCIES, as_real_array, brief, check_choice, check_positive, check_real, check_work
 from ..base.deprecation import deprecated_alias, renamed_keywords
 from ..base.errors import InputError, InputTypeError
 from ..base.fields import check_fields
@@ -52,6 +52,9 @@ __all__ = ["EN15461_BAYS", "ISO3095_TDR_LIMIT", "FRF_KINDS", "TrackDecayRate", "
 #: 12, 16, 20, 24, 30, 36, 42, 48, 54 and 66.
 EN15461_BAYS = (0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.25, 2.5, 3.0, 3.5, 4.0, 5.0, 6.0, 7.0, 8.0,
                 10.0, 12.0, 16.0, 20.0, 24.0, 30.0, 36.0, 42.0, 48.0, 54.0, 66.0)
+#: Most hammer positions a grid may hold, and the farthest (bays): a study beyond the standard's
+#: 66 bays, not a hammer every centimetre of a kilometre.
+MAX_GRID_POSITIONS, MAX_GRID_BAYS = 1000, 5000.0
 #: Highest band centre of a decay rate (Hz): EN 15461 stops at 5 kHz, rolling noise near 10 kHz.
 MAX_BAND_CENTRE = 20_000.0
 
@@ -176,6 +179,18 @@ class TrackDecayRate:
                              "suitable": self.suitable, "valid": self.valid})
 
 
+def _grid(bays: ArrayLike) -> np.ndarray:
+    """The hammer's grid in bays, checked: from 0, strictly increasing, bounded."""
+    grid = as_real_array(bays, "bays", ndim=1)
+    if grid.size < 2 or grid.size > MAX_GRID_POSITIONS:
+        raise InputError(f"bays must hold 2 to {MAX_GRID_POSITIONS} positions, got {grid.size}")
+    if grid[0] != 0.0 or np.any(np.diff(grid) <= 0):
+        raise InputError(f"bays must start at 0 (the accelerometer) and increase, got {brief(bays)}")
+    if grid[-1] > MAX_GRID_BAYS:
+        raise InputError(f"bays must end within {MAX_GRID_BAYS:g} bays, got {grid[-1]:g}")
+    return grid
+
+
 def _band_edges(band) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     try:
         lo, hi = (check_positive("band", b) for b in band)
@@ -219,7 +234,8 @@ def bloch_attenuation(track: Track, f: ArrayLike) -> np.ndarray:
 
 @renamed_keywords({"bands": "band", "x_load": "x"})
 def track_decay_rate(track: Track | InfiniteTrack, *, band: tuple[float, float] = (100.0, 5000.0),
-                     frf: str = "accelerance", df: float = 2.0, x: float = 0.0) -> TrackDecayRate:
+                     frf: str = "accelerance", df: float = 2.0, x: float = 0.0,
+                     bays: ArrayLike = EN15461_BAYS) -> TrackDecayRate:
     """The track decay rate of EN 15461 by one-third-octave band, from the exact transfer functions.
 
     Parameters
@@ -237,7 +253,12 @@ def track_decay_rate(track: Track | InfiniteTrack, *, band: tuple[float, float] 
         ``k df`` within its edges (at least one).
     x : float
         Where the accelerometer sits (m from the centre, a mid-span by default; ``x_load=`` until
-        0.3); the hammer's positions are ``x + EN15461_BAYS d``.
+        0.3); the hammer's positions are ``x + bays d``.
+    bays : array_like
+        The hammer's distances from the accelerometer, in support spacings: from 0, increasing, at
+        most 1000 of them and 5000 bays. The standard's 29 (:data:`EN15461_BAYS`, out to 66 bays)
+        by default; a longer grid shows a track that decays too slowly for the standard's (its
+        far-point check fails), and what its rate is there.
 
     Returns
     -------
@@ -261,7 +282,7 @@ def track_decay_rate(track: Track | InfiniteTrack, *, band: tuple[float, float] 
         raise InputError(f"df={df!r} Hz leaves a band without a line: the narrowest band, {lower[0]:.4g}-"
                          f"{upper[0]:.4g} Hz, needs df below {upper[0] - lower[0]:.3g} Hz")
     f = np.concatenate(lines)
-    distances = np.asarray(EN15461_BAYS) * inf.track.spacing
+    distances = _grid(bays) * inf.track.spacing
     h = inf.receptance(f, x, x + distances)[:, :, 0, 0]  # w per F, (n_f, n_distances)
     power = {"receptance": 0, "mobility": 2, "accelerance": 4}[frf]
     squared = np.abs(h) ** 2 * (2 * np.pi * f[:, None]) ** power
