@@ -143,3 +143,56 @@ def test_rolling_over_a_change_at_400_kmh_on_ten_bays_is_the_long_pinned_track()
     table = study.change_rolling_table(chosen, ends, WHEEL, kmh=400.0, start=-1.5, stop=1.5, dt=2e-5)
     assert (table["history, largest difference (% of range)"] < 0.1).all()
     assert (table["largest force (kN)"] > 100).all()
+
+
+def test_a_single_change_of_slope_is_jenkins_own_case(boundaries):
+    """The rail turns up by 2 alpha and climbs straight: Jenkins' closed form within a few per cent of the
+    time domain at 80 and 300 km/h (measured 2.8 % and 2.1 %: the lumped track's fit, no primary suspension)."""
+    from semitrack.paper import imperfect_study as study
+
+    profile = study.slope_change(0.004, run=4.0)
+    np.testing.assert_allclose(profile(np.array([-1.0, 0.0, 1.0, 4.0, 44.0])), [0.0, 0.0, -0.004, -0.016, 0.0],
+                               atol=1e-15)
+    track = st.slab_track(damping="viscous")
+    table = study.slope_change_table(track, boundaries["slab"], WHEEL, 0.004, (80, 300))
+    gap = table["Jenkins against the time domain (%)"]
+    assert np.all((gap > 0.5) & (gap < 4.5)) and not table["lost contact"].any()
+    assert table.loc[300, "P1 (kN)"] > table.loc[80, "P1 (kN)"]  # a kink alone is hit harder the faster it comes
+
+
+def test_the_weld_entry_table_reads_the_runs_it_is_given(boundaries):
+    from semitrack.paper import imperfect_study as study
+
+    track = st.slab_track(damping="viscous")
+    runs = study.weld_runs(track, boundaries["slab"], (200,), WELD, WHEEL, start=-1.0, stop=1.0, pinned_bays=20)
+    single = study.slope_change_table(track, boundaries["slab"], WHEEL, WELD.angle, (200,))
+    row = study.weld_entry_table(runs, WELD, single).loc[200]
+    res = runs[200, "broadband ends"].response
+    ramp = (res.x >= WELD.x - WELD.length / 2) & (res.x <= WELD.x)
+    assert row["least force on the entry ramp (kN)"] == pytest.approx(res.force[ramp].min() / 1e3)
+    assert row["least force on the entry ramp (kN)"] < WHEEL.preload / 1e3  # the entry kink unloads the wheel
+    assert row["P1, the dip (kN)"] == pytest.approx(p1_p2(res, WELD)[0] / 1e3)
+    assert row["P1, its bottom kink alone (kN)"] == single.loc[200, "P1 (kN)"]
+
+
+def test_a_hanging_sleeper_s_neighbours_quasi_statically_are_the_exact_static_track(boundaries):
+    """At 40 km/h the neighbours' largest ballast force over the perfect track's is the static one: from the
+    exact infinite track, the rail's static deflection at the neighbours times the pad and ballast in series
+    (a sleeper at rest passes its pad's force to its ballast), the largest over the wheel's positions."""
+    from semitrack.paper import imperfect_study as study
+
+    track = st.ballasted_track(damping="viscous")
+    table = study.hanging_sleeper_table(track, boundaries["ballasted"], WHEEL, (40,), (1.0,))
+    k_series = track.kv * track.kb / (track.kv + track.kb)
+    neighbours = [(-1 + 0.5) * track.spacing, (1 + 0.5) * track.spacing]
+
+    def largest(inf):
+        w = [inf.receptance([0.01], x, neighbours)[0, :, 0, 0].real.max() for x in np.linspace(-1.5, 1.5, 301)]
+        return k_series * max(w) * WHEEL.preload
+
+    exact = 100 * (largest(st.InfiniteTrack(track, {0: {"kb": 0.0}})) / largest(st.InfiniteTrack(track)) - 1)
+    row = table.loc[(40, 1000.0)]
+    assert 20 < exact < 30 and row["increase over the perfect track (%)"] == pytest.approx(exact, abs=1.0)
+    assert row["hanging sleeper's largest ballast force (kN)"] == 0 and row["on its ballast (ms)"] == 0
+    static_sleeper = largest(st.InfiniteTrack(track)) / track.kb  # its ballast's force over its stiffness
+    assert row["perfect track's sleeper deflection (mm)"] == pytest.approx(1e3 * static_sleeper, rel=0.02)

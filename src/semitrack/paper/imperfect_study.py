@@ -42,7 +42,7 @@ from ..interaction.transfer import contact_transfer
 from ..methods.decay import track_decay_rate
 from ..methods.impact import jenkins_p2, lumped_track
 from ..methods.receptance import point_receptance
-from ..model.irregularity import DippedWeld
+from ..model.irregularity import DippedWeld, RailProfile
 from ..model.roughness import Roughness
 from ..model.tracks import Track
 from ..model.vehicle import Vehicle
@@ -51,7 +51,7 @@ from ..model.wheel import Wheel
 __all__ = ["CASE_BAYS", "imperfect_cases", "imperfect_receptance_table", "floating_slab_table", "jenkins_table",
            "several_wheel_table",
            "reflection_free_bays", "WeldRun", "weld_runs", "p1_p2", "weld_table", "weld_convergence", "gap_runs",
-           "change_rolling_table"]
+           "change_rolling_table", "slope_change", "slope_change_table", "weld_entry_table", "hanging_sleeper_table"]
 
 #: Bays each side of the centre of the short models.
 CASE_BAYS = 10
@@ -309,7 +309,12 @@ def p1_p2(response: ContactResponse, weld: DippedWeld, f_low: float = 200.0) -> 
     -------
     P1, P2 : float
     """
-    t_bottom = float(np.interp(weld.x, response.x, response.t))
+    return _p1_p2_at(response, weld.x, f_low)
+
+
+def _p1_p2_at(response: ContactResponse, x: float, f_low: float = 200.0) -> tuple[float, float]:
+    """P1 and P2 (N) after the wheel passes ``x`` (m), as :func:`p1_p2` defines them."""
+    t_bottom = float(np.interp(x, response.x, response.t))
     after = (response.t >= t_bottom) & (response.t <= t_bottom + 2e-3)
     sos = butter(4, f_low, fs=1.0 / response.dt, output="sos")
     low = sosfiltfilt(sos, response.force)
@@ -348,6 +353,103 @@ def jenkins_table(track: Track, boundary: BroadbandBoundary, wheel: Wheel,
             "P2, time domain (kN)": p1_p2(res, dip)[1] / 1e3, "Jenkins (kN)": jenkins_p2(wheel, angle, v, lumped) / 1e3,
             "lost contact": res.lost_contact}
     return pd.DataFrame.from_dict(rows, orient="index").rename_axis("dip")
+
+
+def slope_change(angle: float, run: float = 4.0) -> RailProfile:
+    """Jenkins' own case: the rail turns upward by ``angle`` (rad) at x = 0 and climbs straight.
+
+    It climbs for ``run`` m (long enough that P2 is over before the rail turns again) and returns
+    to the undisturbed level over the next ``10 run`` m, the returns too far on to matter.
+
+    Parameters
+    ----------
+    angle : float
+        The change of slope 2 alpha (rad), the rail rising after it.
+    run : float
+        The straight climb after the change (m).
+
+    Returns
+    -------
+    RailProfile
+    """
+    return RailProfile([-1.0, 0.0, run, 11.0 * run], [0.0, 0.0, -angle * run, 0.0])
+
+
+def slope_change_table(track: Track, boundary: BroadbandBoundary, wheel: Wheel, angle: float,
+                       speeds: Sequence[float], start: float = -2.0, dt: float = 2e-5) -> pd.DataFrame:
+    """P1 and P2 after a single change of slope (:func:`slope_change`) beside Jenkins' P2, per speed.
+
+    This is the case Jenkins et al.'s formula was derived for: a change of slope once, the rail
+    straight after it, on the 10-bay broadband-ended model.
+
+    Parameters
+    ----------
+    track : Track
+        The track (viscous damping).
+    boundary : BroadbandBoundary
+        Its broadband end.
+    wheel : Wheel
+        The wheel.
+    angle : float
+        The change of slope (rad).
+    speeds : sequence of float
+        Speeds (km/h).
+    start : float
+        Where the wheel starts (m).
+    dt : float
+        Time step (s).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per speed: P1 and P2 of the time domain, Jenkins' P2 (kN), their difference (%),
+        and whether contact was lost.
+    """
+    lumped = lumped_track(track)
+    model = TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name, system=boundary)
+    profile, rows = slope_change(angle), {}
+    for kmh in speeds:
+        v = kmh / 3.6
+        res = wheel_rail_response(model, wheel, profile=profile, x=start, speed=v, dt=dt, duration=(3.0 - start) / v)
+        p1, p2 = _p1_p2_at(res, 0.0)
+        jenkins = jenkins_p2(wheel, angle, v, lumped)
+        rows[kmh] = {"P1 (kN)": p1 / 1e3, "P2, time domain (kN)": p2 / 1e3, "Jenkins (kN)": jenkins / 1e3,
+                     "Jenkins against the time domain (%)": 100 * (jenkins / p2 - 1), "lost contact": res.lost_contact}
+    return pd.DataFrame.from_dict(rows, orient="index").rename_axis("speed (km/h)")
+
+
+def weld_entry_table(runs: Mapping[tuple[float, str], WeldRun], weld: DippedWeld, single: pd.DataFrame,
+                     model: str = "broadband ends") -> pd.DataFrame:
+    """Why a dip's P1 need not grow with speed: what the entry kink did to the wheel before the bottom.
+
+    Parameters
+    ----------
+    runs : mapping
+        :func:`weld_runs`.
+    weld : DippedWeld
+        The weld.
+    single : pandas.DataFrame
+        :func:`slope_change_table` for the weld's angle at the same speeds: the bottom kink alone.
+    model : str
+        Which of the runs' models is read.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per speed: the least force on the entry ramp (kN), the time without contact there
+        (ms), the force as the wheel reaches the bottom (kN), the dip's P1 and the single change's.
+    """
+    rows = {}
+    for kmh in sorted({k for k, _ in runs}):
+        res = runs[kmh, model].response
+        entry, bottom = weld.x - 0.5 * weld.length, weld.x
+        ramp = (res.x >= entry) & (res.x <= bottom)
+        rows[kmh] = {"least force on the entry ramp (kN)": res.force[ramp].min() / 1e3,
+                     "without contact there (ms)": 1e3 * res.dt * np.count_nonzero(res.force[ramp] <= 0.0),
+                     "force at the bottom (kN)": float(np.interp(bottom, res.x, res.force)) / 1e3,
+                     "P1, the dip (kN)": _p1_p2_at(res, bottom)[0] / 1e3,
+                     "P1, its bottom kink alone (kN)": single.loc[kmh, "P1 (kN)"]}
+    return pd.DataFrame.from_dict(rows, orient="index").rename_axis("speed (km/h)")
 
 
 def weld_table(runs: Mapping[tuple[float, str], WeldRun], weld: DippedWeld, track: Track, wheel: Wheel
@@ -512,3 +614,59 @@ def change_rolling_table(cases: Mapping[str, tuple], boundaries: Mapping[str, Br
                       "largest rail-seat force (kN)": runs["long"].track_forces.rail_seat.max() / 1e3,
                       "DOFs broadband / pinned": f"{models['short'].n_dof} / {models['long'].n_dof}"}
     return pd.DataFrame.from_dict(rows, orient="index").rename_axis("case")
+
+
+def hanging_sleeper_table(track: Track, boundary: BroadbandBoundary, wheel: Wheel, speeds: Sequence[float],
+                          gaps: Sequence[float], support: int = 0, start: float = -3.0, stop: float = 3.0,
+                          dt: float = 2e-5, slow_dt: float = 1e-4) -> pd.DataFrame:
+    """What a hanging sleeper puts on its neighbours' ballast, against the perfect track, per speed and gap.
+
+    Parameters
+    ----------
+    track : Track
+        A ballasted track (viscous damping).
+    boundary : BroadbandBoundary
+        Its broadband end.
+    wheel : Wheel
+        The wheel.
+    speeds : sequence of float
+        Speeds (km/h); below 100 km/h the run is quasi-static and steps by ``slow_dt``.
+    gaps : sequence of float
+        The sleeper's gaps (m); one larger than the sleeper ever moves never closes.
+    support : int
+        The hanging sleeper.
+    start, stop : float
+        The wheel's path (m).
+    dt, slow_dt : float
+        Time steps (s) from 100 km/h on and below.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Indexed by (speed, gap in mm): the neighbours' largest ballast force (kN) and its increase
+        over the perfect track's (%), the hanging sleeper's largest ballast force (kN) and time on
+        its ballast (ms), and the perfect track's sleeper deflection (its largest ballast force
+        over ``kb``, mm), the depth a gap must have to stay open.
+    """
+    watch = (support - 1, support, support + 1)
+    perfect = TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name, system=boundary)
+    hanging = TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name, system=boundary, changes={support: {"kb": 0.0}})
+    rows = {}
+    for kmh in speeds:
+        v = kmh / 3.6
+        kw = {"x": start, "speed": v, "dt": dt if kmh >= 100 else slow_dt, "duration": (stop - start) / v,
+              "watch_supports": watch}
+        ref = wheel_rail_response(perfect, wheel, **kw).track_forces.ballast
+        reference = ref[:, [0, 2]].max()
+        for g in gaps:
+            res = wheel_rail_response(hanging, wheel, ballast_gaps={support: g}, **kw)
+            neighbours = res.track_forces.ballast[:, [0, 2]].max()
+            rows[kmh, 1e3 * g] = {"neighbours' largest ballast force (kN)": neighbours / 1e3,
+                                  "increase over the perfect track (%)": 100 * (neighbours / reference - 1),
+                                  "hanging sleeper's largest ballast force (kN)": res.gaps.force.max() / 1e3,
+                                  "on its ballast (ms)": 1e3 * float(res.gaps.contact_time[0]),
+                                  "perfect track's sleeper deflection (mm)": 1e3 * ref[:, 1].max() / track.kb}
+    table = pd.DataFrame.from_dict(rows, orient="index")
+    table.index = pd.MultiIndex.from_tuples(table.index, names=["speed (km/h)", "gap (mm)"])
+    return table
+
