@@ -725,6 +725,14 @@ add("wheel_centre_path", lambda **kw: st.wheel_centre_path(**kw),
     lambda: {"wheel": st.Wheel(defects=[st.WheelFlat(0.06, shape="rounded")]), "x": [-0.02, 0.0, 0.02, 1.0],
              "profile": st.DippedWeld(0.01, 0.4, 0.5)},
     lambda r, a: finite("centre path", r))
+add("contact_semi_length", lambda **kw: st.contact_semi_length(**kw),
+    lambda: {"wheel": st.Wheel(), "E": 2.1e11, "poisson": 0.3}, lambda a, kw: finite("semi-length", a))
+add("contact_filter", lambda **kw: st.contact_filter(**kw),
+    lambda: {"wavelength": [1.0, 0.01, 1e-3], "semi_length": 6e-3},
+    lambda h, a: finite("filter", h), kinds={"wavelength": hostile_array})
+add("contact_filtered", lambda **kw: st.contact_filtered(**kw),
+    lambda: {"roughness": st.corrugation(30.0, 0.01, 1e-6), "wheel": st.Wheel(), "E": 2.1e11, "poisson": 0.3},
+    lambda r, a: finite("amplitudes", r.amplitudes))
 add("Wheel.from_radii", lambda **kw: st.Wheel.from_radii(**kw),
     lambda: {"wheel_radius": 0.46, "rail_radius": 0.3, "E": 2.1e11, "poisson": 0.3, "mass": 600.0},
     lambda w, a: finite("hertz constant", w.hertz_constant))

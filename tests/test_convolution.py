@@ -5,6 +5,8 @@ a small roughness; the 10-bay FE model with broadband ends against it in time; c
 a large roughness, the force never negative.
 """
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -54,5 +56,25 @@ def test_a_large_roughness_loses_contact_and_the_memory_is_long_enough():
     x = np.array([0.0])
     short, long = (rail_impulse_responses(st.InfiniteTrack(TRACK), x, 2e-5, m)[2] for m in (0.05, 0.4))
     assert long < short and long < 1e-3  # what the memory cuts off shrinks as it grows
-    with pytest.warns(RuntimeWarning, match="give a longer memory"):
-        convolution_response(TRACK, st.Wheel(), rough, dt=2e-5, duration=0.01, ramp=0.005, memory=0.05)
+    with pytest.warns(RuntimeWarning, match="give a longer memory"):  # the run outlasts the memory: lags are cut
+        convolution_response(TRACK, st.Wheel(), rough, dt=2e-5, duration=0.08, ramp=0.005, memory=0.05)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a run within the memory uses every lag it has: nothing is cut
+        convolution_response(TRACK, st.Wheel(), rough, dt=2e-5, duration=0.04, ramp=0.005, memory=0.05)
+
+
+def test_the_rail_s_impulse_responses_are_kept_for_their_track():
+    """A second call on the same InfiniteTrack returns the same read-only arrays; another memory or another
+    track computes its own, equal to a fresh computation; runs on equal Tracks share one exact track."""
+    inf = st.InfiniteTrack(TRACK)
+    x = np.array([0.0])
+    first, again = (rail_impulse_responses(inf, x, 2e-5, 0.05) for _ in range(2))
+    assert first[0] is again[0] and not first[0].flags.writeable and not first[1].flags.writeable
+    fresh = rail_impulse_responses(st.InfiniteTrack(TRACK), x, 2e-5, 0.05)
+    assert fresh[0] is not first[0]
+    np.testing.assert_array_equal(fresh[0], first[0])
+    longer = rail_impulse_responses(inf, x, 2e-5, 0.1)
+    assert longer[0].shape[0] == 2 * first[0].shape[0]
+    from semitrack.interaction.infinite_convolution import _periodic
+
+    assert _periodic(TRACK) is _periodic(TRACK.replace(name=TRACK.name))

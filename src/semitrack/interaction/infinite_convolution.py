@@ -27,7 +27,9 @@ over it per wheel pair).
 
 from __future__ import annotations
 
+import functools
 import warnings
+import weakref
 from collections.abc import Sequence
 
 import numpy as np
@@ -51,9 +53,21 @@ __all__ = ["WRAP_TOLERANCE", "rail_impulse_responses", "convolution_response"]
 WRAP_TOLERANCE = 1e-3
 
 
+#: The rail's impulse responses already computed, per exact track while it lives, by contact
+#: points, step and memory: a study of many runs on one track (speeds, defects, wheels that stand
+#: in the same places) transforms its receptance once, not once a run (~1 s each).
+_IMPULSE_CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+#: The most sets of responses kept for one track (the oldest goes first).
+_CACHE_PER_TRACK = 4
+
+
 def rail_impulse_responses(infinite: InfiniteTrack, x: np.ndarray, dt: float, memory: float
                            ) -> tuple[np.ndarray, np.ndarray, float]:
     """The rail's impulse responses between the contact points, and its static receptance.
+
+    Kept for the track object (read-only arrays): a later call with the same points, step and
+    memory on the same ``InfiniteTrack`` returns them without recomputing, so an InfiniteTrack is
+    taken to be unchanged once built (its constructor checks what it holds; nothing alters it).
 
     Parameters
     ----------
@@ -76,6 +90,10 @@ def rail_impulse_responses(infinite: InfiniteTrack, x: np.ndarray, dt: float, me
     wrap : float
         The largest |h| over the memory's second half over the largest |h|: what is left to cut off.
     """
+    key = (np.asarray(x, dtype=float).tobytes(), float(dt), float(memory))
+    held = _IMPULSE_CACHE.setdefault(infinite, {})
+    if key in held:
+        return held[key]
     n = 2 * int(np.ceil(memory / dt))  # twice the memory: the kept first half is free of the wrap-around
     f = np.fft.rfftfreq(n, dt)
     f[0] = 1e-3 * f[1]  # quasi-static: the receptance's limit at 0 Hz
@@ -88,7 +106,13 @@ def rail_impulse_responses(infinite: InfiniteTrack, x: np.ndarray, dt: float, me
     h = np.fft.irfft(H * (np.sinc(f * dt) ** 2)[:, None, None], n=n, axis=0) / dt
     kept = h[: n // 2]  # lags up to the memory (the transform's second half: later lags and the ringing before t = 0)
     tail = np.abs(kept[n // 4:]).max() / np.abs(kept).max()  # what is left over the memory's second half
-    return kept, H[0].real, float(tail)
+    kept, static = np.ascontiguousarray(kept), H[0].real.copy()
+    kept.setflags(write=False)
+    static.setflags(write=False)
+    if len(held) >= _CACHE_PER_TRACK:
+        held.pop(next(iter(held)))
+    held[key] = (kept, static, float(tail))
+    return held[key]
 
 
 @renamed_keywords({"x_contact": "x"})
@@ -112,7 +136,8 @@ def convolution_response(track: Track | InfiniteTrack, wheel: Wheel | Vehicle | 
     dt, duration, ramp : float
         Time step, duration and fade-in (s).
     memory : float
-        How long the rail's impulse responses are kept (s): longer than they take to die away.
+        How long the rail's impulse responses are kept (s): longer than they take to die away, or
+        than the run (a run within the memory uses every lag it has).
     speed : float
         The speed the wheels turn at (m/s), >= 0: the rail passes under them at it, so that their
         defects (:class:`semitrack.WheelFlat`, ...) come round once per revolution and a roughness
@@ -124,7 +149,7 @@ def convolution_response(track: Track | InfiniteTrack, wheel: Wheel | Vehicle | 
     ContactResponse
         As an FE run's (``speed = 0``); ``n_dof`` the vehicle's DOFs.
     """
-    infinite = track if isinstance(track, InfiniteTrack) else InfiniteTrack(track)
+    infinite = track if isinstance(track, InfiniteTrack) else _periodic(track)
     run = check_run(wheel, roughness, x, 0.0, dt, duration, ramp)
     turning = check_nonnegative("speed", speed)
     check_roughness_speed(roughness, turning)
@@ -133,7 +158,7 @@ def convolution_response(track: Track | InfiniteTrack, wheel: Wheel | Vehicle | 
                       "speed= for their defects to come round", RuntimeWarning, stacklevel=3)
     memory = check_positive("memory", memory)
     h, static, wrap = rail_impulse_responses(infinite, run.x0, run.dt, memory)
-    if wrap > WRAP_TOLERANCE:
+    if wrap > WRAP_TOLERANCE and run.t.size > h.shape[0]:  # a run within the memory uses no lag it cut
         warnings.warn(f"memory={memory!r} s keeps the rail's impulse responses while they are still {wrap:.1e} of "
                       "their peak over its second half: the convolution cuts off their tail; give a longer memory",
                       RuntimeWarning, stacklevel=3)  # past the renamed-keywords wrapper, at the caller
@@ -146,6 +171,21 @@ def convolution_response(track: Track | InfiniteTrack, wheel: Wheel | Vehicle | 
                             x=path, track=infinite.track, vehicle=run.vehicle, speed=0.0, ramp=run.ramp,
                             period=None if roughness is None else roughness.period,
                             n_dof=run.vehicle.matrices()[0].shape[0], elapsed=elapsed, infinite=infinite)
+
+
+def _periodic(track: Track) -> InfiniteTrack:
+    """The periodic exact track of ``track``, one object per equal track: runs on the same Track
+    share it, and with it the impulse responses kept for it (a track that cannot be hashed gets
+    its own)."""
+    try:
+        return _periodic_of(track)
+    except TypeError:  # unhashable: a field the dataclass cannot hash
+        return InfiniteTrack(track)
+
+
+@functools.lru_cache(maxsize=4)
+def _periodic_of(track: Track) -> InfiniteTrack:
+    return InfiniteTrack(track)
 
 
 def _loop_arrays(h: np.ndarray, static: np.ndarray, dt: float, rows: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

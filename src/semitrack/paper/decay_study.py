@@ -20,6 +20,7 @@ from numpy.typing import ArrayLike
 
 from ..base.bands import HALF_BAND
 from ..base.checks import as_frequencies
+from ..base.errors import InputError
 from ..methods.decay import EN15461_BAYS, ISO3095_TDR_LIMIT, TrackDecayRate
 from ..methods.infinite import InfiniteTrack
 from ..model.tracks import Track
@@ -88,7 +89,8 @@ def pinned_length_table(rates: Mapping[str, TrackDecayRate], spacings: Mapping[s
     for name, tdr in rates.items():
         keep = (tdr.centres >= above * 10**-HALF_BAND) & tdr.valid  # the band ``above`` names, and up
         if not keep.any():
-            raise ValueError(f"{name}: no band from {above:g} Hz on passes the standard's checks; give a longer grid")
+            raise InputError(f"rates[{name!r}]: no band from {above:g} Hz on passes the standard's checks; give a "
+                             "longer grid (track_decay_rate's bays=)")
         i = int(np.argmin(np.where(keep, tdr.decay_rate, np.inf)))
         length = drop_db / tdr.decay_rate[i]
         rows.append({"track": name, "lowest decay rate (dB/m)": tdr.decay_rate[i], "its band (Hz)": tdr.centres[i],

@@ -10,7 +10,8 @@ Modules: :mod:`~.style` (line styles, figures, axes, legends), :mod:`~.receptanc
 :mod:`~.schematic` (the equivalent systems to scale), :mod:`~.truncation` (truncated FE tracks),
 :mod:`~.boundary` (the broadband boundary), :mod:`~.contact` (the wheel on the rail), :mod:`~.imperfect`
 (wheels over a dipped weld, forces in the track), :mod:`~.moving` (moving Green's functions beside the
-truncated model), :mod:`~.window` (the travelling window beside the model that holds the path).
+truncated model), :mod:`~.window` (the travelling window beside the model that holds the path), :mod:`~.flats`
+(wheel flats: the centre's path, impacts against speed, the contact filter).
 """
 
 from .boundary import (  # noqa: F401
@@ -30,6 +31,7 @@ from .contact import (  # noqa: F401
     rolling_figure,
 )
 from .decay import decay_rate_figure, local_change_figure  # noqa: F401
+from .flats import centre_path_figure, contact_filter_figure, impact_speed_figure  # noqa: F401
 from .imperfect import gap_figure, track_force_figure, weld_force_figure  # noqa: F401
 from .moving import moving_force_figure  # noqa: F401
 from .receptance import (  # noqa: F401
