@@ -316,7 +316,8 @@ def track_force_runs(model: TruncatedTrack, length: float, shape: str, speeds: S
     at : float
         Where the flat's leading end meets the rail (m).
     watch : sequence of int
-        The supports whose rail-seat and ballast forces are recorded.
+        The supports whose rail-seat and ballast forces are recorded; the rail's bending is read
+        where the flat's middle meets the rail.
     **wheel
         Wheel fields for :func:`flat_wheel`.
 
@@ -331,7 +332,7 @@ def track_force_runs(model: TruncatedTrack, length: float, shape: str, speeds: S
     for kmh in speeds:
         v = kmh / 3.6
         runs[kmh] = wheel_rail_response(model, w, x=start, speed=v, dt=DT, duration=_duration(w, v),
-                                        watch_supports=watch)
+                                        watch_supports=watch, bending_at=[at + 0.5 * length])
     return runs
 
 
@@ -350,7 +351,7 @@ def track_force_table(runs: Mapping[float, ContactResponse], reference: Mapping[
     Returns
     -------
     pandas.DataFrame
-        One row per speed (kN).
+        One row per speed (kN; the bending in kN m).
     """
     rows = {}
     for kmh, res in runs.items():
@@ -359,6 +360,8 @@ def track_force_table(runs: Mapping[float, ContactResponse], reference: Mapping[
         row = {"P1 (kN)": p1 / 1e3, "P2 (kN)": p2 / 1e3, "largest rail-seat force (kN)": forces.rail_seat.max() / 1e3}
         if forces.ballast is not None:
             row["largest ballast force (kN)"] = forces.ballast.max() / 1e3
+        if forces.x_bending.size:
+            row["largest bending at the impact (kN m)"] = forces.bending.max() / 1e3
         if reference is not None:
             row["P1, standing wheel on the exact track (kN)"] = flat_p1_p2(reference[kmh])[0] / 1e3
         rows[kmh] = row
