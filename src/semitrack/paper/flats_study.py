@@ -262,6 +262,15 @@ def loss_speed_table(tracks: Mapping[str, InfiniteTrack], flats: Mapping[str, tu
     return pd.DataFrame.from_dict(rows, orient="index").rename_axis("flat")
 
 
+def _against(centre: tuple[float, float], point: tuple[float, float]) -> dict[str, float]:
+    """A row of P1 and P2 (N in, kN out) by the centre path and the point contact, and the point's over it (%)."""
+    row = {}
+    for i, name in enumerate(("P1", "P2")):
+        row |= {f"{name}, centre path (kN)": centre[i] / 1e3, f"{name}, point (kN)": point[i] / 1e3,
+                f"{name}, point against centre path (%)": 100 * (point[i] / centre[i] - 1)}
+    return row
+
+
 def contact_model_table(tracks: Mapping[str, InfiniteTrack], flats: Mapping[str, tuple[float, str]],
                         speeds: Sequence[float], **wheel: float) -> pd.DataFrame:
     """P1 and P2 with the wheel's centre path as input against the tread's profile at a point.
@@ -288,11 +297,7 @@ def contact_model_table(tracks: Mapping[str, InfiniteTrack], flats: Mapping[str,
         for label, (length, shape) in flats.items():
             wheels = {c: flat_wheel(length, shape, contact=c, **wheel) for c in ("centre_path", "point")}
             for kmh in speeds:
-                (c1, c2), (q1, q2) = (flat_p1_p2(flat_run(track, w, kmh)) for w in wheels.values())
-                rows[name, label, kmh] = {"P1, centre path (kN)": c1 / 1e3, "P1, point (kN)": q1 / 1e3,
-                                          "P1, point against centre path (%)": 100 * (q1 / c1 - 1),
-                                          "P2, centre path (kN)": c2 / 1e3, "P2, point (kN)": q2 / 1e3,
-                                          "P2, point against centre path (%)": 100 * (q2 / c2 - 1)}
+                rows[name, label, kmh] = _against(*(flat_p1_p2(flat_run(track, w, kmh)) for w in wheels.values()))
     table = pd.DataFrame.from_dict(rows, orient="index")
     table.index = pd.MultiIndex.from_tuples(table.index, names=["track", "flat", "speed (km/h)"])
     return table
@@ -398,11 +403,7 @@ def weld_contact_table(model: TruncatedTrack, weld: DippedWeld, speeds: Sequence
         peaks = {c: p1_p2(wheel_rail_response(model, Wheel(contact=c, **fields), profile=weld, x=start, speed=v,
                                               dt=DT, duration=(stop - start) / v), weld)
                  for c in ("centre_path", "point")}
-        (c1, c2), (q1, q2) = peaks["centre_path"], peaks["point"]
-        rows[kmh] = {"P1, centre path (kN)": c1 / 1e3, "P1, point (kN)": q1 / 1e3,
-                     "P1, point against centre path (%)": 100 * (q1 / c1 - 1),
-                     "P2, centre path (kN)": c2 / 1e3, "P2, point (kN)": q2 / 1e3,
-                     "P2, point against centre path (%)": 100 * (q2 / c2 - 1)}
+        rows[kmh] = _against(peaks["centre_path"], peaks["point"])
     return pd.DataFrame.from_dict(rows, orient="index").rename_axis("speed (km/h)")
 
 
