@@ -106,7 +106,7 @@ def rail_impulse_responses(infinite: InfiniteTrack, x: np.ndarray, dt: float, me
     h = np.fft.irfft(H * (np.sinc(f * dt) ** 2)[:, None, None], n=n, axis=0) / dt
     kept = h[: n // 2]  # lags up to the memory (the transform's second half: later lags and the ringing before t = 0)
     tail = np.abs(kept[n // 4:]).max() / np.abs(kept).max()  # what is left over the memory's second half
-    kept, static = np.ascontiguousarray(kept), H[0].real.copy()
+    kept, static = kept.copy(), H[0].real.copy()  # a copy: the transform's second half is not kept alive
     kept.setflags(write=False)
     static.setflags(write=False)
     if len(held) >= _CACHE_PER_TRACK:
