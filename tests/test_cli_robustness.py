@@ -294,8 +294,8 @@ def test_spacing_beyond_any_track_is_refused_with_its_line(capsys, tmp_path):
 
 
 def test_a_track_the_fit_cannot_use_is_bad_input(capsys, tmp_path):
-    """E = 1 Pa: the receptance is computed, the fit finds no dip to pin its constraints on."""
-    path = edited(tmp_path, "E", "1")
+    """E = 1 kPa, the lowest a track takes: the receptance is computed, the fit finds no dip to pin itself on."""
+    path = edited(tmp_path, "E", "1000")
     code, out, err = cli(capsys, "receptance", path, *GRID)
     assert code == 0 and np.isfinite(pd.read_csv(io.StringIO(out), comment="#").to_numpy()).all()
     code, _, err = cli(capsys, "fit", path, "--bars", 2, "--band", 3, 300, "-o", tmp_path / "s.json")

@@ -4,6 +4,7 @@ Each case was found by trying the package as a careless user would (a mistyped s
 model); before the limits some of them grew to tens of GB or ran for hours.
 """
 
+import re
 import time
 
 import numpy as np
@@ -12,6 +13,7 @@ import pytest
 import semitrack as st
 from semitrack.base.checks import MAX_FREQUENCIES, check_band
 from semitrack.fe.timedomain import newmark
+from semitrack.methods import transfer
 
 SLAB = st.slab_track()
 
@@ -74,11 +76,21 @@ def test_point_receptance_refuses_positions_it_cannot_resolve(x):
 
 
 @pytest.mark.parametrize("case", [dict(kappa=1e300), dict(E=2e211), dict(A=1e-300), dict(G=1e-300)])
-def test_exact_method_refuses_what_it_cannot_resolve(case):
-    """Accepted but absurd moduli overflow the algebra: a clear ValueError, never a LinAlgError or
-    a silently wrong alpha."""
+def test_a_track_refuses_moduli_that_overflow_the_algebra(case):
+    """Absurd moduli overflowed the exact method's algebra (it refused them there); the track now
+    refuses them where it is made, naming the field and its physical range."""
+    (key, value), = case.items()
+    rule = rf"^{key} must be from .* \(.*around every real track\), got {re.escape(repr(value))}$"
+    with pytest.raises(st.BadInput, match=rule):
+        st.slab_track(**case)
+
+
+def test_exact_method_refuses_what_it_cannot_resolve(monkeypatch):
+    """Inside the track's ranges, a case the doubling cannot resolve: a clear ValueError, never a
+    LinAlgError or a silently wrong alpha."""
+    monkeypatch.setattr(transfer, "_MAX_DOUBLINGS", 1)
     with pytest.raises(ValueError, match=r"the exact method cannot resolve 'slab' at 2 frequencies from 100 Hz"):
-        st.semi_infinite_receptance(st.slab_track(**case), [100.0, 1000.0])
+        st.semi_infinite_receptance(st.slab_track(), [100.0, 1000.0])
 
 
 @pytest.mark.parametrize("spacing", [1000.5, 1e300])

@@ -141,3 +141,90 @@ def test_a_missing_file_is_both_an_oserror_and_a_refusal(tmp_path):
     assert info.value.filename == str(tmp_path / "missing.json")
     with pytest.raises(IsADirectoryError):
         st.load_system_json(tmp_path)
+
+
+# --- the long Hypothesis profile's classes (stop 43): each failed before, a raw error or a wrong name --------
+def _free_slab(**kw):
+    base = dict(m=[10.0, 10.0], L=[0.5, 0.5], c_l=[1.0, 1.0], c_r=[1.0, 1.0], k_phi=[1e5], c_phi=[0.0], f_n=100.0)
+    return st.slab_from_free(**{**base, **kw})
+
+
+def _free_ballasted(**kw):
+    base = dict(m=[20.0], L=[0.4], c_l=[0.0], c_r=[0.0], k_phi=[], c_phi=[], d_l=[0.0], d_r=[0.0],
+                f_n1=117.0, f_n2=465.0, f_anti=243.0)
+    return st.ballasted_from_free(**{**base, **kw})
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    # overflow at huge values: a LinAlgError, NaN or a raw OverflowError later
+    (lambda: st.slab_track(kv=1.7e308), ("kv must be from", "N/m")),
+    (lambda: st.ballasted_track().replace(eta_pad=1e308), ("eta_pad must be from",)),
+    (lambda: st.slab_track(E=5e-324), ("E must be from",)),  # tiny: a ZeroDivisionError
+    (lambda: st.Wheel(primary_damping=1e308), ("primary_damping must be from", "N s/m")),
+    (lambda: st.Wheel(hertz_constant=1e308), ("hertz_constant must be from",)),
+    (lambda: st.Wheel.from_radii(rail_radius=5e-324), ("rail_radius must be from",)),  # named hertz_constant
+    (lambda: st.Wheel.from_radii(E=1e308), ("E must be from",)),
+    (lambda: _free_slab(k_phi=[1e308]), ("k_phi[0] must be from",)),  # an SVD that did not converge
+    (lambda: _free_ballasted(m=[1e308]), ("m[0] must be from",)),  # named k[0]
+    (lambda: _free_ballasted(m=[1e12]), ("m, L, f_n1, f_n2 and f_anti give k[0]",)),
+    (lambda: _free_slab(m=[0.5, 0.5], L=[3e9, 3e9]), ("m, L and f_n give J[0]",)),
+    (lambda: st.paper_consistency_report(f_n=2e153), ("f_n must be at most",)),  # a raw OverflowError
+    (lambda: st.continuous_foundation_receptance(SLAB, [10.0], k_f=-1e308), ("k_f must be at most",)),  # NaN
+    (lambda: st.continuous_foundation_receptance(SLAB, [10.0], k_f=1e7, x=1e308), ("x must be from",)),  # NaN
+    (lambda: st.third_octave_bands(100.0, 1.7e308), ("hi must be from",)),  # an infinite upper edge
+    (lambda: st.Wheel().receptance(1e-308), ("f must be at least 1e-12 Hz",)),  # a complex division by zero
+    (lambda: st.roughness_from_spectrum(20.0).at_speed(5e-324), ("speed must be from",)),  # ZeroDivisionError
+    # sizes that were a MemoryError
+    (lambda: SLAB.cell(10**12), ("supports_per_period must be at most",)),
+    (lambda: st.PeriodicCell.uniform(SLAB, 2**64), ("supports_per_period must be at most",)),
+    (lambda: st.TruncatedTrack(SLAB, 4, f_max=1e12), ("f_max must be from",)),  # 3.6 TiB asked
+])
+def test_values_beyond_the_physics_are_refused_naming_the_parameter(call, words):
+    refused(call, BadInput, *words, cpu=ONE_SECOND)
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    # flags and mappings read by their truth value: "ambiguous truth value"
+    (lambda: st.load_boundary("unread.json", check=np.ones((2, 2))), ("check must be True or False",)),
+    (lambda: st.TruncatedTrack(SLAB, 4, changes=np.ones((2, 2))), ("changes must be a mapping",)),
+    (lambda: _free_slab().is_passive([100.0], tol=10**400), ("tol must be a finite real number",)),
+    # shapes: a broadcast error or an IndexError
+    (lambda: st.InfiniteTrack(SLAB).receptance(np.ones((1, 2, 2)), 0.1, [0.2]), ("f must be", "1-D")),
+    (lambda: st.InfiniteTrack(SLAB).receptance([100.0], 0.1, []), ("x must hold at least one value",)),
+    (lambda: st.FrequencyTable(f=[[50.0], [200.0, 400.0]], values=[1.0, 2.0], quantity="stiffness"), ("f must be",)),
+    (lambda: st.paper_consistency_report(f_n2_candidates=np.ones((2, 2))), ("f_n2_candidates must be a 1-D",)),
+])
+def test_flags_mappings_and_shapes_are_refused_naming_the_parameter(call, words):
+    refused(call, BadInput, *words, cpu=ONE_SECOND)
+
+
+def test_records_hold_their_numbers_as_floats_and_refuse_integers_beyond_them():
+    summary = st.ErrorSummary(median=2**64, max=0.1, per_element={})
+    assert isinstance(summary.median, float) and summary.median == 2.0**64  # was held as an int numpy cannot read
+    refused(lambda: st.ErrorSummary(median=10**400, max=0.1, per_element={}), BadInput, "ErrorSummary.median")
+    kernels = st.moving_green_kernels(SLAB, 20.0, dt=1e-4, memory=0.005, elements_per_bay=4)
+    fields = {f.name: getattr(kernels, f.name) for f in __import__("dataclasses").fields(kernels)}
+    refused(lambda: type(kernels)(**{**fields, "elements_per_bay": 2**64}), BadInput, "elements_per_bay",
+            "64 bits")
+
+
+def test_a_wheel_defect_that_does_not_fit_the_wheel_is_named_as_the_wheels_argument():
+    refused(lambda: st.Wheel(defects=[st.WheelFlat(length=0.5, shape="new")]), BadInput, "defects[0]", "depth")
+
+
+def test_given_kernels_that_do_not_fit_name_what_differs():
+    kernels = st.moving_green_kernels(SLAB, 20.0, dt=1e-4, memory=0.005, elements_per_bay=4)
+    refused(lambda: st.moving_green_response(SLAB, st.Wheel(), speed=0.5, dt=1e-4, duration=0.03, kernels=kernels),
+            BadInput, "speed=0.5", "the kernels'")
+    refused(lambda: st.moving_green_response(SLAB, st.Wheel(), speed=20.0, dt=1e-4, duration=0.03, memory=1e-308,
+                                             elements_per_bay=4), BadInput, "memory")
+
+
+def test_a_contact_a_hair_from_a_node_is_the_nodes():
+    model = st.TruncatedTrack(SLAB, 2, elements_per_bay=4)
+    assert model.local_flexibility(np.array([1e-308, 1e-300]))[0] == 0.0  # was NaN (1 / a^3 overflowed)
+    run = dict(speed=0.0, dt=5e-5, duration=0.03)
+    at_node = st.wheel_rail_response(model, st.Wheel(), x=0.0, **run).force
+    np.testing.assert_allclose(st.wheel_rail_response(model, st.Wheel(), x=[1e-308], **run).force, at_node)
+    refused(lambda: st.wheel_rail_response(model, st.Wheel(), compiled=np.ones((2, 2)), **run), BadInput,
+            "compiled must be True or False")

@@ -9,8 +9,6 @@ The flat API (``st.fit_equivalent``, ``st.TruncatedTrack``, ...) is loaded on fi
 from its first moment, and a name costs its module's import only when it is used.
 """
 
-from importlib import import_module
-
 __version__ = "0.2.0"
 
 #: Every public name: ``{name: (module, attribute in it)}``, in the order of ``__all__``.
@@ -119,7 +117,8 @@ def __getattr__(name: str):
         module, attribute = _EXPORTS[name]
     except KeyError:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}") from None
-    value = getattr(import_module(f".{module}", __name__), attribute)
+    value = getattr(__import__(f"{__name__}.{module}", fromlist=[attribute]), attribute)  # not importlib: its
+    # import (functools, collections) was half of the console script's start, before Ctrl-C is answered
     globals()[name] = value
     return value
 

@@ -6,8 +6,12 @@ it with exit code 130 and one line, as it does later, instead of a traceback; an
 raised from that interrupt (numpy reports a Ctrl-C during its import as a "bad install") too.
 """
 
-import signal
 import sys
+
+try:  # the C module: ``signal`` imports enum, which was a third of the console script's start before this
+    import _signal as signal
+except ImportError:  # not CPython
+    import signal
 
 
 def main() -> int:

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .checks import check_positive, check_work
+from .checks import check_in_range, check_positive, check_work
 from .errors import InputError
 
 __all__ = ["HALF_BAND", "MAX_BANDS", "third_octave_bands"]
@@ -18,6 +18,8 @@ __all__ = ["HALF_BAND", "MAX_BANDS", "third_octave_bands"]
 HALF_BAND = 0.05
 #: Most bands one call returns (a guard against a mistyped range).
 MAX_BANDS = 100_000
+#: The band centres one may ask for (Hz or m): their edges, a factor 10^(1/20) away, stay finite and normal.
+BAND_RANGE = (1e-300, 1e300)
 
 
 def third_octave_bands(lo: float, hi: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -44,6 +46,8 @@ def third_octave_bands(lo: float, hi: float) -> tuple[np.ndarray, np.ndarray, np
     ([50.1, 63.1, 79.4, 100.0], 1.2589)
     """
     lo, hi = check_positive("lo", lo), check_positive("hi", hi)
+    for name, value in (("lo", lo), ("hi", hi)):  # the edges 10^(+-1/20) away stay finite and normal
+        check_in_range(name, value, BAND_RANGE, "Hz or m: the bands' edges must be finite numbers")
     if not lo <= hi:
         raise InputError(f"hi must be >= lo={lo!r}, got {hi!r}")
     n = np.arange(round(10 * np.log10(lo)), round(10 * np.log10(hi)) + 1)

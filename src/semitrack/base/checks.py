@@ -23,7 +23,10 @@ def check_real(name: str, value: object) -> float:
     """Return ``value`` as a float, or raise TypeError if it is not a real number."""
     if not _is_real_number(value):
         raise InputTypeError(f"{name} must be a real number, got {brief(value)} ({type(value).__name__})")
-    return float(value)
+    try:
+        return float(value)
+    except OverflowError:  # an integer beyond the largest float (1.8e308)
+        raise InputError(f"{name} must be a finite real number, got an integer of {len(str(value))} digits") from None
 
 
 def check_positive(name: str, value: object) -> float:
@@ -179,6 +182,10 @@ def check_steps(dt: float, duration: float, names: tuple[str, str] = ("dt", "dur
 #: 10 kHz; the ends' high-frequency limits are checked up to 1e8 Hz), far below where omega^2 m
 #: overflows (1e276 Hz made every linear solve fail).
 MAX_FREQUENCY = 1e9
+#: Lowest frequency any call takes (Hz): far below any track's dynamics (a static limit is read at
+#: 1e-9 Hz in the tests), far above where 1 / (omega^2 m) of a free mass overflows (1e-154 Hz, and a
+#: complex division by zero at 1e-308 Hz).
+MIN_FREQUENCY = 1e-12
 
 
 def as_real_array(value: ArrayLike, name: str, *, finite: bool = True, ndim: int | None = None,
@@ -264,6 +271,9 @@ def as_frequencies(f: ArrayLike, name: str = "f") -> np.ndarray:
         raise InputError(
             f"{name} must be positive and finite (Hz); {int(bad.sum())} value(s) are not, e.g. {first!r}"
         )
+    if arr.min() < MIN_FREQUENCY:
+        raise InputError(f"{name} must be at least {MIN_FREQUENCY:g} Hz, got {arr.min()!r}: below it a free mass's "
+                         "receptance overflows; a static value is the limit at low frequency")
     if arr.max() > MAX_FREQUENCY:
         raise InputError(f"{name} must be at most {MAX_FREQUENCY:g} Hz, got {arr.max()!r}: no track model here "
                          f"holds at such frequencies")

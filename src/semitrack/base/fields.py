@@ -23,8 +23,8 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .checks import brief
-from .errors import InputTypeError
+from .checks import brief, check_real
+from .errors import InputError, InputTypeError
 
 __all__ = ["check_fields"]
 
@@ -105,3 +105,7 @@ def check_fields(record) -> None:
                                  f"({type(value).__name__})")
         if accepts is _is_numbers and not isinstance(value, np.ndarray):  # a list of numbers: held as an array
             object.__setattr__(record, name, np.asarray(value))
+        elif said.startswith(_PLAIN["float"][1]) and value is not None and not isinstance(value, float):
+            object.__setattr__(record, name, check_real(f"{type(record).__name__}.{name}", value))  # held as float
+        elif said.startswith(_PLAIN["int"][1]) and value is not None and not -2**63 <= value < 2**63:
+            raise InputError(f"{type(record).__name__}.{name} must be an integer within 64 bits, got {brief(value)}")

@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 import scipy.io
 
+from ..base.checks import check_flag
 from ..base.errors import InputError, InputTypeError
 from ..base.files import atomic_write, file_suffix
 from ..equivalent.exchange import MATRIX_SUFFIXES, end_conventions, mat_conventions, save_matrix_system
@@ -120,7 +121,7 @@ def boundary_from_dict(data: dict, source: str = "data", check: bool = True) -> 
             if stored.shape != theirs.shape or not np.allclose(stored, theirs, rtol=1e-9, atol=0):
                 raise InputError(f"{source}: state_space[{key!r}] does not match the poles and coefficients")
     passivity = passivity_report(model)
-    if check:
+    if check_flag("check", check):
         check_boundary_physics(model, passivity, source)
     errors = ErrorSummary(median=v["median_error"], max=v["max_error"], per_element={})
     return BroadbandBoundary(rational=model, band=v["band"], errors=errors, passivity=passivity,
@@ -190,7 +191,7 @@ def export_boundary(boundary: BroadbandBoundary, path, format: str | None = None
     -------
     Path
     """
-    b = _check_boundary(boundary)
+    b, mck = _check_boundary(boundary), check_flag("mck", mck)
     key = file_suffix(path, format)
     if key not in MATRIX_SUFFIXES:
         raise InputError(f"format must be one of {', '.join(x[1:] for x in MATRIX_SUFFIXES)} (or a path with that "
@@ -226,4 +227,5 @@ def load_boundary(path, check: bool = True) -> BroadbandBoundary:
     OSError
         If the file cannot be read.
     """
+    check = check_flag("check", check)  # before the file is read
     return boundary_from_dict(read_boundary_file(path), source=str(path), check=check)

@@ -31,7 +31,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from ..base.checks import as_real_array, check_int_at_least, check_work
+from ..base.checks import as_real_array, check_flag, check_int_at_least, check_work
 from ..base.errors import InputError, InputTypeError
 from ..base.threads import serial_blas
 from .contact import HertzContacts
@@ -86,6 +86,7 @@ def convolved_loop(compiled: bool | None, one_contact: bool = False):
         The loop, with :func:`~semitrack.dynamics.convolved.convolved_steps`'s arguments.
     """
     python = one_contact_steps if one_contact else convolved_steps
+    compiled = None if compiled is None else check_flag("compiled", compiled)
     if compiled is False:
         return python
     if compiled is None and not compiled_available():
@@ -417,6 +418,7 @@ def compiled_contacts_hold(factor, contacts: HertzContacts | None) -> bool:
 
 
 def _choose(compiled: bool | None, arrays: StepArrays) -> bool:
+    compiled = None if compiled is None else check_flag("compiled", compiled)
     cholesky = isinstance(arrays.factor, BandCholesky)
     holds = cholesky and compiled_contacts_hold(arrays.factor, arrays.contacts)
     if compiled is None:

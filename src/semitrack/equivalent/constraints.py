@@ -32,7 +32,7 @@ from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies, check_positive
 from ..base.errors import InputError, InputTypeError
-from .systems import BallastedEquivalent, EquivalentSystem, SlabEquivalent, parameter_array
+from .systems import PARAMETER_RANGE, BallastedEquivalent, EquivalentSystem, SlabEquivalent, parameter_array
 
 __all__ = [
     "slab_constraints",
@@ -99,7 +99,7 @@ def slab_constraints(m: ArrayLike, L: ArrayLike, f_n: float) -> dict[str, np.nda
     L = parameter_array("L", L, positive=True)
     _same_length(m=m, L=L)
     f_n = check_positive("f_n", f_n)
-    return {"k": slab_spring_relation(m, f_n), "J": inertia_relation(m, L)}
+    return _derived({"k": slab_spring_relation(m, f_n), "J": inertia_relation(m, L)}, "m, L and f_n")
 
 
 def ballasted_constraints(m: ArrayLike, L: ArrayLike, f_n1: float, f_n2: float, f_anti: float) -> dict[str, np.ndarray]:
@@ -132,7 +132,20 @@ def ballasted_constraints(m: ArrayLike, L: ArrayLike, f_n1: float, f_n2: float, 
         )
     k = upper_spring_relation(m, f_n1, f_n2, f_anti)  # > 0 because f_n2 > f_anti
     s = lower_spring_relation(k, f_n1, f_n2, f_anti)
-    return {"k": k, "J": inertia_relation(m, L), "s": s, "mu": support_mass_relation(k, s, f_anti)}
+    return _derived({"k": k, "J": inertia_relation(m, L), "s": s, "mu": support_mass_relation(k, s, f_anti)},
+                    "m, L, f_n1, f_n2 and f_anti")
+
+
+def _derived(values: dict[str, np.ndarray], inputs: str) -> dict[str, np.ndarray]:
+    """The derived parameters, refused (naming the ``inputs`` that gave them) where a system could not hold them."""
+    lo, hi = PARAMETER_RANGE
+    for name, arr in values.items():
+        bad = np.flatnonzero(~(np.isfinite(arr) & ((arr == 0) | ((np.abs(arr) >= lo) & (np.abs(arr) <= hi)))))
+        if bad.size:
+            i = int(bad[0])
+            raise InputError(f"{inputs} give {name}[{i}] = {float(arr[i])!r}, outside {lo:g} to {hi:g} (SI units: "
+                             "beyond, the assembled matrices over- or underflow)")
+    return values
 
 
 def _frequency(name: str, value: object) -> float:

@@ -22,7 +22,7 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import as_frequencies, as_real_array
+from ..base.checks import as_frequencies, as_real_array, check_nonnegative
 from ..base.errors import InputError, InputTypeError
 from .assembly import IllConditionedError, dynamic_stiffness, end_loads, scaled_solve
 
@@ -285,8 +285,7 @@ class MechanicalSystem:
         PassivityReport
             Truthy when passive.
         """
-        if not (isinstance(tol, (int, float)) and np.isfinite(tol) and tol >= 0):
-            raise InputError(f"tol must be non-negative and finite, got {tol!r}")
+        tol = check_nonnegative("tol", tol)
         f_arr = self._frequencies(f)
         M, C, K = self._mck
         eM, eC, eK = (_relative_min_eig(X) for X in (M, C, K))

@@ -63,6 +63,12 @@ PARAMETER_UNITS: dict[str, str] = {
 }
 
 
+#: The magnitudes a bar's parameter may have (SI units, zero aside): far around every fitted system
+#: (masses of 1-1e3 kg, stiffnesses of 1e5-1e10 N/m, dampers of 1e2-1e6 N s/m); at 1e308 the
+#: assembled matrices' eigen-solves failed, and m omega^2 overflowed into the derived springs.
+PARAMETER_RANGE = (1e-12, 1e18)
+
+
 def parameter_array(name: str, value: ArrayLike, *, positive: bool = False) -> np.ndarray:
     """One per-bar (or per-hinge) parameter as a checked, read-only 1-D float array.
 
@@ -104,6 +110,9 @@ def parameter_array(name: str, value: ArrayLike, *, positive: bool = False) -> n
         ok = np.isfinite(v) and (v > 0 if positive else v >= 0)
         if not ok:
             raise InputError(f"{name}[{i}] must be {rule}, got {float(v)!r}")
+        if not PARAMETER_RANGE[0] <= abs(v) <= PARAMETER_RANGE[1] and v != 0:
+            raise InputError(f"{name}[{i}] must be from {PARAMETER_RANGE[0]:g} to {PARAMETER_RANGE[1]:g} (SI units: "
+                             f"beyond, the assembled matrices over- or underflow), got {float(v)!r}")
     arr.setflags(write=False)
     return arr
 

@@ -186,6 +186,10 @@ def timoshenko_curvature_weights(xi: ArrayLike, length: ArrayLike, phi: ArrayLik
                      -6 * mu / l**2 * (2 * xi - 1), mu / l * (6 * xi - 2 + phi)], axis=-1)
 
 
+#: Relative positions in an element this close to a node are the node (:func:`point_flexibility`).
+_AT_NODE = 1e-9
+
+
 def point_flexibility(EI: ArrayLike, kAG: ArrayLike, length: ArrayLike, xi: ArrayLike) -> np.ndarray:
     """The element's own deflection under a unit force at ``xi``, its nodes held (m/N): what the mesh misses.
 
@@ -223,7 +227,9 @@ def point_flexibility(EI: ArrayLike, kAG: ArrayLike, length: ArrayLike, xi: Arra
     True
     """
     EI, kAG, l, xi = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (EI, kAG, length, xi)))
-    inside = (xi > 0) & (xi < 1)
+    # Within 1e-9 of a node the flexibility is below 1e-19 m/N (shear: a / kAG), and its terms
+    # ~1/a^3 overflow into NaN as a -> 0: there it is the node's 0.
+    inside = (xi > _AT_NODE) & (xi < 1 - _AT_NODE)
     a = np.where(inside, xi * l, 1.0)
     b = np.where(inside, (1 - xi) * l, 1.0)
     ca, cb = (EI / (s**3 * (1 + 12 * EI / (kAG * s**2))) for s in (a, b))

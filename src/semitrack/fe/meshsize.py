@@ -30,10 +30,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..base.checks import check_positive
+from ..base.checks import check_in_range, check_positive
 
 __all__ = ["PROBE_ELEMENTS", "PROBE_STEP", "MIN_ELEMENTS", "SAFETY", "MESH_TOLERANCE", "MeshProbe", "probe_grid",
-           "elements_for", "valid_frequency"]
+           "elements_for", "valid_frequency", "MAX_MESH_FREQUENCY"]
 
 #: Elements per bay of the probe model (the error measured there scales as 1/n^2 to other n).
 PROBE_ELEMENTS = 24
@@ -45,6 +45,9 @@ MIN_ELEMENTS = 8
 SAFETY = 1.1
 #: The default tolerance of the mesh's own error (max relative error of w/F).
 MESH_TOLERANCE = 0.01
+#: The highest ``f_max`` a default mesh is sized for (Hz): far above the Timoshenko rail's range of
+#: validity (a few kHz), and a probe grid of 10 000 frequencies.
+MAX_MESH_FREQUENCY = 20_000.0
 
 
 def probe_grid(f_max: float) -> np.ndarray:
@@ -60,7 +63,9 @@ def probe_grid(f_max: float) -> np.ndarray:
     ndarray
         Every :data:`PROBE_STEP` Hz from :data:`PROBE_STEP`.
     """
-    top = 500.0 * np.ceil(check_positive("f_max", f_max) / 500.0)
+    f_max = check_in_range("f_max", check_positive("f_max", f_max), (0.0, MAX_MESH_FREQUENCY),
+                           "Hz, the range a default mesh is sized for; give elements_per_bay for more")
+    top = 500.0 * np.ceil(f_max / 500.0)
     return np.arange(PROBE_STEP, top + PROBE_STEP / 2, PROBE_STEP)
 
 

@@ -37,6 +37,7 @@ from numpy.typing import ArrayLike
 from ..base.checks import (
     as_frequencies,
     as_real_array,
+    brief,
     check_choice,
     check_int_at_least,
     check_positive,
@@ -190,6 +191,9 @@ class FETrack:
         foundations = tuple(foundation_of(t) for _, t in given)
         # The exact infinite track with the same changes holds their rules (one place for both); a
         # periodic track's is built only when asked for (the Bloch cell of the moving kernels never does)
+        for name, value in (("changes", changes), ("joints", joints)):  # before their truth value is read
+            if value is not None and not isinstance(value, Mapping):
+                raise InputTypeError(f"{name} must be a mapping {{support: ...}} or None, got {brief(value)}")
         self._periodic = not (changes or right is not None or transition is not None or joints)
         self._states: tuple[StateBlock, ...] | None = None
         self._own_share = None  # the supports' share of the matrices, for with_changes

@@ -130,7 +130,7 @@ def _kernels_for(track, speed, dt, offsets, x, memory, elements_per_bay, f_max, 
     track = _require_periodic(track)
     speed, dt, memory = check_positive("speed", speed), check_positive("dt", dt), check_positive("memory", memory)
     grid = grid_of(track, speed, dt, offsets)
-    steps = check_steps(dt, memory)
+    steps = check_steps(dt, memory, names=("dt", "memory"))
     x = check_real("x", x)
     if not math.isfinite(x):
         raise InputError(f"x must be finite (m), got {x!r}")
@@ -287,16 +287,20 @@ def _check_kernels(kernels: MovingKernels, track: Track, speed: float, dt: float
     if not isinstance(kernels, MovingKernels):
         raise InputTypeError(f"kernels must be MovingKernels (st.moving_green_kernels), got {type(kernels).__name__}")
     grid = grid_of(track, speed, dt, vehicle.offsets)
-    if (grid.positions, grid.dt, grid.offsets) != (kernels.grid.positions, kernels.grid.dt,
-                                                   kernels.grid.offsets[:len(grid.offsets)]):
-        raise InputError(f"the kernels are for {kernels.grid.positions} steps per spacing at dt={kernels.grid.dt!r} s "
-                         f"and offsets {kernels.grid.offsets} steps, this run needs {grid.positions}, {dt!r} s and "
-                         f"{grid.offsets}")
+    theirs = kernels.grid
+    differ = [text for same, text in (
+        (grid.dt == theirs.dt, f"dt={dt!r} s (the kernels': {theirs.dt!r} s)"),
+        (grid.positions == theirs.positions, f"speed={speed!r} m/s, {grid.positions} steps per spacing (the kernels': "
+                                             f"{theirs.speed:.6g} m/s, {theirs.positions})"),
+        (grid.offsets == theirs.offsets[:len(grid.offsets)], f"the vehicle's offsets {grid.offsets} steps (the "
+                                                              f"kernels': {theirs.offsets})")) if not same]
+    if differ:
+        raise InputError("kernels do not fit this run: " + "; ".join(differ))
     if kernels.key.get("track") != track_key(track):
         raise InputError("the kernels were computed for another track")
     memory, ne, f_max, f_ref = (settings[name] for name in ("memory", "elements_per_bay", "f_max", "f_ref"))
     differ = []
-    if memory is not None and check_steps(dt, check_positive("memory", memory)) != kernels.memory:
+    if memory is not None and check_steps(dt, check_positive("memory", memory), ("dt", "memory")) != kernels.memory:
         differ.append(f"memory={memory!r} s (the kernels': {kernels.memory * dt:.6g} s)")
     if (ne is not None or f_max is not None) and elements_per_bay_of([track], ne, f_max) != kernels.elements_per_bay:
         differ.append(f"elements_per_bay={ne!r}, f_max={f_max!r} (the kernels': {kernels.elements_per_bay} elements)")

@@ -19,8 +19,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import as_frequencies, check_nonnegative
-from ..base.errors import InputTypeError
+from ..base.checks import as_frequencies, check_in_range, check_nonnegative
+from ..base.errors import InputError, InputTypeError
 from ..model.curves import FrequencyCurve, as_curve, check_passive
 from ..model.tracks import Track, require_track
 
@@ -54,7 +54,7 @@ def continuous_foundation_receptance(track: Track, f: ArrayLike, k_f: complex, k
     track = require_track(track)
     f = as_frequencies(f)
     k_f, k_r = (_stiffness_per_length(name, value, f.ravel()) for name, value in (("k_f", k_f), ("k_r", k_r)))
-    check_nonnegative("x", x)
+    check_in_range("x", check_nonnegative("x", x), (0.0, MAX_DISTANCE), "m, as far as the exact track's solves reach")
     omega2 = (2 * np.pi * f.ravel()) ** 2
     ei, kag = track.rail_moduli(f.ravel())
     a0 = k_f - omega2 * track.mass_per_length
@@ -76,13 +76,25 @@ def continuous_foundation_receptance(track: Track, f: ArrayLike, k_f: complex, k
     return out.reshape(f.shape + (2, 2))
 
 
+#: The farthest response point (m), as :class:`~semitrack.InfiniteTrack` takes them; at 1e308 m the
+#: decaying waves' exponentials gave 0 * inf = NaN.
+MAX_DISTANCE = 1e6
+#: The largest foundation stiffness per length taken (N/m^2, N/rad): some 1e7 times a real track's
+#: (1e8 N/m over 0.6 m); at 1e308 the fourth root of the characteristic equation overflowed into NaN.
+MAX_FOUNDATION_STIFFNESS = 1e16
+
+
 def _stiffness_per_length(name: str, value: object, f: np.ndarray) -> np.ndarray:
     """A foundation stiffness at the frequencies ``f``: a number, or a curve evaluated, checked passive."""
     curve = as_curve(name, value, "stiffness")
     if isinstance(curve, FrequencyCurve):
-        return curve(f, name)
-    if isinstance(curve, bool) or not isinstance(curve, (int, float, complex, np.number)):
+        k = curve(f, name)
+    elif isinstance(curve, bool) or not isinstance(curve, (int, float, complex, np.number)):
         raise InputTypeError(f"{name} must be a number, a stiffness curve or a function of f, got {value!r}")
-    k = np.full(f.shape, complex(curve))
-    check_passive(name, "stiffness", f, k, allow_zero=True)  # zero: no foundation in that direction
+    else:
+        k = np.full(f.shape, complex(curve))
+        check_passive(name, "stiffness", f, k, allow_zero=True)  # zero: no foundation in that direction
+    if np.abs(k).max() > MAX_FOUNDATION_STIFFNESS:
+        raise InputError(f"{name} must be at most {MAX_FOUNDATION_STIFFNESS:g} in magnitude (N/m^2 or N/rad): beyond, "
+                         f"the beam's wavenumbers overflow; got {k.ravel()[np.argmax(np.abs(k))]!r}")
     return k

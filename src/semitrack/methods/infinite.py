@@ -284,7 +284,7 @@ class InfiniteTrack:
         """Node positions, ``{node: support index}`` and the cuts."""
         x_left, x_right = self._core(points)
         spanned = (x_right - x_left) / min(self.track.spacing, self.right.spacing if self.right is not None else np.inf)
-        check_work(spanned, MAX_CORE_SUPPORTS, f"the changes, joints, load and response points span {spanned:.3g} "
+        check_work(spanned, MAX_CORE_SUPPORTS, f"x_load, x and the track's changes and joints span {spanned:.3g} "
                    "supports", "bring them closer together (each support between them is a node of the solve)")
         supports = {}
         if self.transition is None:
@@ -366,8 +366,10 @@ class InfiniteTrack:
             ``receptance(f, a, [b])[:, 0] == receptance(f, b, [a])[:, 0].transpose(0, 2, 1)``.
         """
         f = np.atleast_1d(as_frequencies(f))
+        if f.ndim != 1:  # the result's first axis is the frequency
+            raise InputError(f"f must be a number or a 1-D array of frequencies (Hz), got shape {f.shape}")
         x_load = check_real("x_load", x_load)
-        xr = np.atleast_1d(as_real_array(x, "x")).ravel()
+        xr = np.atleast_1d(as_real_array(x, "x", empty=False)).ravel()
         check_work(xr.size, MAX_RESPONSE_POINTS, f"x holds {xr.size} response points", "split them over calls")
         check_work(f.size * xr.size, MAX_RESPONSE_VALUES, f"{f.size} frequencies at {xr.size} points",
                    "split the frequencies or the points over calls")

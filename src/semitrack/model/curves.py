@@ -43,7 +43,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import as_real_array, check_choice, check_positive, check_string
+from ..base.checks import as_real_array, brief, check_choice, check_positive, check_string
 from ..base.deprecation import renamed_keywords
 from ..base.errors import InputError, InputTypeError
 
@@ -439,15 +439,25 @@ def stiffness_values(name: str, value: float | FrequencyCurve, f: np.ndarray, fa
     return value * np.asarray(factor)
 
 
+def _array(name: str, value: object) -> np.ndarray:
+    """A private copy of ``value`` as an array; a ragged or unreadable sequence is refused, naming ``name``."""
+    if isinstance(value, (str, bytes)):
+        raise InputTypeError(f"{name} must be numbers, got {brief(value)}")
+    try:
+        return np.array(value, copy=True)
+    except (TypeError, ValueError):  # a ragged sequence, or objects numpy cannot hold as one array
+        raise InputTypeError(f"{name} must be numbers (one value per frequency), got {brief(value)}") from None
+
+
 def _real_array(name: str, value: object) -> np.ndarray:
-    arr = np.array(value, copy=True)
+    arr = _array(name, value)
     if arr.dtype.kind not in "iuf":
         raise InputTypeError(f"{name} must be real numbers, got {arr.dtype}")
     return arr.astype(float)
 
 
 def _complex_array(name: str, value: object) -> np.ndarray:
-    arr = np.array(value, copy=True)
+    arr = _array(name, value)
     if arr.dtype.kind not in "iufc":
         raise InputTypeError(f"{name} must be numbers, got {arr.dtype}")
     return arr.astype(complex)

@@ -221,7 +221,7 @@ class Roughness:
         Roughness
             Lines at ``f speed / self.speed``, the period ``self.period self.speed / speed``.
         """
-        ratio = check_positive("speed", speed) / self.speed
+        ratio = check_in_range("speed", check_positive("speed", speed), SPEED_RANGE, "m/s, a vehicle's") / self.speed
         return replace(self, frequencies=self.frequencies * ratio, period=self.period / ratio, speed=float(speed))
 
     def sampled(self, dt: float, n: int) -> np.ndarray:

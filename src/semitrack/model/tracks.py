@@ -41,6 +41,7 @@ from ..base.checks import (
     as_frequencies,
     as_real_array,
     check_choice,
+    check_in_range,
     check_int_at_least,
     check_nonnegative,
     check_positive,
@@ -72,6 +73,26 @@ def _check_spacing(key: str, value: object) -> float:
     return spacing
 
 
+#: Each number field's physical range (SI units), wide around every real rail and support (and the
+#: limit cases the tests take: a rail with I = 1e-12 m^4, one 1e6 times stiffer, kphi = 1e20 N m/rad, a
+#: sleeper of 1e-9 kg); beyond them the algebra over- or underflows (kappa = 1e300, E = 2e211, a loss
+#: factor of 1e308 made singular matrices), so they are refused where the track is made.
+FIELD_RANGES: dict[str, tuple[float, float, str]] = {
+    "rho": (1.0, 1e6, "kg/m^3"), "E": (1e3, 1e19, "N/m^2"), "G": (1e3, 1e19, "N/m^2"),
+    "A": (1e-7, 10.0, "m^2"), "I": (1e-13, 10.0, "m^4"), "kappa": (1e-3, 1e3, "-"),
+    "sleeper_mass": (1e-12, 1e8, "kg"), "kb": (1e-3, 1e17, "N/m"), "kv": (1e-3, 1e17, "N/m"),
+    "kphi": (0.0, 1e21, "N m/rad"), **dict.fromkeys(("eta_rail", "eta_pad", "eta_ballast"), (0.0, 10.0, "-")),
+}
+
+
+def _within(rule: Callable) -> Callable:
+    """A number field's rule, then its :data:`FIELD_RANGES` range."""
+    def check(key: str, value: object) -> float:
+        lo, hi, unit = FIELD_RANGES[key]
+        return check_in_range(key, rule(key, value), (lo, hi), f"{unit}, around every real track")
+    return check
+
+
 def _or_a_curve(rule: Callable) -> Callable:
     """A pad stiffness's rule: a number by ``rule``; the type error also names the curves it may be."""
     def check(key: str, value: object) -> float:
@@ -84,11 +105,11 @@ def _or_a_curve(rule: Callable) -> Callable:
 
 
 FIELD_RULES: dict[str, Callable] = {
-    **dict.fromkeys(("rho", "E", "G", "A", "I", "kappa", "sleeper_mass", "kb"), check_positive),
-    "kv": _or_a_curve(check_positive),
-    "kphi": _or_a_curve(check_nonnegative),
+    **dict.fromkeys(("rho", "E", "G", "A", "I", "kappa", "sleeper_mass", "kb"), _within(check_positive)),
+    "kv": _or_a_curve(_within(check_positive)),
+    "kphi": _or_a_curve(_within(check_nonnegative)),
     "spacing": _check_spacing,
-    **dict.fromkeys(("eta_rail", "eta_pad", "eta_ballast"), check_nonnegative),
+    **dict.fromkeys(("eta_rail", "eta_pad", "eta_ballast"), _within(check_nonnegative)),
     "name": check_string,
     "damping": lambda key, value: check_choice(key, value, DAMPING_MODELS),
 }
@@ -666,6 +687,11 @@ def _not_a(name: str, value: object, what: str) -> InputTypeError:
     return InputTypeError(f"{name} must be a semitrack {what} (e.g. st.slab_track()), got {type(value).__name__}")
 
 
+#: Most supports one periodic cell holds: a pattern repeating after 10 000 supports (6 km) is not
+#: periodic in any sense the methods use (1e12 asked for 7 TiB).
+MAX_SUPPORTS_PER_PERIOD = 10_000
+
+
 @dataclass(frozen=True)
 class PeriodicCell:
     """One period of an infinitely long periodic track (paper Sec. 2.1).
@@ -740,6 +766,9 @@ class PeriodicCell:
         """
         track = require_track(track)
         s = check_int_at_least("supports_per_period", supports_per_period, 1)
+        if s > MAX_SUPPORTS_PER_PERIOD:
+            raise InputError(f"supports_per_period must be at most {MAX_SUPPORTS_PER_PERIOD} (a period's transfer "
+                             f"is a product over its supports), got {s}")
         return cls(track, s * track.spacing, tuple(track.spacing * np.arange(s)))
 
     @property

@@ -28,7 +28,7 @@ from ..base.checks import (
     check_nonnegative,
     check_positive,
 )
-from ..base.errors import InputError, InputTypeError
+from ..base.errors import BadInput, InputError, InputTypeError
 from .wheel_defects import RADIUS_RANGE, WheelDefect
 
 #: Largest approach of wheel and rail read by the contact law (m): a real one is below 0.1 mm.
@@ -42,6 +42,16 @@ DEFAULT_HERTZ_CONSTANT = 9.3e10
 #: the wheel's omega^2 m and a time step's M / dt^2 over- or underflow beside the contact stiffness
 #: (at 1e300 or 1e-300 kg the contact forces were NaN).
 MASS_RANGE = (1e-9, 1e15)
+#: The other fields' physical ranges, each far around the real values (a preload of 50-150 kN, a
+#: Hertz constant of 0.5-2e11 N/m^1.5, a primary suspension of about 1e6 N/m and 1e4 N s/m); beyond
+#: them the contact's and the suspension's terms over- or underflow beside each other.
+PRELOAD_RANGE = (1e-3, 1e9)  # N
+HERTZ_RANGE = (1e5, 1e24)  # N/m^1.5 (the stiff-contact limit case takes 1e23)
+PRIMARY_STIFFNESS_RANGE = (0.0, 1e13)  # N/m
+PRIMARY_DAMPING_RANGE = (0.0, 1e10)  # N s/m
+#: The radius of the rail head and the Young's modulus :meth:`Wheel.from_radii` takes (m, N/m^2).
+RAIL_RADIUS_RANGE = (1e-3, 1e3)
+MODULUS_RANGE = (1e6, 1e13)
 #: How the wheel meets the rail's profile and its own defects: its centre's path over them
 #: (:func:`semitrack.wheel_centre_path`, the wheel's radius in the contact) or the profile under
 #: its centre (a point contact, the model before 0.3).
@@ -103,8 +113,12 @@ class Wheel:
             object.__setattr__(self, key, check_positive(key, getattr(self, key)))
         check_in_range("mass", self.mass, MASS_RANGE, "kg, from the massless limit to the immovable one; "
                        "beyond, omega^2 m over- or underflows beside the contact stiffness")
-        for key in ("primary_stiffness", "primary_damping"):
-            object.__setattr__(self, key, check_nonnegative(key, getattr(self, key)))
+        check_in_range("preload", self.preload, PRELOAD_RANGE, "N, around a wheel's static load")
+        check_in_range("hertz_constant", self.hertz_constant, HERTZ_RANGE, "N/m^1.5, around a steel contact's")
+        for key, bounds, unit in (("primary_stiffness", PRIMARY_STIFFNESS_RANGE, "N/m"),
+                                  ("primary_damping", PRIMARY_DAMPING_RANGE, "N s/m")):
+            value = check_nonnegative(key, getattr(self, key))
+            object.__setattr__(self, key, check_in_range(key, value, bounds, f"{unit}, around a primary suspension's"))
         radius = check_in_range("radius", check_positive("radius", self.radius), RADIUS_RANGE,
                                 "m, a wheel's rolling radius")
         object.__setattr__(self, "radius", radius)
@@ -141,6 +155,8 @@ class Wheel:
         r_w, r_r, e = (check_positive(k, v) for k, v in
                        (("wheel_radius", wheel_radius), ("rail_radius", rail_radius), ("E", E)))
         check_in_range("wheel_radius", r_w, RADIUS_RANGE, "m, a wheel's rolling radius")
+        check_in_range("rail_radius", r_r, RAIL_RADIUS_RANGE, "m, a rail head's transverse radius")
+        check_in_range("E", e, MODULUS_RANGE, "N/m^2, a solid's Young's modulus")
         nu = check_nonnegative("poisson", poisson)
         if not nu < 0.5:
             raise InputError(f"poisson must be in [0, 0.5), got {poisson!r}")
@@ -253,5 +269,8 @@ def _checked_defects(defects: object, radius: float) -> tuple[WheelDefect, ...]:
     for k, defect in enumerate(defects):
         if not isinstance(defect, WheelDefect):
             raise InputTypeError(f"defects[{k}] must be a WheelFlat or a WheelPolygon, got {type(defect).__name__}")
-        defect._check_on(radius)
+        try:
+            defect._check_on(radius)
+        except BadInput as err:  # the defect's own rule, said as the wheel's argument
+            raise type(err)(f"defects[{k}] on a wheel of radius {radius:g} m: {err}") from None
     return tuple(defects)

@@ -16,7 +16,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..base.checks import as_frequencies, check_positive
+from ..base.checks import as_frequencies, as_real_array, check_positive
 from ..base.paper_values import (
     CONSTRAINT_FREQUENCIES,
     TABLE4,
@@ -104,6 +104,7 @@ def table4_consistency(f_n: float = PAPER_FREQUENCIES["f_n_slab"]) -> dict[str, 
     ``sqrt(2k/m)`` and ``sqrt(k L^2 / (2J))`` (bounce and pitch of the bar on its springs, Hz),
     and the cell frequencies by eigenvalue solution (Hz). Massless bars give NaN frequencies.
     """
+    f_n = float(as_frequencies(check_positive("f_n", f_n), "f_n"))
     p = {k: np.asarray(v, float) for k, v in TABLE4.items()}
     u = TABLE4_HALF_ULP
     m, J, L, k = p["m"], p["J"], p["L"], p["k"]
@@ -149,6 +150,9 @@ def table7_consistency(f_n1: float = PAPER_FREQUENCIES["f_n1"],
     * ``s_from_mu``: ``mu omega_anti^2 - k``, the ``s`` that makes Eq. (23) exact,
     * ``cell_f1..cell_f4``: natural frequencies of each printed unit cell (Hz).
     """
+    f_n1, f_anti = (float(as_frequencies(check_positive(k, v), k)) for k, v in (("f_n1", f_n1), ("f_anti", f_anti)))
+    f_n2_candidates = as_frequencies(as_real_array(f_n2_candidates, "f_n2_candidates", ndim=1, empty=False),
+                                     "f_n2_candidates").tolist()
     p = {k: np.asarray(v, float) for k, v in TABLE7.items()}
     u = TABLE7_HALF_ULP
     m, J, L, k, s, mu = p["m"], p["J"], p["L"], p["k"], p["s"], p["mu"]
@@ -207,7 +211,5 @@ def paper_consistency_report(f_n: float = PAPER_FREQUENCIES["f_n_slab"],
     f_anti : float
         Table 7: the anti-resonance omega_anti / 2 pi of Eq. (23) (Hz).
     """
-    f_n, f_n1, f_anti = (check_positive(name, v) for name, v in (("f_n", f_n), ("f_n1", f_n1), ("f_anti", f_anti)))
-    f_n2_candidates = tuple(np.atleast_1d(as_frequencies(f_n2_candidates, "f_n2_candidates")))
     return {"table4": table4_consistency(f_n),
             "table7": table7_consistency(f_n1=f_n1, f_n2_candidates=f_n2_candidates, f_anti=f_anti)}
