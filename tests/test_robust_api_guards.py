@@ -228,3 +228,10 @@ def test_a_contact_a_hair_from_a_node_is_the_nodes():
     np.testing.assert_allclose(st.wheel_rail_response(model, st.Wheel(), x=[1e-308], **run).force, at_node)
     refused(lambda: st.wheel_rail_response(model, st.Wheel(), compiled=np.ones((2, 2)), **run), BadInput,
             "compiled must be True or False")
+
+
+def test_the_convolution_refuses_a_memory_it_cannot_hold_before_allocating_it():
+    """memory / dt = 1e9 lags: the frequency grid alone was 8 GB, the receptances 24 GB (the long profile's
+    worker was killed by the kernel's OOM killer)."""
+    refused(lambda: st.convolution_response(SLAB, st.Wheel(), x=0.0, dt=1e-5, duration=0.03, memory=1e4),
+            InputError, "memory=10000.0", "frequencies", cpu=ONE_SECOND)

@@ -34,7 +34,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..base.checks import check_nonnegative, check_positive
+from ..base.checks import MAX_FREQUENCIES, check_nonnegative, check_positive, check_work
 from ..base.deprecation import renamed_keywords
 from ..methods.infinite import InfiniteTrack
 from ..model.roughness import Roughness
@@ -94,7 +94,10 @@ def rail_impulse_responses(infinite: InfiniteTrack, x: np.ndarray, dt: float, me
     held = _IMPULSE_CACHE.setdefault(infinite, {})
     if key in held:
         return held[key]
-    n = 2 * int(np.ceil(memory / dt))  # twice the memory: the kept first half is free of the wrap-around
+    lags = memory / dt  # guarded before the grid is allocated (1e9 lags asked for 24 GB here)
+    check_work(lags + 1, MAX_FREQUENCIES, f"memory={memory!r} s at dt={dt!r} s takes {lags + 1:.3g} frequencies",
+               "give a shorter memory or a larger dt")
+    n = 2 * int(np.ceil(lags))  # twice the memory: the kept first half is free of the wrap-around
     f = np.fft.rfftfreq(n, dt)
     f[0] = 1e-3 * f[1]  # quasi-static: the receptance's limit at 0 Hz
     k = x.size
