@@ -86,7 +86,7 @@ def convolved_loop(compiled: bool | None, one_contact: bool = False):
         The loop, with :func:`~semitrack.dynamics.convolved.convolved_steps`'s arguments.
     """
     python = one_contact_steps if one_contact else convolved_steps
-    compiled = None if compiled is None else check_flag("compiled", compiled)
+    compiled = _compiled_choice(compiled)
     if compiled is False:
         return python
     if compiled is None and not compiled_available():
@@ -417,8 +417,13 @@ def compiled_contacts_hold(factor, contacts: HertzContacts | None) -> bool:
     return bool(np.all(apart[touched] & after[touched]))
 
 
+def _compiled_choice(compiled: object) -> bool | None:
+    """``compiled=`` as given: None (where it can run) or a flag, never read by its truth value."""
+    return None if compiled is None else check_flag("compiled", compiled)
+
+
 def _choose(compiled: bool | None, arrays: StepArrays) -> bool:
-    compiled = None if compiled is None else check_flag("compiled", compiled)
+    compiled = _compiled_choice(compiled)
     cholesky = isinstance(arrays.factor, BandCholesky)
     holds = cholesky and compiled_contacts_hold(arrays.factor, arrays.contacts)
     if compiled is None:

@@ -32,7 +32,14 @@ from numpy.typing import ArrayLike
 
 from ..base.checks import as_frequencies, check_positive
 from ..base.errors import InputError, InputTypeError
-from .systems import PARAMETER_RANGE, BallastedEquivalent, EquivalentSystem, SlabEquivalent, parameter_array
+from .systems import (
+    PARAMETER_RANGE,
+    BallastedEquivalent,
+    EquivalentSystem,
+    SlabEquivalent,
+    parameter_array,
+    within_parameter_range,
+)
 
 __all__ = [
     "slab_constraints",
@@ -140,7 +147,7 @@ def _derived(values: dict[str, np.ndarray], inputs: str) -> dict[str, np.ndarray
     """The derived parameters, refused (naming the ``inputs`` that gave them) where a system could not hold them."""
     lo, hi = PARAMETER_RANGE
     for name, arr in values.items():
-        bad = np.flatnonzero(~(np.isfinite(arr) & ((arr == 0) | ((np.abs(arr) >= lo) & (np.abs(arr) <= hi)))))
+        bad = np.flatnonzero(~within_parameter_range(arr))
         if bad.size:
             i = int(bad[0])
             raise InputError(f"{inputs} give {name}[{i}] = {float(arr[i])!r}, outside {lo:g} to {hi:g} (SI units: "

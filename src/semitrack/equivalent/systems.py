@@ -69,6 +69,12 @@ PARAMETER_UNITS: dict[str, str] = {
 PARAMETER_RANGE = (1e-12, 1e18)
 
 
+def within_parameter_range(value: ArrayLike) -> np.ndarray:
+    """Where ``value`` is finite and zero or of a magnitude within :data:`PARAMETER_RANGE` (elementwise)."""
+    a = np.abs(np.asarray(value, dtype=float))
+    return np.isfinite(a) & ((a == 0) | ((a >= PARAMETER_RANGE[0]) & (a <= PARAMETER_RANGE[1])))
+
+
 def parameter_array(name: str, value: ArrayLike, *, positive: bool = False) -> np.ndarray:
     """One per-bar (or per-hinge) parameter as a checked, read-only 1-D float array.
 
@@ -110,7 +116,7 @@ def parameter_array(name: str, value: ArrayLike, *, positive: bool = False) -> n
         ok = np.isfinite(v) and (v > 0 if positive else v >= 0)
         if not ok:
             raise InputError(f"{name}[{i}] must be {rule}, got {float(v)!r}")
-        if not PARAMETER_RANGE[0] <= abs(v) <= PARAMETER_RANGE[1] and v != 0:
+        if not within_parameter_range(v):
             raise InputError(f"{name}[{i}] must be from {PARAMETER_RANGE[0]:g} to {PARAMETER_RANGE[1]:g} (SI units: "
                              f"beyond, the assembled matrices over- or underflow), got {float(v)!r}")
     arr.setflags(write=False)
