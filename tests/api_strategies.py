@@ -253,6 +253,10 @@ class Fixtures:
         return _written(".csv", b"f,re,im\n1,5.44e7,5.44e6\n1000,5.44e7,5.44e6\n5000,5.44e7,5.44e6\n")
 
     @functools.cached_property
+    def random_track(self) -> st.RandomTrack:
+        return st.random_track(self.ballasted, -4, 4, cov={"kv": 0.2}, voids={"fraction": 0.25}, failed=0.15, seed=3)
+
+    @functools.cached_property
     def time_system(self):
         return st.FETrack(self.viscous, 1, 1, "boundary", "boundary", system=self.boundary,
                           elements_per_bay=4).time_domain_system()
@@ -840,6 +844,45 @@ add("continue_run", _continue_run, _state, lambda r, a: (finite("u", r.u), finit
     kinds={n: hostile_array for n in ("u", "v", "a", "x")}, words={"stepper": ("dt",)})
 
 
+
+# --- random tracks and studies ---------------------------------------------------------------------------
+def _random_track_ok(rt, args) -> None:
+    for name, values in rt.values.items():
+        assert np.isfinite(values).all() and (values > 0).all(), name
+    assert ((rt.gaps > 0) & np.isfinite(rt.gaps)).all()
+    st.InfiniteTrack(rt.track, changes=rt.changes)  # the changes are the models' own
+
+
+add("random_track", lambda **kw: st.random_track(**kw),
+    lambda: {"track": FX.ballasted, "first": -5, "last": 5, "cov": {"kv": 0.2, "kb": 0.3}, "correlation_length": 2.0,
+             "voids": {"fraction": 0.2, "gap": (5e-4, 2e-3)}, "failed": 0.1, "seed": (1, 2)},
+    _random_track_ok, kinds={"cov": hs.one_of(hostile, hs.dictionaries(hs.sampled_from(["kv", "kb", "E"]), hostile,
+                                                                      max_size=2)),
+                             "voids": hs.one_of(hostile, hs.fixed_dictionaries({"fraction": hostile}),
+                                                hs.fixed_dictionaries({"fraction": hs.just(0.1), "gap": hostile}))},
+    words={"voids": ("voids['fraction']", "voids['gap']")})
+record("RandomTrack", lambda: FX.random_track, then=lambda rt: _random_track_ok(rt, {}), nan_ok=False)
+
+
+def _cases_ok(table, args) -> None:
+    _frame_ok(table)
+    assert len(table) == len(args.get("cases", [{"x": 1.0}, {"x": 2.0}])) or "cases" not in args
+    assert table["error"].map(lambda e: isinstance(e, str)).all()
+
+
+def study_case(x: float) -> dict:
+    """The property suite's study: one cheap case (a module-level function, as a cluster would need)."""
+    return {"y": 2.0 * x}
+
+
+add("run_study", lambda **kw: st.run_study(**kw),
+    lambda: {"func": study_case, "cases": [{"x": 1.0}, {"x": 2.0}], "client": None, "cache_dir": None,
+             "progress": False},
+    _cases_ok, kinds={"cases": hs.one_of(hostile, hs.lists(hostile, max_size=2),
+                                         hs.lists(hs.dictionaries(hs.sampled_from(["x", "error", "1"]), hostile,
+                                                                  max_size=2), max_size=2))},
+    words={"cases": ("cases[0]", "cases[1]")})
+
 #: Public names that are no callable to draw arguments for: ``{name: why}``.
 NOT_SURFACES = {
     "BadInput": "an exception class: it takes any message by design",
@@ -918,6 +961,8 @@ HUGE: dict[str, tuple[str, str, Callable[[], Any]]] = {
     "decay grid to 1e9 bays": ("track_decay_rate", "bays", lambda: np.arange(0.0, 1e9, 1e3)),
     "far change": ("InfiniteTrack", "changes", lambda: {10**8: {"kv": 1e8}}),
     "1e6 response points": ("InfiniteTrack.receptance", "x", lambda: np.zeros(10**6)),
+    "random track 1e9 supports": ("random_track", "last", lambda: 10**9),
+    "a study of 1e7 cases": ("run_study", "cases", lambda: [{}] * 10**7),
 }
 
 

@@ -2,8 +2,8 @@
 
 Layers, lowest first: ``base`` (checks, conventions, the paper's numbers) -> ``dynamics`` (second-order
 systems in time, knowing nothing of tracks) -> ``model`` ->
-``methods`` -> ``equivalent`` -> ``boundary`` -> ``fe`` -> ``interaction`` -> ``paper`` -> the top-level
-modules (``cli``, ``plotting``, ``progress`` and the flat namespace). A module may import from its own subpackage
+``methods`` -> ``equivalent`` -> ``boundary`` -> ``fe`` -> ``interaction`` -> ``studies`` -> ``paper`` -> the
+top-level modules (``cli``, ``plotting`` and the flat namespace). A module may import from its own subpackage
 and from lower layers only. The test reads the source with :mod:`ast`, so it also sees imports
 inside functions, and it fails on a module that no layer claims, so ARCHITECTURE.md and this
 table stay complete together.
@@ -23,9 +23,9 @@ PACKAGE = pathlib.Path(semitrack.__file__).parent
 ROOT = PACKAGE.parent.parent
 
 LAYERS = {"base": 0, "dynamics": 1, "model": 2, "methods": 3, "equivalent": 4, "boundary": 5, "fe": 6,
-          "interaction": 7, "paper": 8}
-TOP = 9  # cli, plotting, progress, __init__, __main__
-TOP_MODULES = {"__init__", "__main__", "cli", "plotting", "progress"}
+          "interaction": 7, "studies": 8, "paper": 9}
+TOP = 10  # cli, plotting, __init__, __main__
+TOP_MODULES = {"__init__", "__main__", "cli", "plotting"}
 TOP_PACKAGES = {"plotting"}  # subpackages of the top layer: the figures, by subject
 # Only the command line defers imports of the package: cli so that `semitrack --help` and
 # bad-input errors answer without importing scipy and the fitting machinery, __main__ so that

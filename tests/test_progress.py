@@ -2,7 +2,7 @@
 
 import io
 
-from semitrack.progress import Progress
+from semitrack.base.progress import Progress
 
 
 class FakeTerminal(io.StringIO):

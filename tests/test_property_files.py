@@ -30,6 +30,8 @@ fit and sweep caches                   :func:`semitrack.cached_fit` and ``cached
                                        (:mod:`semitrack.equivalent.cache`) with a cache folder
 kernel cache (.npz)                    ``cached_kernels`` (:mod:`semitrack.fe.kernelcache`), a
                                        coarse slab mesh: its file is what it read
+study records (.json)                  :func:`semitrack.run_study` with a ``cache_dir``: one case's
+                                       record, recomputed when it cannot be trusted
 ``semitrack receptance``               the track file, and the pad table a track file names
 ``semitrack export``                   each of the eight end files above
 =====================================  ============================================================
@@ -96,6 +98,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import scipy.io
+import study_functions
 from hypothesis import HealthCheck, given, note, settings
 from hypothesis import strategies as hs
 from peak_memory import PEAK_RSS
@@ -172,7 +175,11 @@ def kernels_in(folder: Path):
     return cached_kernels(VISCOUS_SLAB, 8, None, KERNEL_GRID, 100, None, folder)
 
 
-COMPUTE = {"fit": fit_in, "sweep": sweep_in, "kernels": kernels_in}
+def study_in(folder: Path):
+    return st.run_study(study_functions.eigen, [{"x": 3, "n": 8}], cache_dir=folder, progress=False)
+
+
+COMPUTE = {"fit": fit_in, "sweep": sweep_in, "kernels": kernels_in, "study": study_in}
 
 
 @cache
@@ -248,6 +255,12 @@ def are_the_kernels(result):
     assert np.array_equal(result.loop, fresh.loop) and np.array_equal(result.flexibility, fresh.flexibility)
 
 
+def is_the_study(result):
+    """A damaged study record is never read as another result: it is recomputed, equal to the fresh one."""
+    fresh, _ = computed("study")
+    assert result.equals(fresh) and result.error[0] == "", result
+
+
 def wrote_output(result: CliRun):
     assert result.output.is_file() and result.output.stat().st_size > 0, result
 
@@ -312,6 +325,7 @@ READERS = {reader.name: reader for reader in [
     Reader("fit-cache", "fit", lambda p: fit_in(p.parent), is_fit, cache="fit"),
     Reader("sweep-cache", "sweep", lambda p: sweep_in(p.parent), is_sweep, cache="sweep"),
     Reader("kernel-cache", "kernels", lambda p: kernels_in(p.parent), are_the_kernels, cache="kernels"),
+    Reader("study-cache", "study", lambda p: study_in(p.parent), is_the_study, cache="study"),
     Reader("cli-receptance-track", "track.toml", _receptance, wrote_output, cli=True),
     Reader("cli-receptance-pad-table", "pad.csv", lambda p: _receptance(pad_track_file(p)), wrote_output, cli=True),
     *[Reader(f"cli-export-{name}", name, _export, wrote_output, cli=True) for name in END_FILES],

@@ -41,10 +41,10 @@ from .base.errors import BadInput, caused_by_interrupt
 from .base.errors import InputError as PackageInputError
 from .base.files import atomic_write, check_input_path, check_output_path, read_text
 from .base.paper_values import FIT_BANDS, PAPER_GRID_BAND, PAPER_GRID_STEP
+from .base.progress import Progress
 from .equivalent.io import export_system, load_system_json, save_system_json
 from .model.trackfile import EXAMPLES, TrackFileError, example_path, load_track_toml
 from .model.tracks import Track, ballasted_track, slab_track
-from .progress import Progress
 
 if TYPE_CHECKING:  # imported when used, so that --help and bad input answer fast
     import pandas as pd

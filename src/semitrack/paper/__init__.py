@@ -1,1 +1,1 @@
-"""Layer 8: the paper's tables and statements, the audits of them against our methods, the chapters' studies."""
+"""Layer 9: the paper's tables and statements, the audits of them against our methods, the chapters' studies."""

@@ -27,6 +27,7 @@ from ..fe.window import WindowTrack, least_decay_rate
 from ..interaction.fe_model import wheel_rail_response
 from ..interaction.response import ContactResponse
 from ..model.irregularity import Irregularity
+from ..model.random_track import lognormal_factors
 from ..model.roughness import Roughness
 from ..model.tracks import Track
 from ..model.vehicle import as_vehicle
@@ -36,15 +37,12 @@ __all__ = ["random_supports", "WindowRun", "window_against_path", "path_model_ba
            "least_decay_rate"]
 
 
-def _lognormal(rng: np.random.Generator, cov: float, n: int) -> np.ndarray:
-    """``n`` log-normal factors of mean 1 and coefficient of variation ``cov``."""
-    sigma2 = math.log1p(cov**2)
-    return rng.lognormal(-0.5 * sigma2, math.sqrt(sigma2), n)
-
-
 def random_supports(track: Track, supports: range, *, cov_pad: float = 0.2, cov_ballast: float = 0.3,
                     seed: int = 0, failed: tuple[int, ...] = ()) -> dict[int, dict | None]:
     """Every support of ``supports`` with its own pad (and ballast) stiffness, as a built track has.
+
+    The window chapter's draw, kept so that its figures stay as published; a study draws with
+    :func:`semitrack.random_track` (correlation lengths, hanging sleepers, a share of failed fasteners).
 
     Parameters
     ----------
@@ -65,8 +63,8 @@ def random_supports(track: Track, supports: range, *, cov_pad: float = 0.2, cov_
         ``changes`` for :class:`semitrack.WindowTrack` and :class:`semitrack.TruncatedTrack`.
     """
     rng = np.random.default_rng(seed)
-    pad = track.kv * _lognormal(rng, cov_pad, len(supports))
-    ballast = track.kb * _lognormal(rng, cov_ballast, len(supports)) if track.is_ballasted else None
+    pad = track.kv * lognormal_factors(rng, cov_pad, len(supports))
+    ballast = track.kb * lognormal_factors(rng, cov_ballast, len(supports)) if track.is_ballasted else None
     changes: dict[int, dict | None] = {}
     for i, k in enumerate(supports):
         changes[k] = {"kv": float(pad[i])} | ({} if ballast is None else {"kb": float(ballast[i])})

@@ -11,7 +11,8 @@ Modules: :mod:`~.style` (line styles, figures, axes, legends), :mod:`~.receptanc
 :mod:`~.boundary` (the broadband boundary), :mod:`~.contact` (the wheel on the rail), :mod:`~.imperfect`
 (wheels over a dipped weld, forces in the track), :mod:`~.moving` (moving Green's functions beside the
 truncated model), :mod:`~.window` (the travelling window beside the model that holds the path), :mod:`~.flats`
-(wheel flats: the centre's path, impacts against speed, the contact filter).
+(wheel flats: the centre's path, impacts against speed, the contact filter), :mod:`~.studies` (a study's
+table: percentiles with their intervals, exceedance, a scatter).
 """
 
 from .boundary import (  # noqa: F401
@@ -46,6 +47,7 @@ from .schematic import (  # noqa: F401
     PARAMETER_TEX,
     equivalent_schematic,
 )
+from .studies import exceedance_figure, percentile_figure, scatter_figure  # noqa: F401
 from .style import (  # noqa: F401
     CENTRAL_LABELS,
     ELEMENT_COLOR,

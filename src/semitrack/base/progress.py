@@ -1,4 +1,4 @@
-"""A one-line progress report on stderr for long work (fits, long sweeps).
+"""A one-line progress report on stderr for long work (fits, long sweeps, a study's cases).
 
 It writes only when stderr is a terminal and the user did not ask for quiet, so output redirected
 to a file or a pipe, and CSV written to stdout, never contain progress text.

@@ -1,0 +1,170 @@
+"""A study's cases and results as data: checked inputs, one key per case, and its record on disk.
+
+A study is a function run over a list of cases. Each case is a dict of inputs (numbers, strings,
+None, tuples of them, a Track: whatever :func:`semitrack.base.records.encode` stores), each result
+a dict of numbers. A case's record, one JSON file per case under the study's ``cache_dir``, holds
+the function's name, the case and the result or the error, written atomically (an interrupted
+study leaves whole records only) and read back through the package's non-executing reader: a
+record that is malformed, truncated, or written for another case or function is recomputed,
+never trusted.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import math
+import os
+import pickle
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from ..base import records
+from ..base.checks import brief
+from ..base.errors import InputError, InputTypeError
+from ..base.files import atomic_write, read_json
+
+__all__ = ["ERROR", "MAX_CASES", "check_cases", "study_name", "case_key", "result_error", "error_text",
+           "read_record", "write_record"]
+
+#: The table's column of each case's error ("" when it ran).
+ERROR = "error"
+#: Most cases of one study (a million runs of a second each is eleven days of one core).
+MAX_CASES = 1_000_000
+#: Largest record file read back (bytes): a result is a few numbers, a case a few inputs.
+MAX_RECORD_BYTES = 1_000_000
+#: What a record file says it is, and its version.
+FORMAT, VERSION = "semitrack study record", 1
+#: Longest error message kept in the table (characters).
+MAX_ERROR_CHARS = 500
+
+
+def check_cases(cases: object) -> list[dict]:
+    """``cases`` checked: a list of dicts of inputs with string keys, each storable in a record.
+
+    Raises
+    ------
+    InputTypeError, InputError
+        Naming ``cases[i]`` and the key.
+    """
+    if isinstance(cases, (str, bytes, Mapping)) or not isinstance(cases, Sequence):
+        raise InputTypeError(f"cases must be a list of dicts of inputs, got {brief(cases)}")
+    if len(cases) > MAX_CASES:
+        raise InputError(f"cases holds {len(cases)} cases, more than {MAX_CASES}: split the study")
+    out = []
+    for i, case in enumerate(cases):
+        if not isinstance(case, Mapping):
+            raise InputTypeError(f"cases[{i}] must be a dict of inputs (func's keyword arguments), got {brief(case)}")
+        for key in case:
+            if not isinstance(key, str) or not key.isidentifier():
+                raise InputError(f"cases[{i}] has the key {brief(key)}: keys are func's keyword names")
+            if key == ERROR:
+                raise InputError(f"cases[{i}] has the key {ERROR!r}, which the table keeps for each case's error")
+        try:
+            records.encode(dict(case))
+        except InputTypeError as err:
+            raise InputTypeError(f"cases[{i}] holds an input a record cannot store ({err}): give numbers, strings, "
+                                 "None, tuples of them or the package's records, and fix other objects in func "
+                                 "(functools.partial)") from None
+        out.append(dict(case))
+    return out
+
+
+def study_name(func: Callable) -> str:
+    """The name a study's records carry for ``func``: its module and qualified name, with a
+    :func:`functools.partial`'s fixed arguments (a digest of their record, so that a partial of
+    another track is another study)."""
+    if isinstance(func, functools.partial):
+        try:
+            fixed = records.dumps({"args": list(func.args), "keywords": dict(func.keywords)}).encode()
+        except InputTypeError:  # objects a record does not store: their pickle, only digested (never loaded)
+            try:
+                fixed = pickle.dumps((func.args, func.keywords), protocol=4)
+            except Exception:  # noqa: BLE001 - an object that will not pickle: named by its repr
+                fixed = repr((func.args, func.keywords)).encode()
+        return f"{study_name(func.func)}[{hashlib.sha256(fixed).hexdigest()[:16]}]"
+    module = getattr(func, "__module__", None) or type(func).__module__
+    name = getattr(func, "__qualname__", None) or type(func).__qualname__
+    return f"{module}.{name}"
+
+
+def _case_text(case: dict) -> str:
+    return json.dumps(records.encode(case), sort_keys=True, separators=(",", ":"))
+
+
+def case_key(name: str, case: dict) -> str:
+    """The file stem of a case's record: a digest of the study's name and the case."""
+    return hashlib.sha256(f"{name}\n{_case_text(case)}".encode()).hexdigest()[:40]
+
+
+def result_error(result: object, case: dict) -> tuple[dict | None, str]:
+    """``(result, "")`` for a dict of numbers with new keys, else ``(None, what is wrong)``."""
+    if not isinstance(result, Mapping):
+        return None, f"func returned {brief(result)} ({type(result).__name__}), not a dict of numbers"
+    out = {}
+    for key, value in result.items():
+        if not isinstance(key, str) or not key:
+            return None, f"func returned the key {brief(key)}: the keys name the table's columns (strings)"
+        if key in case or key == ERROR:
+            return None, f"func returned the key {key!r}, which is also an input or the error column"
+        if isinstance(value, (bool, np.bool_)):
+            out[key] = bool(value)
+        elif isinstance(value, (int, np.integer)) and -2**63 <= int(value) < 2**63:
+            out[key] = int(value)
+        elif isinstance(value, (float, np.floating)):
+            out[key] = float(value)
+        else:
+            return None, f"func returned {key}={brief(value)} ({type(value).__name__}), not a number"
+    return out, ""
+
+
+def error_text(err: BaseException) -> str:
+    """One line for the table: the exception's type and the first line of its message."""
+    message = str(err).strip().splitlines()[0] if str(err).strip() else ""
+    text = f"{type(err).__name__}: {message}" if message else type(err).__name__
+    return text[:MAX_ERROR_CHARS]
+
+
+def _record_path(folder: Path, key: str) -> Path:
+    return folder / f"{key}.json"
+
+
+def write_record(folder: Path, key: str, name: str, case: dict, result: dict | None, error: str,
+                 seconds: float) -> None:
+    """Store one case's outcome (atomically; a link in the folder is replaced, never written through)."""
+    text = json.dumps({"format": FORMAT, "version": VERSION, "study": name, "case": records.encode(case),
+                       "result": records.encode(result), "error": error,
+                       "seconds": seconds if math.isfinite(seconds) else 0.0},
+                      allow_nan=False, separators=(",", ":"))
+    atomic_write(_record_path(folder, key), lambda fh: fh.write(text), follow_links=False)
+
+
+def read_record(folder: Path, key: str, name: str, case: dict) -> tuple[dict | None, str, float] | None:
+    """``(result, error, seconds)`` of a stored case, or None when there is none to trust.
+
+    None for a missing record and for one that cannot be trusted: unreadable, malformed, of another
+    format or version, of another study or case, or a result that is not a dict of numbers.
+    """
+    path = _record_path(folder, key)
+    if not os.path.lexists(path) or path.is_symlink():
+        return None
+    try:
+        data = read_json(path, MAX_RECORD_BYTES, "study record")
+        if not isinstance(data, dict) or data.get("format") != FORMAT or data.get("version") != VERSION:
+            return None
+        if data.get("study") != name or json.dumps(data.get("case"), sort_keys=True,
+                                                   separators=(",", ":")) != _case_text(case):
+            return None
+        error, seconds = data.get("error"), data.get("seconds")
+        if not isinstance(error, str) or isinstance(seconds, bool) or not isinstance(seconds, (int, float)):
+            return None
+        result = records.decode(data.get("result"), {})
+    except (OSError, ValueError, TypeError):
+        return None
+    if error:
+        return (None, error, float(seconds)) if result is None else None
+    result, problem = result_error(result, case)
+    return None if problem else (result, "", float(seconds))

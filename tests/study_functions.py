@@ -1,0 +1,38 @@
+"""Functions the study tests run over their cases (a module of their own: dask's workers import it by name)."""
+
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+
+
+def eigen(x: int, n: int = 60, pause: float = 0.0) -> dict:
+    """A case whose result is sensitive to every bit of BLAS's arithmetic: the largest eigenvalue of a random matrix."""
+    time.sleep(pause)  # cases that finish in another order than given
+    a = np.random.default_rng(x).standard_normal((n, n))
+    w = np.linalg.eigvalsh(a @ a.T)
+    return {"largest": float(w[-1]), "trace": float(np.trace(a @ a.T)), "even": x % 2 == 0, "pid": 0 * os.getpid()}
+
+
+def failing(x: int) -> dict:
+    """Raises for odd x, returns a non-dict for x = 4."""
+    if x % 2:
+        raise ArithmeticError(f"case {x} fails\nsecond line")
+    if x == 4:
+        return [x]
+    return {"x2": 2.0 * x}
+
+
+def logged(x: int, log: str, pause: float = 0.0) -> dict:
+    """Appends the case to ``log`` (one line each) before returning: which cases ran."""
+    time.sleep(pause)
+    with open(log, "a") as fh:
+        fh.write(f"{x}\n")
+    return {"y": x + 0.5}
+
+
+def ran(log: str) -> list[int]:
+    """The cases :func:`logged` ran, in the order they ran."""
+    path = Path(log)
+    return [int(line) for line in path.read_text().split()] if path.exists() else []
