@@ -8,6 +8,7 @@ flipped, swapped between cases, planted as links or of another study, each recom
 percentiles' bootstrap intervals against their nominal coverage on a known distribution.
 """
 
+import contextlib
 import json
 import math
 import os
@@ -125,15 +126,21 @@ def test_killed_half_way_a_rerun_computes_only_the_missing_cases_and_gives_the_s
     script = tmp_path / "study.py"
     script.write_text(KILLED)
     proc = subprocess.Popen([sys.executable, str(script), str(HERE), str(cache), log, str(client)],
-                            start_new_session=True)
+                            start_new_session=True, stderr=subprocess.DEVNULL)
     try:
         deadline = time.monotonic() + 60
         while time.monotonic() < deadline and len(list(cache.glob("*.json"))) < 4:
             time.sleep(0.05)
             assert proc.poll() is None, "the study ended before it was killed"
-        os.killpg(proc.pid, signal.SIGKILL)  # the parent and its workers, at once
-    finally:
+        os.kill(proc.pid, signal.SIGKILL)  # the parent only: a cluster's workers must not outlive it
         proc.wait(timeout=30)
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline and _alive_in_group(proc.pid):
+            time.sleep(0.1)
+        assert not _alive_in_group(proc.pid), "workers outlived their study"
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(proc.pid, signal.SIGKILL)
     stored = len(list(cache.glob("*.json")))
     assert 4 <= stored < 12
     assert not list(cache.glob(".*.tmp"))  # the atomic write leaves whole records only
@@ -145,6 +152,18 @@ def test_killed_half_way_a_rerun_computes_only_the_missing_cases_and_gives_the_s
     assert (resumed.error == "").all() and resumed.y.tolist() == [i + 0.5 for i in range(12)]
     fresh = st.run_study(sf.logged, cases, progress=False)
     assert bits(fresh) == bits(resumed)
+
+
+def _alive_in_group(group: int) -> bool:
+    """Whether a process of the session ``group`` still runs (zombies not counted)."""
+    for status in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = status.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[3]) == group and fields[0] != "Z":  # fields after the name: state, ppid, pgrp, session
+            return True
+    return False
 
 
 def _corrupt_each_way(folder: Path, keys: list[Path]) -> None:

@@ -51,7 +51,8 @@ def study_track() -> tuple[Track, BroadbandBoundary]:
 
 def bogie_over_random_track(void_fraction: float, realisation: int, *, seed: int = 2026, fraction_index: int = 0,
                             speed: float = 200 / 3.6, duration: float = 0.15, dt: float = 1e-4,
-                            elements_per_bay: int = 6, system: BroadbandBoundary | None = None) -> dict:
+                            elements_per_bay: int = 6, system: BroadbandBoundary | None = None,
+                            behind: int | None = None, ahead: int | None = None) -> dict:
     """One realisation: a bogie over a random ballasted track with a share of hanging sleepers.
 
     Parameters
@@ -76,6 +77,9 @@ def bogie_over_random_track(void_fraction: float, realisation: int, *, seed: int
         The track's broadband boundary (default fitted once per process, 1.8 s: a study on a
         cluster passes it, ``functools.partial(bogie_over_random_track, system=...)``, so that no
         worker fits it again).
+    behind, ahead : int, optional
+        The window's lengths (bays); default from the track's least decay rate (0.5 s once per
+        process), which a study may compute once and pass as it passes ``system``.
 
     Returns
     -------
@@ -91,7 +95,8 @@ def bogie_over_random_track(void_fraction: float, realisation: int, *, seed: int
         track = ballasted_track(damping="viscous")
     drawn = random_track(track, *DRAWN, cov=STUDY_COV, voids=dict(fraction=void_fraction, gap=STUDY_GAP),
                          seed=(seed, fraction_index, realisation))
-    window = WindowTrack(track, drawn.changes, elements_per_bay=elements_per_bay, system=system)
+    window = WindowTrack(track, drawn.changes, elements_per_bay=elements_per_bay, system=system, behind=behind,
+                         ahead=ahead)
     watched = list(range(WATCHED[0], WATCHED[1] + 1))
     run = wheel_rail_response(window, Bogie(), speed=speed, dt=dt, duration=duration, x=0.0,
                               ballast_gaps=drawn.ballast_gaps or None, watch_supports=watched)

@@ -11,9 +11,11 @@ Parallel runs use dask's distributed scheduler, the established engine for this 
 Python: ``client=n`` starts a local cluster of ``n`` worker processes on the loopback (one thread
 each, the dashboard on a free port) for the study and closes it after; a ``dask.distributed.Client``
 made by the user runs the study on whatever cluster it is connected to and is left open. The local workers
-start without the nanny's ``MALLOC_TRIM_THRESHOLD_=65536``: it made the package's workloads 1.5-1.9
-times slower per case (the many mid-sized arrays of a run were returned to the system and asked
-for again).
+start without the nanny's ``MALLOC_TRIM_THRESHOLD_=65536`` (it made the package's workloads 1.5-1.9
+times slower per case: the many mid-sized arrays of a run were returned to the system and asked
+for again) and without the worker's statistical profiler (it samples the running task's stack
+every 10 ms, and took a run on a WindowTrack from 2.0 to 2.3-2.6 s a case). A cluster of your own
+gains the same from ``DASK_DISTRIBUTED__WORKER__PROFILE__ENABLED=False`` in its workers' environment.
 
 A script that starts a local cluster must guard its entry point with ``if __name__ == "__main__":``
 (the workers are new Python processes that import the script's module).
@@ -84,7 +86,7 @@ def local_client(n_workers: int):
     except ImportError:  # pragma: no cover - dask[distributed] is in requirements.txt
         raise InputError("client=n needs dask.distributed: pip install 'dask[distributed]'") from None
     with dask.config.set({"distributed.nanny.pre-spawn-environ": dict(WORKER_ENVIRONMENT),
-                          "distributed.worker.daemon": True}):
+                          "distributed.worker.daemon": True, "distributed.worker.profile.enabled": False}):
         cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, host="127.0.0.1",
                                dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
         try:
