@@ -36,3 +36,16 @@ def ran(log: str) -> list[int]:
     """The cases :func:`logged` ran, in the order they ran."""
     path = Path(log)
     return [int(line) for line in path.read_text().split()] if path.exists() else []
+
+
+def spawns(x: int) -> dict:
+    """A case that starts a process of its own (workers must not be daemonic for it)."""
+    import multiprocessing
+
+    with multiprocessing.get_context("spawn").Pool(1) as pool:
+        return {"y": float(sum(pool.map(abs, [-x, x])))}
+
+
+def echo(x: float, y: float = 0.0) -> dict:
+    """Returns ``y`` as a result when it is not an input of the case."""
+    return {"y": 10.0} if y == 0 else {"z": x + y}

@@ -9,6 +9,7 @@ percentiles' bootstrap intervals against their nominal coverage on a known distr
 """
 
 import contextlib
+import functools
 import json
 import math
 import os
@@ -17,6 +18,7 @@ import subprocess
 import sys
 import textwrap
 import time
+import types
 from pathlib import Path
 
 import numpy as np
@@ -25,6 +27,7 @@ import pytest
 import study_functions as sf
 
 import semitrack as st
+from semitrack.studies.cases import _digest
 from semitrack.studies.statistics import exceedance, exceedance_table, percentile_table, percentiles
 
 HERE = Path(__file__).parent
@@ -175,7 +178,8 @@ def _corrupt_each_way(folder: Path, keys: list[Path]) -> None:
     keys[2].write_text(keys[3].read_text())  # another case's record under this case's name
     other = json.loads(keys[4].read_text())
     other["study"] = "someone.else"
-    keys[4].write_text(json.dumps(other))  # another study's
+    other.pop("digest")
+    keys[4].write_text(json.dumps({**other, "digest": _digest(other)}))  # another study's, its digest made good
     target = folder.parent / "elsewhere.json"
     target.write_text(keys[5].read_text())
     keys[5].unlink()
@@ -260,11 +264,77 @@ def test_the_progress_line_shows_done_running_failed_and_the_time_left(monkeypat
 
 
 def test_blas_runs_on_one_thread_inside_each_case():
-    from threadpoolctl import threadpool_info
+    from threadpoolctl import threadpool_info, threadpool_limits
 
     def threads():
-        return {"blas": max([p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"] or [1])}
-    assert st.run_study(threads, [{}], progress=False).blas[0] == 1
+        return {"blas": max([p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"] or [0])}
+    with threadpool_limits(limits=2, user_api="blas"):  # the caller's BLAS on two threads
+        assert threads()["blas"] == 2
+        assert st.run_study(threads, [{}], progress=False).blas[0] == 1
+        assert threads()["blas"] == 2  # and given back
+
+
+def test_a_case_may_start_processes_on_a_local_cluster_as_it_may_here():
+    serial = st.run_study(sf.spawns, [{"x": 3}], progress=False)
+    local = st.run_study(sf.spawns, [{"x": 3}], client=1, progress=False)
+    assert serial.error[0] == "" and bits(serial) == bits(local)
+
+
+def test_more_cases_than_are_handed_out_at_once_all_run_in_order(user_client):
+    cases = [{"x": i, "n": 4} for i in range(60)]  # beyond AHEAD x workers + 8 in flight
+    table = st.run_study(sf.eigen, cases, client=user_client, progress=False)
+    assert bits(table) == bits(st.run_study(sf.eigen, cases, progress=False))
+
+
+def test_a_result_may_not_take_the_name_of_any_cases_input():
+    table = st.run_study(sf.echo, [{"x": 1.0}, {"x": 2.0, "y": 5.0}], progress=False)
+    assert "also an input" in table.error[0] and table.error[1] == ""
+    assert table.y.tolist()[1] == 5.0 and list(table.columns) == ["x", "y", "z", "error"]
+
+
+def test_with_a_cache_only_a_function_with_a_name_that_tells_it_apart_is_taken(tmp_path):
+    def nested(x):
+        return {"y": x}
+
+    class Callable:
+        def __call__(self, x):
+            return {"y": x}
+
+        def method(self, x):
+            return {"y": x}
+    for func in (lambda x: {"y": x}, nested, Callable(), Callable().method,
+                 functools.partial(sf.logged, log=lambda: 0)):
+        with pytest.raises(st.BadInput, match="func"):
+            st.run_study(func, [{"x": 1.0}], cache_dir=tmp_path, progress=False)
+        assert not list(tmp_path.glob("*.json"))  # refused before any case ran
+    fine = functools.partial(sf.logged, log=str(tmp_path / "log"))
+    assert st.run_study(fine, [{"x": 1}], cache_dir=tmp_path, progress=False).error[0] == ""
+
+
+def test_an_edited_function_or_other_fixed_arguments_are_another_study():
+    from semitrack.studies.cases import study_name
+    edited = types.FunctionType(sf.failing.__code__, sf.eigen.__globals__, "eigen")
+    edited.__qualname__, edited.__module__ = sf.eigen.__qualname__, sf.eigen.__module__
+    assert study_name(edited) != study_name(sf.eigen) and study_name(sf.eigen) == study_name(sf.eigen)
+    assert study_name(functools.partial(sf.eigen, n=3)) != study_name(functools.partial(sf.eigen, n=4))
+    assert study_name(functools.partial(sf.eigen, n=3)) == study_name(functools.partial(sf.eigen, n=3))
+
+
+def test_a_record_that_cannot_be_stored_is_warned_of_and_the_study_goes_on(tmp_path, monkeypatch):
+    from semitrack.studies import cases as records_of_cases
+    cases = [{"x": i} for i in range(3)]
+    st.run_study(sf.eigen, cases[:1], cache_dir=tmp_path, progress=False)
+    (stored,) = tmp_path.glob("*.json")
+    name = records_of_cases.study_name(sf.eigen)
+    planted = tmp_path / f"{records_of_cases.case_key(name, cases[1])}.json"
+    planted.mkdir()  # something else under case 1's record name
+    with pytest.warns(RuntimeWarning, match="not stored"):
+        table = st.run_study(sf.eigen, cases, cache_dir=tmp_path, progress=False)
+    assert (table.error == "").all() and table.attrs["cached"] == 1 and planted.is_dir()
+    monkeypatch.setattr(records_of_cases, "MAX_RECORD_BYTES", 100)  # a case too large to keep
+    with pytest.warns(RuntimeWarning, match="bytes"):
+        st.run_study(sf.eigen, [{"x": 7}], cache_dir=tmp_path / "small", progress=False)
+    assert not list((tmp_path / "small").glob("*.json")) and stored.exists()
 
 
 # --- statistics ----------------------------------------------------------------------------------------
@@ -312,10 +382,20 @@ def test_exceedance_uses_weibull_positions_and_groups_by_an_input():
     (lambda: percentile_table(pd.DataFrame({"a": [1.0]}), "b"), "column"),
     (lambda: percentile_table(pd.DataFrame({"a": [1.0]}), "a", "c"), "by"),
     (lambda: percentile_table({"a": [1.0]}, "a"), "table"),
+    (lambda: percentiles(np.ones(10_000), [50], n_boot=100_000), "n_boot"),
+    (lambda: percentiles([1.0], list(range(101))), "q"),
+    (lambda: percentile_table(pd.DataFrame({"v": [0, 1], "F": [1.0, np.nan]}), "F", "v"), "v = 1"),
 ])
 def test_statistics_refuse_what_they_cannot_summarise(call, name):
     with pytest.raises(st.BadInput, match=name):
         call()
+
+
+def test_masked_values_and_nan_groups_are_not_lost_or_counted_silently():
+    assert percentiles(np.ma.masked_array([1.0, 2.0, 3.0], [0, 1, 0]), [50]).n[0] == 2
+    table = pd.DataFrame({"v": [0.0, 0.0, np.nan], "F": [1.0, 2.0, 3.0]})
+    groups = percentile_table(table, "F", "v", [50])
+    assert len(groups) == 2 and groups.n.tolist() == [2, 1]
 
 
 def test_the_figures_draw_a_studys_table():
@@ -330,3 +410,13 @@ def test_the_figures_draw_a_studys_table():
     assert len(ax.lines) == 1
     with pytest.raises(st.BadInput, match="G"):
         scatter_figure(table, "v", "G")
+    table["kind"] = np.repeat(["a", "b"], 30)
+    fig, ax = exceedance_figure(table, "F", "kind")
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["a", "b"]
+    for call, name in [(lambda: percentile_figure(table, "F", "kind"), "kind"),
+                       (lambda: scatter_figure(table, "kind", "F"), "kind"),
+                       (lambda: scatter_figure(table, "v", "F", scale=2.0), "scale"),
+                       (lambda: percentile_figure(table, "F", "v", scale="1"), "scale"),
+                       (lambda: exceedance_figure({"F": [1.0]}, "F"), "table")]:
+        with pytest.raises(st.BadInput, match=name):
+            call()

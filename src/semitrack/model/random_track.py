@@ -143,9 +143,17 @@ def _check_seed(seed: object) -> int | tuple[int, ...]:
     return tuple(int(s) for s in entries) if entries is seed else int(seed)
 
 
+def _entropy(seed: int | tuple[int, ...]) -> list[int]:
+    """The seed as SeedSequence entropy that tells every seed apart: its length, then each entry in
+    four 32-bit words (SeedSequence alone joins an int's words and drops trailing zeros, so that
+    ``5``, ``(5, 0)`` and ``(5, 0, 0)`` would draw one track)."""
+    entries = seed if isinstance(seed, tuple) else (seed,)
+    words = [(s >> (32 * j)) & 0xFFFFFFFF for s in entries for j in range(4)]
+    return [len(entries) + (0 if isinstance(seed, tuple) else 1000), *words]
+
+
 def _stream(seed: int | tuple[int, ...], name: str) -> np.random.Generator:
-    entropy = list(seed) if isinstance(seed, tuple) else seed
-    return np.random.default_rng(np.random.SeedSequence(entropy, spawn_key=(_STREAMS[name],)))
+    return np.random.default_rng(np.random.SeedSequence(_entropy(seed), spawn_key=(_STREAMS[name],)))
 
 
 def _check_cov(cov: object, track: Track) -> dict[str, float]:

@@ -132,18 +132,18 @@ def force_percentiles(table: pd.DataFrame, q=(50.0, 95.0), confidence: float = 0
     Returns
     -------
     pandas.DataFrame
-        One row per void fraction, one column per force and percentile.
+        One row per force and percentile, one column per void fraction; each cell the percentile
+        and its interval, joined by non-breaking spaces so that a narrow page does not split them.
     """
-    columns = {}
+    rows = []
     for name, label in FORCES.items():
         stats = percentile_table(table, name, "void_fraction", q, confidence=confidence)
         for level, part in stats.groupby("q", sort=True):
-            text = [f"{v / 1e3:.1f} ({lo / 1e3:.1f}-{hi / 1e3:.1f})" for v, lo, hi in
-                    zip(part.value, part.low, part.high)]
-            columns[f"{label}, {level:g}th (kN)"] = pd.Series(text, index=part.void_fraction.to_numpy())
-    out = pd.DataFrame(columns)
-    out.index.name = "void fraction"
-    return out
+            row = {"force": label, "percentile": f"{level:g}th"}
+            for v, value, lo, hi in zip(part.void_fraction, part.value, part.low, part.high):
+                row[f"{100 * v:g} % hanging"] = f"{value / 1e3:.1f}\u00a0({lo / 1e3:.1f}\u2013{hi / 1e3:.1f})"
+            rows.append(row)
+    return pd.DataFrame(rows)
 
 
 def monte_carlo_cases(fractions, realisations: int, seed: int = 2026, **run) -> list[dict]:

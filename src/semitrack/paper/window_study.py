@@ -41,8 +41,9 @@ def random_supports(track: Track, supports: range, *, cov_pad: float = 0.2, cov_
                     seed: int = 0, failed: tuple[int, ...] = ()) -> dict[int, dict | None]:
     """Every support of ``supports`` with its own pad (and ballast) stiffness, as a built track has.
 
-    The window chapter's draw, kept so that its figures stay as published; a study draws with
-    :func:`semitrack.random_track` (correlation lengths, hanging sleepers, a share of failed fasteners).
+    The window chapter's draw order (pads, then ballast, from one stream; the values numpy's own
+    log-normal of that stream to an ulp or two); a study draws with :func:`semitrack.random_track`
+    (a stream per field, correlation lengths, hanging sleepers, a share of failed fasteners).
 
     Parameters
     ----------

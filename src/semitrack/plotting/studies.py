@@ -5,14 +5,21 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+from pandas.api.types import is_numeric_dtype
 
+from ..base.checks import check_real
 from ..base.errors import InputError
-from ..studies.statistics import exceedance_table, percentile_table
+from ..studies.statistics import check_columns, exceedance_table, percentile_table
 from .style import house_figure, new_figure
 
 
 def _label(name: str, labels: dict | None) -> str:
-    return (labels or {}).get(name, name)
+    return str((labels or {}).get(name, name))
+
+
+def _value(value) -> str:
+    """A group's value in a legend: a number short (``0.1``), anything else as it is."""
+    return f"{value:g}" if isinstance(value, (int, float, np.integer, np.floating)) else str(value)
 
 
 @house_figure
@@ -46,8 +53,11 @@ def percentile_figure(table, column: str, by: str, q: Sequence[float] = (50.0, 9
     -------
     fig, ax
     """
+    scale = check_real("scale", scale)
+    stats = percentile_table(table, column, by, q, confidence=confidence)  # checks the table first
     fig, ax = new_figure(figsize=(7.0, 4.0)) if ax is None else (ax.figure, ax)
-    stats = percentile_table(table, column, by, q, confidence=confidence)
+    if not is_numeric_dtype(stats[by]):
+        raise InputError(f"by={by!r} must hold numbers (the x axis), got {stats[by].dtype}")
     for level, part in stats.groupby("q", sort=True):
         x = part[by].to_numpy(float)
         y = part.value.to_numpy() * scale
@@ -86,17 +96,18 @@ def exceedance_figure(table, column: str, by: str | None = None, *, scale: float
     -------
     fig, ax
     """
+    scale = check_real("scale", scale)
+    curves = exceedance_table(table, column, by)  # checks the table first
     fig, ax = new_figure(figsize=(7.0, 4.0)) if ax is None else (ax.figure, ax)
-    curves = exceedance_table(table, column, by)
-    groups = [(None, curves)] if by is None else curves.groupby(by, sort=True)
+    groups = [(None, curves)] if by is None else curves.groupby(by, sort=True, dropna=False)
     for value, part in groups:  # each sample at its plotting position, joined
         ax.plot(part.value.to_numpy() * scale, part.exceedance.to_numpy(), "o-", ms=3, lw=1.2,
-                label=None if by is None else f"{value:g}")
+                label=None if by is None else _value(value))
     ax.set_yscale("log")
     ax.set_xlabel(_label(column, labels))
     ax.set_ylabel("probability of exceedance")
     if by is not None:
-        ax.legend(title=_label(by, labels), loc="lower left")
+        ax.legend(title=_label(by, labels), loc="upper right")
     ax.set_title(title)
     return fig, ax
 
@@ -127,15 +138,18 @@ def scatter_figure(table, x: str, y: str, by: str | None = None, *, scale: tuple
     -------
     fig, ax
     """
+    check_columns(table, x=x, y=y, by=by)
+    if not (isinstance(scale, (tuple, list)) and len(scale) == 2):
+        raise InputError(f"scale must be a pair (x factor, y factor), got {scale!r}")
+    scale = (check_real("scale[0]", scale[0]), check_real("scale[1]", scale[1]))
+    for name in (x, y):
+        if not is_numeric_dtype(table[name]):
+            raise InputError(f"column {name!r} must hold numbers to be drawn, got {table[name].dtype}")
     fig, ax = new_figure(figsize=(7.0, 4.0)) if ax is None else (ax.figure, ax)
-    for name in (x, y, by):
-        if name is not None and name not in table.columns:
-            raise InputError(f"{name!r} is not a column of the table; its columns are "
-                             f"{list(map(str, table.columns))[:20]}")
-    groups = [(None, table)] if by is None else table.groupby(by, sort=True)
+    groups = [(None, table)] if by is None else table.groupby(by, sort=True, dropna=False)
     for value, part in groups:
         ax.plot(part[x].to_numpy(float) * scale[0], part[y].to_numpy(float) * scale[1], "o", ms=4, alpha=0.7,
-                label=None if by is None else f"{value:g}")
+                label=None if by is None else _value(value))
     ax.set_xlabel(_label(x, labels))
     ax.set_ylabel(_label(y, labels))
     if by is not None:

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import logging
 import time
+import warnings
 from collections.abc import Callable, Sequence
 from contextlib import contextmanager
 
@@ -45,17 +46,18 @@ MAX_LOCAL_WORKERS = 256
 WORKER_ENVIRONMENT = {"OMP_NUM_THREADS": 1, "MKL_NUM_THREADS": 1, "OPENBLAS_NUM_THREADS": 1}
 
 
-def run_case(func: Callable, case: dict) -> tuple[dict | None, str, float]:
+def run_case(func: Callable, case: dict, inputs: frozenset = frozenset()) -> tuple[dict | None, str, float]:
     """``(result, error, seconds)`` of ``func(**case)``, with BLAS on one thread (where it runs, here or on a worker).
 
     An exception of the case is its outcome (``error`` says it, ``result`` is None); an interruption
-    (Ctrl-C, a worker shut down) is not, and goes through.
+    (Ctrl-C, a worker shut down) is not, and goes through. ``inputs``: every input name of the
+    study, which a result may not reuse.
     """
     start = time.perf_counter()
     try:
         with serial_blas():
             out = func(**case)
-        result, error = result_error(out, case)
+        result, error = result_error(out, inputs | set(case))
     except Exception as err:  # noqa: BLE001 - a failing case is recorded, and the study goes on
         result, error = None, error_text(err)
     return result, error, time.perf_counter() - start
@@ -85,8 +87,9 @@ def local_client(n_workers: int):
         from distributed import Client, LocalCluster
     except ImportError:  # pragma: no cover - dask[distributed] is in requirements.txt
         raise InputError("client=n needs dask.distributed: pip install 'dask[distributed]'") from None
+    # not daemonic: a case may start processes of its own, as it may in this process
     with dask.config.set({"distributed.nanny.pre-spawn-environ": dict(WORKER_ENVIRONMENT),
-                          "distributed.worker.daemon": True, "distributed.worker.profile.enabled": False}):
+                          "distributed.worker.daemon": False, "distributed.worker.profile.enabled": False}):
         cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, host="127.0.0.1",
                                dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
         try:
@@ -130,25 +133,44 @@ def _n_workers(client) -> int:
         return 1
 
 
-def _run(func, cases: list[dict], todo: list[int], client, store, tally: _Tally) -> None:
+#: Cases handed to a cluster ahead of those running, per worker thread: enough to keep every worker
+#: busy, few enough that a study of a million cases does not sit in the scheduler at once.
+AHEAD = 4
+
+
+def _run(func, cases: list[dict], todo: list[int], client, store, inputs: frozenset, slots: int) -> None:
     """Run the cases ``todo``, handing each outcome to ``store(i, outcome)`` as it arrives."""
     if client is None:
         for i in todo:
-            store(i, run_case(func, cases[i]))
+            store(i, run_case(func, cases[i], inputs))
         return
     from distributed import as_completed
 
-    futures = {client.submit(run_case, func, cases[i], pure=False): i for i in todo}
+    shared = client.scatter(func, broadcast=True, hash=False)  # sent to each worker once, not with every case
+    waiting = iter(todo)
+    futures: dict = {}
+
+    def submit() -> None:
+        i = next(waiting, None)
+        if i is not None:
+            futures[client.submit(run_case, shared, cases[i], inputs, pure=False)] = i
+
+    for _ in range(AHEAD * slots + 8):
+        submit()
+    running = as_completed(list(futures))
     try:
-        for future in as_completed(futures):
-            i = futures[future]
+        for future in running:
+            i = futures.pop(future)
             try:
                 outcome = future.result()
             except Exception as err:  # noqa: BLE001 - the worker died (KilledWorker), or the case would not pickle
-                outcome = (None, f"not run: {error_text(err)}", 0.0)
-                store(i, outcome, keep=False)
-                continue
-            store(i, outcome)
+                store(i, (None, f"not run: {error_text(err)}", 0.0), keep=False)
+            else:
+                store(i, outcome)
+            before = set(futures)
+            submit()
+            for new in set(futures) - before:
+                running.add(new)
     finally:
         for future in futures:
             future.cancel()
@@ -173,18 +195,28 @@ def run_study(func: Callable, cases: Sequence[dict], *, client=None, cache_dir=N
     cache_dir : str or os.PathLike, optional
         Folder of the study's records, one per case (checked and created before any case runs). A
         case whose record is there and matches is not run again; a record that does not match or
-        cannot be read is recomputed. The records are keyed by func's module and name and the case:
-        give a new folder when func's code changes.
+        cannot be read is recomputed. The records are keyed by func's module, name and code (and a
+        partial's fixed arguments), the package's version and the case; func must then be a
+        function of a module's top level or a partial of one. A change in what func calls is not
+        seen: give a new folder then.
     progress : bool
         Show done, running and failed cases and the time left on one line of stderr (on a terminal only).
 
     Returns
     -------
     pandas.DataFrame
-        One row per case, in the order of ``cases``: a column per input, a column per returned key
-        (NaN where a case did not return it), and ``error``, a string ("" where the case ran, else
-        its exception's type and message). ``attrs`` holds ``"seconds"`` (each case's time, cached
-        cases their stored time), ``"computed"`` (the cases run now) and ``"cached"`` (read back).
+        The same bit for bit wherever the cases ran, on machines of one kind (CPU and libraries: BLAS
+        picks its kernels by the CPU). One row per case, in the order of ``cases``: a column per
+        input, a column per returned key (NaN where a case did not return it), and ``error``, a
+        string ("" where the case ran, else its exception's type and message). ``attrs`` holds
+        ``"seconds"`` (each case's time, cached cases their stored time), ``"computed"`` (the
+        cases run now) and ``"cached"`` (read back).
+
+    Warns
+    -----
+    RuntimeWarning
+        When records could not be stored (a full disk, something else under a record's name, a
+        case too large to keep): those cases' results are in the table and are computed again next time.
 
     Raises
     ------
@@ -214,41 +246,57 @@ def run_study(func: Callable, cases: Sequence[dict], *, client=None, cache_dir=N
     show = check_flag("progress", progress)
     folder = None if cache_dir is None else check_cache_folder(cache_dir, "cache_dir")
     name = study_name(func)
+    if folder is not None and name is None:
+        raise InputError(f"func={brief(func)}: with cache_dir, func must be a function defined at a module's top "
+                         "level, or a functools.partial of one (its records are kept under its name; a lambda, a "
+                         "nested function, a method or a callable object has none that tells two of them apart)")
+    inputs = frozenset(k for case in cases for k in case)
     keys = [case_key(name, case) for case in cases] if folder is not None else []
     outcomes: list = [None] * len(cases)
     if folder is not None:
         for i, case in enumerate(cases):
-            outcomes[i] = read_record(folder, keys[i], name, case)
+            outcomes[i] = read_record(folder, keys[i], name, case, inputs)
     cached = sum(o is not None for o in outcomes)
     todo = [i for i, o in enumerate(outcomes) if o is None]
+    unstored: list[str] = []
 
     def store(i: int, outcome, keep: bool = True) -> None:
         outcomes[i] = outcome
         if folder is not None and keep:
-            write_record(folder, keys[i], name, cases[i], *outcome)
+            problem = write_record(folder, keys[i], name, cases[i], *outcome)
+            if problem:
+                unstored.append(f"case {i}: {problem}")
         tally.add(outcome[1])
 
     failed = sum(bool(o[1]) for o in outcomes if o is not None)
-    if client is None or not todo:
-        tally = _Tally(len(cases), cached, failed, show, 1)
-        try:
-            _run(func, cases, todo, None, store, tally)
-        finally:
-            tally.close()
-    elif isinstance(client, int):
-        with local_client(client) as local:
-            tally = _Tally(len(cases), cached, failed, show, client)
-            try:
-                _run(func, cases, todo, local, store, tally)
-            finally:
-                tally.close()
-    else:
-        tally = _Tally(len(cases), cached, failed, show, _n_workers(client))
-        try:
-            _run(func, cases, todo, client, store, tally)
-        finally:
-            tally.close()
+    try:
+        if client is None or not todo:
+            tally = _Tally(len(cases), cached, failed, show, 1)
+            with _closing(tally):
+                _run(func, cases, todo, None, store, inputs, 1)
+        elif isinstance(client, int):
+            with local_client(client) as local:
+                tally = _Tally(len(cases), cached, failed, show, client)
+                with _closing(tally):
+                    _run(func, cases, todo, local, store, inputs, client)
+        else:
+            slots = _n_workers(client)
+            tally = _Tally(len(cases), cached, failed, show, slots)
+            with _closing(tally):
+                _run(func, cases, todo, client, store, inputs, slots)
+    finally:
+        if unstored:
+            warnings.warn(f"run_study: {len(unstored)} case(s) ran but their records were not stored in cache_dir, "
+                          f"so a rerun computes them again ({unstored[0]})", RuntimeWarning, stacklevel=2)
     return _table(cases, outcomes, cached, len(todo))
+
+
+@contextmanager
+def _closing(tally: _Tally):
+    try:
+        yield
+    finally:
+        tally.close()
 
 
 def _table(cases: list[dict], outcomes: list, cached: int, computed: int):

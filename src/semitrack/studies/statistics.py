@@ -19,7 +19,8 @@ import numpy as np
 from ..base.checks import brief, check_in_range, check_int_at_least, check_real
 from ..base.errors import InputError, InputTypeError
 
-__all__ = ["percentiles", "percentile_table", "exceedance", "exceedance_table", "MAX_BOOTSTRAP"]
+__all__ = ["percentiles", "percentile_table", "exceedance", "exceedance_table", "check_columns", "MAX_BOOTSTRAP",
+           "MAX_BOOTSTRAP_WORK"]
 
 #: Most bootstrap resamples.
 MAX_BOOTSTRAP = 100_000
@@ -27,12 +28,16 @@ MAX_BOOTSTRAP = 100_000
 MAX_SAMPLES = 10_000_000
 #: Resampled values held at a time (the bootstrap runs in blocks of at most this many numbers, 16 MB).
 _BLOCK = 2_000_000
+#: Most values the bootstrap resamples in all (samples x resamples): a few seconds of work.
+MAX_BOOTSTRAP_WORK = 500_000_000
 
 
 def _samples(name: str, values) -> np.ndarray:
     """``values`` as a 1-D float array without its NaNs; refused when empty, not numbers or not finite."""
     if isinstance(values, (str, bytes, bool, np.bool_)) or values is None:
         raise InputTypeError(f"{name} must be numbers (one per case), got {brief(values)}")
+    if isinstance(values, np.ma.MaskedArray):  # masked entries are absent, as NaN are
+        values = np.ma.filled(values.astype(float), np.nan)
     try:
         a = np.asarray(values)
     except (TypeError, ValueError):
@@ -57,8 +62,8 @@ def _levels(q) -> np.ndarray:
         levels = np.atleast_1d(np.asarray(q))
     except (TypeError, ValueError):
         raise InputTypeError("q must be a 1-D sequence of percentiles, got a ragged sequence") from None
-    if levels.dtype.kind not in "biuf" or levels.ndim != 1 or not levels.size or levels.size > 1000:
-        raise InputTypeError(f"q must be 1 to 1000 percentiles (from 0 to 100), got {brief(q)}")
+    if levels.dtype.kind not in "biuf" or levels.ndim != 1 or not levels.size or levels.size > 100:
+        raise InputTypeError(f"q must be 1 to 100 percentiles (from 0 to 100), got {brief(q)}")
     levels = levels.astype(float)
     if not ((levels >= 0) & (levels <= 100)).all():
         raise InputError(f"q must be percentiles from 0 to 100, got {brief(q)}")
@@ -103,6 +108,9 @@ def percentiles(values, q: Sequence[float] = (50.0, 95.0, 99.0), *, confidence: 
     if n_boot > MAX_BOOTSTRAP:
         raise InputError(f"n_boot must be at most {MAX_BOOTSTRAP}, got {n_boot}")
     seed = check_int_at_least("seed", seed, 0)
+    if a.size * n_boot > MAX_BOOTSTRAP_WORK:
+        raise InputError(f"n_boot={n_boot} resamples of {a.size} values is more work than {MAX_BOOTSTRAP_WORK:.0e} "
+                         "values: ask for fewer resamples (the intervals of thousands of cases settle with 1000)")
     rng = np.random.default_rng(seed)
     rows = max(1, _BLOCK // a.size)
     boot = np.empty((levels.size, n_boot))
@@ -138,17 +146,39 @@ def exceedance(values):
     return pd.DataFrame({"value": a, "exceedance": 1.0 - np.arange(1, a.size + 1) / (a.size + 1)})
 
 
-def _groups(table, column: str, by: str | None):
-    """``[(group value, samples)]`` of ``table[column]``, grouped by ``table[by]`` (sorted) or whole."""
+def check_columns(table, **names) -> None:
+    """``table`` a DataFrame holding every column named (``{argument: column or None}``)."""
     if type(table).__name__ != "DataFrame":
         raise InputTypeError(f"table must be a study's pandas DataFrame (st.run_study), got {brief(table)}")
-    for name, label in ((column, "column"), (by, "by")):
+    for label, name in names.items():
         if name is not None and (not isinstance(name, str) or name not in table.columns):
             raise InputError(f"{label}={brief(name)} is not a column of the table; its columns are "
                              f"{list(map(str, table.columns))[:20]}")
+
+
+def _groups(table, column: str, by: str | None):
+    """``[(group value, samples)]`` of ``table[column]``, grouped by ``table[by]`` (sorted) or whole."""
+    check_columns(table, column=column, by=by)
     if by is None:
         return [(None, table[column].to_numpy())]
-    return [(value, part[column].to_numpy()) for value, part in table.groupby(by, sort=True)]
+    return [(value, part[column].to_numpy()) for value, part in table.groupby(by, sort=True, dropna=False)]
+
+
+def _per_group(statistic, table, column: str, by: str | None, **options):
+    """``statistic`` of each group's samples, led by the group's value; a group with no numbers named."""
+    import pandas as pd
+
+    parts = []
+    for value, samples in _groups(table, column, by):
+        try:
+            part = statistic(samples, **options)
+        except InputError as err:
+            where = "" if by is None else f" where {by} = {value!r}"
+            raise InputError(f"column {column!r}{where}: {err}") from None
+        if by is not None:
+            part.insert(0, by, value)
+        parts.append(part)
+    return pd.concat(parts, ignore_index=True)
 
 
 def percentile_table(table, column: str, by: str | None = None, q: Sequence[float] = (50.0, 95.0, 99.0), *,
@@ -162,7 +192,7 @@ def percentile_table(table, column: str, by: str | None = None, q: Sequence[floa
     column : str
         The result (e.g. ``"peak_force"``).
     by : str, optional
-        The input to group by (e.g. ``"void_fraction"``); None: all cases.
+        The input to group by (e.g. ``"void_fraction"``; NaN is a group of its own); None: all cases.
     q, confidence, n_boot, seed
         As :func:`percentiles` (every group resampled from ``seed``).
 
@@ -171,25 +201,9 @@ def percentile_table(table, column: str, by: str | None = None, q: Sequence[floa
     pandas.DataFrame
         :func:`percentiles`' columns, led by ``by`` when given.
     """
-    import pandas as pd
-
-    parts = []
-    for value, samples in _groups(table, column, by):
-        part = percentiles(samples, q, confidence=confidence, n_boot=n_boot, seed=seed)
-        if by is not None:
-            part.insert(0, by, value)
-        parts.append(part)
-    return pd.concat(parts, ignore_index=True)
+    return _per_group(percentiles, table, column, by, q=q, confidence=confidence, n_boot=n_boot, seed=seed)
 
 
 def exceedance_table(table, column: str, by: str | None = None):
     """:func:`exceedance` of a study's column, per value of another (``by`` leads the columns)."""
-    import pandas as pd
-
-    parts = []
-    for value, samples in _groups(table, column, by):
-        part = exceedance(samples)
-        if by is not None:
-            part.insert(0, by, value)
-        parts.append(part)
-    return pd.concat(parts, ignore_index=True)
+    return _per_group(exceedance, table, column, by)
