@@ -170,8 +170,12 @@ def monte_carlo_cases(fractions, realisations: int, seed: int = 2026, **run) -> 
 
 
 def drawn_statistics(drawn: RandomTrack, cov: dict, correlation_length: float | None) -> pd.DataFrame:
-    """What a realisation's fields hold beside what was asked: mean over the nominal, coefficient of
-    variation, and the correlation length of the logs fitted from neighbours (``-d / ln rho_1``).
+    """What a realisation's fields hold beside what was asked, with the sampling errors to judge them.
+
+    The mean over the nominal value, the coefficient of variation and the correlation length of the
+    logs fitted from neighbours (``-d / ln rho_1``), each with its standard error for a sample of
+    this many supports correlated as asked (the effective number of independent supports of a
+    Gauss-Markov sequence, ``n (1 - rho) / (1 + rho)``; a log-normal's kurtosis for the CoV).
 
     Parameters
     ----------
@@ -185,16 +189,28 @@ def drawn_statistics(drawn: RandomTrack, cov: dict, correlation_length: float | 
     Returns
     -------
     pandas.DataFrame
-        One row per field: asked and drawn mean ratio, coefficient of variation and correlation length.
+        One row per field.
     """
+    d = drawn.track.spacing
     rows = []
     for name, values in drawn.values.items():
         ratio = values / getattr(drawn.track, name)
         z = np.log(ratio)
         rho = float(np.corrcoef(z[:-1], z[1:])[0, 1])
-        fitted = -drawn.track.spacing / math.log(rho) if 0 < rho < 1 else 0.0
-        rows.append({"field": name, "supports": values.size, "mean / nominal": float(ratio.mean()),
-                     "cov asked": cov[name], "cov drawn": float(ratio.std() / ratio.mean()),
-                     "correlation length asked (m)": correlation_length or 0.0,
-                     "correlation length drawn (m)": fitted})
+        asked = math.exp(-d / correlation_length) if correlation_length else 0.0
+        n_eff = values.size * (1 - asked) / (1 + asked)
+        s2 = math.log1p(cov[name] ** 2)
+        kurtosis = math.exp(4 * s2) + 2 * math.exp(3 * s2) + 3 * math.exp(2 * s2) - 6
+        row = {"field": name, "supports": values.size, "mean / nominal": float(ratio.mean()),
+               "s.e. of the mean": cov[name] / math.sqrt(n_eff), "cov asked": cov[name],
+               "cov drawn": float(ratio.std() / ratio.mean()),
+               "s.e. of the cov": cov[name] * math.sqrt((kurtosis + 2) / (4 * n_eff))}
+        if correlation_length:
+            # the lag-1 correlation's standard error, sqrt((1 - rho^2) / n), carried through -d / ln(rho)
+            se_rho = math.sqrt((1 - asked**2) / values.size)
+            row.update({"correlation length asked (m)": correlation_length,
+                        "correlation length drawn (m)": -d / math.log(rho) if 0 < rho < 1 else 0.0,
+                        "s.e. of the length (m)": d * se_rho / (asked * math.log(asked) ** 2)})
+        rows.append(row)
     return pd.DataFrame(rows)
+
