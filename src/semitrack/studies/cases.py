@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import functools
 import hashlib
+import importlib.metadata
 import json
 import math
 import os
@@ -76,6 +77,15 @@ def check_cases(cases: object) -> list[dict]:
     return out
 
 
+@functools.cache
+def _package_version() -> str:
+    """The installed package's version (its metadata; the root module is a layer above this one)."""
+    try:
+        return importlib.metadata.version("semitrack")
+    except importlib.metadata.PackageNotFoundError:  # run from a source tree that is not installed
+        return "source"
+
+
 def _code_text(code) -> str:
     """What a function's code is, for its study's name: its bytecode, names and constants (nested code too)."""
     consts = [_code_text(c) if hasattr(c, "co_code") else repr(c) for c in code.co_consts]
@@ -102,8 +112,6 @@ def study_name(func: Callable) -> str | None:
     partial of another track is another study). A lambda, a nested function, a method or a callable
     object has no such name: ``None``.
     """
-    from .. import __version__
-
     if isinstance(func, functools.partial):
         inner, fixed = study_name(func.func), _fixed_arguments(func)
         if inner is None or fixed is None:
@@ -113,7 +121,7 @@ def study_name(func: Callable) -> str | None:
     name = getattr(func, "__qualname__", "<")
     if code is None or not isinstance(name, str) or "<" in name or hasattr(func, "__self__"):
         return None
-    digest = hashlib.sha256(f"{__version__}\n{_code_text(code)}".encode()).hexdigest()[:16]
+    digest = hashlib.sha256(f"{_package_version()}\n{_code_text(code)}".encode()).hexdigest()[:16]
     return f"{func.__module__}.{name}[{digest}]"
 
 
