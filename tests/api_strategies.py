@@ -350,9 +350,13 @@ def record_check(base_instance) -> Callable[[Any, dict], None]:
     Shapes and finiteness are not the record's to promise: results hold NaN where a value is absent
     (an error not computed), and the code that computed a record is what is checked for its values.
     """
+    annotations = {f.name: str(f.type) for f in fields(base_instance)}
+
     def check(result, args):
         for name in args:
             got, was = getattr(result, name), getattr(base_instance, name)
+            if got is None and ("None" in annotations.get(name, "") or annotations.get(name) == "object"):
+                continue  # an optional field left empty: what its annotation allows
             if isinstance(was, (float, int, np.ndarray)) and not isinstance(was, bool):
                 garray = np.asarray(got)
                 assert garray.dtype.kind in "biufc" and not isinstance(got, (str, bytes)), \
@@ -526,10 +530,20 @@ add("load_frequency_table", lambda **kw: st.load_frequency_table(**kw),
     lambda c, a: finite("curve", c([10.0, 100.0])))
 
 # Receptances of the periodic track.
+def _by_method(result, args) -> None:
+    """The exact methods' receptance is reciprocal and passive; the paper's wavenumber method at its own
+    settings is an approximation (not reciprocal to 13 % at 400 Hz: the derivation chapter's audit),
+    passive on the diagonal only, as its own surface checks it."""
+    if args.get("method") == "wavenumber":
+        check_diagonal_passive(result)
+    else:
+        check_receptance(result)
+
+
 for _name in ("semi_infinite_receptance", "response_curves", "central_response"):
     add(_name, functools.partial(lambda n, **kw: getattr(st, n)(**kw), _name),
         lambda: {"track": FX.slab, "f": list(F3), "method": "transfer"},
-        receptance_check if _name == "semi_infinite_receptance" else check_nothing,
+        _by_method if _name == "semi_infinite_receptance" else check_nothing,
         kinds={"method": hs.one_of(hs.sampled_from(["wavenumber", "fe", "TRANSFER", " transfer"]), hostile)},
         weight=0.5 if _name == "response_curves" else 1.0)
 add("semi_infinite_receptance[wavenumber]", lambda **kw: st.semi_infinite_receptance(method="wavenumber", **kw),
@@ -555,7 +569,7 @@ record("TrackDecayRate", lambda: FX.decay, then=lambda r: _frame_ok(r.table()))
 record("CentralResponse", lambda: st.central_response(FX.slab, F3))
 add("paper_frequency_table", lambda **kw: st.paper_frequency_table(**kw),
     lambda: {"track": FX.slab, "with_wavenumber": False, "rel_window": 0.1, "wavenumber_response": None},
-    lambda r, a: _frame_ok(r), weight=0.15)
+    lambda r, a: _frame_ok(r), weight=0.15, nan_ok=True)  # NaN: no extremum within rel_window (documented)
 add("find_extrema", lambda **kw: st.find_extrema(**kw),
     lambda: {"f": [1.0, 2.0, 3.0, 4.0, 5.0], "curves": {"a": np.array([1.0, 3.0, 1.0, 3.0, 1.0])}, "evaluate": None},
     lambda r, a: _frame_ok(r), kinds={"evaluate": hostile_callable})
@@ -881,7 +895,7 @@ add("run_study", lambda **kw: st.run_study(**kw),
     _cases_ok, kinds={"cases": hs.one_of(hostile, hs.lists(hostile, max_size=2),
                                          hs.lists(hs.dictionaries(hs.sampled_from(["x", "error", "1"]), hostile,
                                                                   max_size=2), max_size=2))},
-    words={"cases": ("cases[0]", "cases[1]")})
+    words={"cases": ("cases[0]", "cases[1]")}, nan_ok=True)  # NaN: an input a case lacks, a result it did not give
 
 #: Public names that are no callable to draw arguments for: ``{name: why}``.
 NOT_SURFACES = {

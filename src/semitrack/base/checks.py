@@ -69,6 +69,24 @@ def check_in_range(name: str, value: float, bounds: tuple[float, float], why: st
     return value
 
 
+#: Speeds a vehicle rolls at (m/s): from 1 mm/s (below it a run of any length stands still) to 1 km/s.
+SPEED_RANGE = (1e-3, 1e3)
+
+
+def check_rolling_speed(name: str, value: object) -> float:
+    """A vehicle's speed along the rail (m/s), positive and within :data:`SPEED_RANGE`."""
+    return check_in_range(name, check_positive(name, value), SPEED_RANGE, "m/s, a vehicle's")
+
+
+#: Time steps (s): from 1 ns (a step of every stepped model is far longer) to 10 s.
+TIME_STEP_RANGE = (1e-9, 10.0)
+
+
+def check_time_step(name: str, value: object) -> float:
+    """A time step (s), positive and within :data:`TIME_STEP_RANGE`."""
+    return check_in_range(name, check_positive(name, value), TIME_STEP_RANGE, "s, a time step")
+
+
 def check_string(name: str, value: object) -> str:
     """A ``str`` (labels such as a track's name)."""
     if not isinstance(value, str):

@@ -20,13 +20,14 @@ import dataclasses
 import functools
 import sys
 from collections.abc import Mapping
+from typing import Literal
 
 import numpy as np
 
 from .checks import brief, check_real
 from .errors import InputError, InputTypeError
 
-__all__ = ["check_fields"]
+__all__ = ["check_fields", "check_rows"]
 
 
 def _is_numbers(value: object) -> bool:
@@ -52,6 +53,19 @@ _PLAIN = {
 }
 
 
+def _numbers_tuple(inner: str):
+    """``(accepts, description)`` of ``tuple[float, float]``/``tuple[float, ...]``: a tuple of real numbers."""
+    kinds = [k.strip() for k in inner.split(",")]
+    if not kinds or any(k not in ("float", "int", "...") for k in kinds):
+        return None
+    size = None if "..." in kinds else len(kinds)
+    real = _PLAIN["float"][0]
+
+    def accepts(v) -> bool:
+        return (isinstance(v, (tuple, list)) and (size is None or len(v) == size) and all(real(x) for x in v))
+    return accepts, f"a tuple of {size or 'any number of'} real numbers"
+
+
 def _rule(annotation: str, namespace: dict):
     """``(accepts, description)`` of one annotation string, or None when it is not checked."""
     parts = [p.strip() for p in annotation.split("|")]
@@ -59,11 +73,16 @@ def _rule(annotation: str, namespace: dict):
     parts = [p for p in parts if p != "None"]
     if len(parts) != 1:
         return None
-    head = parts[0].split("[", 1)[0]
-    if head in _PLAIN:
+    head, _, inner = parts[0].partition("[")
+    kind = namespace.get(head)
+    if head == "tuple" and inner and _numbers_tuple(inner.rstrip("]")) is not None:
+        accepts, said = _numbers_tuple(inner.rstrip("]"))
+    elif head in _PLAIN:
         accepts, said = _PLAIN[head]
+    elif getattr(kind, "__origin__", None) is Literal:  # an alias such as Layout = Literal["slab", "ballasted"]
+        choices = kind.__args__
+        accepts, said = (lambda v, c=choices: isinstance(v, str) and v in c), f"one of {list(choices)}"
     else:
-        kind = namespace.get(head)
         if not isinstance(kind, type):
             return None
         accepts, said = (lambda v, kind=kind: isinstance(v, kind)), f"a {kind.__name__}"
@@ -109,3 +128,30 @@ def check_fields(record) -> None:
             object.__setattr__(record, name, check_real(f"{type(record).__name__}.{name}", value))  # held as float
         elif said.startswith(_PLAIN["int"][1]) and value is not None and not -2**63 <= value < 2**63:
             raise InputError(f"{type(record).__name__}.{name} must be an integer within 64 bits, got {brief(value)}")
+
+
+def check_rows(record, names: tuple[str, ...], ndims: tuple[int, ...] = (1,)) -> None:
+    """Refuse a record whose array fields ``names`` do not have one row each of the first one's rows.
+
+    Parameters
+    ----------
+    record : dataclass instance
+        The record, its fields already checked by :func:`check_fields`.
+    names : tuple of str
+        Array fields; the first sets the number of rows (its first dimension, at least one).
+    ndims : tuple of int
+        The dimensions each may have (1-D per row, or 2-D: a row per time and a column per wheel).
+
+    Raises
+    ------
+    InputError
+        ``"<Record>.<field> must have ... rows, got shape ..."``.
+    """
+    rows = None
+    for name in names:
+        shape = np.shape(getattr(record, name))
+        if len(shape) not in ndims or (rows is not None and shape[0] != rows) or (rows is None and not shape[0]):
+            want = f"one row per entry of {names[0]} ({rows})" if rows is not None else "at least one row"
+            raise InputError(f"{type(record).__name__}.{name} must be {' or '.join(f'{d}-D' for d in ndims)} with "
+                             f"{want}, got shape {shape}")
+        rows = shape[0] if rows is None else rows

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ..base.checks import check_positive, check_real
+from ..base.checks import check_real, check_time_step
 from ..base.errors import InputError
 
 __all__ = ["Newmark"]
@@ -51,7 +51,7 @@ class Newmark:
     beta: float = 0.25
 
     def __post_init__(self):
-        dt = check_positive("dt", self.dt)
+        dt = check_time_step("dt", self.dt)
         gamma, beta = check_real("gamma", self.gamma), check_real("beta", self.beta)
         if gamma < 0.5 or beta < 0.25 * (gamma + 0.5) ** 2 - 1e-15:
             raise InputError("gamma and beta must satisfy gamma >= 1/2 and beta >= (gamma + 1/2)^2 / 4 "

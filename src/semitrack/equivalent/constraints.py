@@ -272,6 +272,15 @@ def support_mass_frequency(k: ArrayLike, s: ArrayLike, mu: ArrayLike) -> np.ndar
     return np.sqrt((k + s) / mu) / _TWO_PI
 
 
+def _in_range(name: str, value: float) -> float:
+    """A bar's parameter within :data:`PARAMETER_RANGE` (SI units): beyond it the eigenproblem over- or underflows."""
+    lo, hi = PARAMETER_RANGE
+    if not lo <= value <= hi:
+        raise InputError(f"{name} must be from {lo:g} to {hi:g} (SI units, a bar of an equivalent system), "
+                         f"got {value!r}")
+    return value
+
+
 def unit_cell_frequencies(m: float, J: float, L: float, k: float,
                           mu: float | None = None, s: float | None = None) -> np.ndarray:
     """Undamped natural frequencies of one unit cell (paper Fig. 13).
@@ -310,10 +319,7 @@ def unit_cell_frequencies(m: float, J: float, L: float, k: float,
     >>> st.unit_cell_frequencies(m=10.0, J=0.1, L=0.4, k=1e7).round(2)
     array([225.08, 450.16])
     """
-    m = check_positive("m", m)
-    J = check_positive("J", J)
-    L = check_positive("L", L)
-    k = check_positive("k", k)
+    m, J, L, k = (_in_range(name, check_positive(name, v)) for name, v in (("m", m), ("J", J), ("L", L), ("k", k)))
     h = 0.5 * L
     if (mu is None) != (s is None):
         raise InputError(f"mu and s go together (ballasted cell) or are both omitted, got mu={mu!r}, s={s!r}")
@@ -322,8 +328,7 @@ def unit_cell_frequencies(m: float, J: float, L: float, k: float,
         ends = np.array([[1.0, -h], [1.0, h]])  # left and right end displacements
         K = k * ends.T @ ends
     else:
-        mu = check_positive("mu", mu)
-        s = check_positive("s", s)
+        mu, s = _in_range("mu", check_positive("mu", mu)), _in_range("s", check_positive("s", s))
         M = np.diag([m, J, mu, mu])
         upper = np.array([[1.0, -h, -1.0, 0.0], [1.0, h, 0.0, -1.0]])  # end minus support mass
         lower = np.array([[0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]])

@@ -79,6 +79,10 @@ POOR_MEDIAN_ERROR = 0.25
 #: Most bars a fit accepts: beyond it the multi-start least squares runs for many minutes (its
 #: unknowns and its Jacobian grow with N; N = 12 already takes ~8 s on one core).
 MAX_BARS = 20
+#: Most starts of the multi-start (each a least-squares run of up to ``max_nfev`` evaluations).
+MAX_STARTS = 10_000
+#: Most evaluations of one start.
+MAX_NFEV = 1_000_000
 
 # The paper's constraint equations of each layout, as :class:`FitResult` names them.
 _CONSTRAINT_EQUATIONS = {"slab": "the paper's Eq. (19)-(20) tie k, J to f_n",
@@ -271,9 +275,12 @@ def _check_arguments(track, layout, n_bars, band, seed, constrained, n_starts, t
     seed = _check_seed(seed)
     if not isinstance(constrained, (bool, np.bool_)):
         raise InputTypeError(f"constrained must be True or False, got {constrained!r}")
+    n_starts, max_nfev = check_int_at_least("n_starts", n_starts, 1), check_int_at_least("max_nfev", max_nfev, 1)
+    check_work(n_starts, MAX_STARTS, f"n_starts={n_starts} asks for {n_starts} least-squares runs", "use fewer starts")
+    check_work(max_nfev, MAX_NFEV, f"max_nfev={max_nfev} evaluations a start", "allow fewer evaluations")
     return _Arguments(
         track=track, layout=layout, n_bars=n_bars, band=band, seed=seed, constrained=bool(constrained),
-        n_starts=check_int_at_least("n_starts", n_starts, 1), max_nfev=check_int_at_least("max_nfev", max_nfev, 1),
+        n_starts=n_starts, max_nfev=max_nfev,
         error_df=_check_error_df(error_df), initial=_check_initial(initial, layout, n_bars),
         target=normalise_target(target),
     )

@@ -22,7 +22,7 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import as_frequencies, as_real_array, check_nonnegative
+from ..base.checks import as_frequencies, as_real_array, brief, check_nonnegative
 from ..base.errors import InputError, InputTypeError
 from .assembly import IllConditionedError, dynamic_stiffness, end_loads, scaled_solve
 
@@ -466,7 +466,10 @@ class MatrixSystem(MechanicalSystem):
                         ("K", _square_matrix("K", self.K, M.shape[0]))):
             object.__setattr__(self, name, X)
         n = M.shape[0]
-        dofs = tuple(str(d) for d in self.dofs) or ("w (m)", "psi (rad)") + tuple(f"q{j}" for j in range(1, n - 1))
+        if isinstance(self.dofs, (str, bytes)) or not isinstance(self.dofs, (tuple, list)) or not all(
+                isinstance(d, str) for d in self.dofs):
+            raise InputTypeError(f"dofs must be a tuple of names (str), one per DOF, got {brief(self.dofs)}")
+        dofs = tuple(self.dofs) or ("w (m)", "psi (rad)") + tuple(f"q{j}" for j in range(1, n - 1))
         if len(dofs) != n:
             raise InputError(f"dofs must name the {n} DOFs of the matrices, got {len(dofs)} names")
         if not isinstance(self.info, dict):

@@ -63,7 +63,7 @@ def probe_grid(f_max: float) -> np.ndarray:
     ndarray
         Every :data:`PROBE_STEP` Hz from :data:`PROBE_STEP`.
     """
-    f_max = check_in_range("f_max", check_positive("f_max", f_max), (0.0, MAX_MESH_FREQUENCY),
+    f_max = check_in_range("f_max", check_positive("f_max", f_max), (1.0, MAX_MESH_FREQUENCY),
                            "Hz, the range a default mesh is sized for; give elements_per_bay for more")
     top = 500.0 * np.ceil(f_max / 500.0)
     return np.arange(PROBE_STEP, top + PROBE_STEP / 2, PROBE_STEP)

@@ -59,7 +59,15 @@ from .damping import reference_frequencies
 from .element import point_flexibility, shear_parameter, timoshenko_shape_functions
 from .ends import EXACT, FREE, PINNED, End, EndName, FarEndName, end_kinds, make_far_end, model_ends
 from .mesh import KINDS, DofMap, Kind, Mesh, bay_mesh, dof_map, rail_dof
-from .meshsize import MESH_TOLERANCE, PROBE_ELEMENTS, MeshProbe, elements_for, probe_grid, valid_frequency
+from .meshsize import (
+    MAX_MESH_FREQUENCY,
+    MESH_TOLERANCE,
+    PROBE_ELEMENTS,
+    MeshProbe,
+    elements_for,
+    probe_grid,
+    valid_frequency,
+)
 from .supports import CONSTANT_SUPPORTS_ONLY, Foundation, foundation_of, support_values
 
 __all__ = [
@@ -657,9 +665,14 @@ class FETrack:
         """Warn when frequencies above what the mesh resolves within MESH_TOLERANCE are asked (once per model)."""
         if f_top <= self._mesh_checked:
             return
+        self._mesh_checked = f_top
+        if f_top > MAX_MESH_FREQUENCY:  # beyond the probe's reach: said, and judged up to it
+            warnings.warn(f"f reaches {f_top:.0f} Hz: the mesh's own error is measured up to "
+                          f"{MAX_MESH_FREQUENCY:.0f} Hz only, so nothing above it is checked", RuntimeWarning,
+                          stacklevel=stacklevel)
+            f_top = MAX_MESH_FREQUENCY
         probes = [mesh_probe(t, f_top) for t in self.tracks]
         valid = min(valid_frequency(probes, self.elements_per_bay), f_top)
-        self._mesh_checked = f_top
         if valid < f_top:
             need = elements_for(probes, f_top)
             warnings.warn(f"{self.elements_per_bay} elements per bay keep the mesh's own error under "

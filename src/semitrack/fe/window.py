@@ -355,6 +355,8 @@ class WindowTrack:
             transition or with joints, built afresh.
         """
         offset = check_int_at_least("offset", offset, -MAX_OFFSET_BAYS)
+        if offset > MAX_OFFSET_BAYS:
+            raise InputError(f"offset must be at most {MAX_OFFSET_BAYS} bays, got {offset!r}")
         n_left, n_right = (check_int_at_least(name, n, 1) for name, n in (("n_left", n_left), ("n_right", n_right)))
         changes = self.local_changes(offset, n_left, n_right)
         joints = self._local_joints(offset, n_left, n_right)

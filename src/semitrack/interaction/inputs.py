@@ -14,8 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..base.checks import check_nonnegative, check_positive, check_steps
+from ..base.checks import check_nonnegative, check_positive, check_steps, check_time_step, check_work
 from ..base.errors import InputError, InputTypeError
+from ..dynamics.simulate import MAX_RECORDED
 from ..model.roughness import Roughness
 from ..model.vehicle import Vehicle, as_vehicle
 from ..model.wheel import Wheel
@@ -138,10 +139,13 @@ def check_run(wheel: Wheel | Vehicle | Sequence[Wheel], roughness: Roughness | N
         raise InputTypeError(f"roughness must be None (a smooth rail) or a Roughness (roughness_from_spectrum, "
                              f"corrugation), got {type(roughness).__name__}")
     x0 = vehicle.positions(x, name)
-    dt, duration, ramp = check_positive("dt", dt), check_positive("duration", duration), check_positive("ramp", ramp)
+    dt, duration, ramp = check_time_step("dt", dt), check_positive("duration", duration), check_positive("ramp", ramp)
     if not duration > ramp:
         raise InputError(f"duration must exceed ramp = {ramp!r} s (the roughness's fade-in), got {duration!r}")
     n_steps = check_steps(dt, duration)
+    k = len(x0)  # every route records force, wheel, rail and roughness per wheel per step, and the time
+    check_work((n_steps + 1) * (4 * k + 1), MAX_RECORDED, f"duration={duration!r} s / dt={dt!r} s = {n_steps} steps of "
+               f"{k} wheel(s) record {(n_steps + 1) * (4 * k + 1)} values", "simulate less, or with a larger dt")
     speeds = None
     if callable(speed):
         if not varying:
@@ -172,6 +176,6 @@ def _speeds(speed: Callable[[float], float], dt: float, n_steps: int) -> np.ndar
     bad = ~(np.isfinite(values) & (values >= 0))
     if np.any(bad):
         k = int(np.argmax(bad))
-        raise InputError(f"speed(t) must be non-negative and finite at every step (the wheels do not reverse), got "
-                         f"{values[k]!r} m/s at t = {t[k]:.6g} s")
+        raise InputError(f"speed(t) must be non-negative and finite at every step of the run (the wheels do not "
+                         f"reverse), got {float(values[k])!r} m/s at t = {t[k]:.6g} s of duration={t[-1]:.6g} s")
     return values

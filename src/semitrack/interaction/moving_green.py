@@ -38,10 +38,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..base.checks import check_positive, check_real, check_steps, check_work
+from ..base.checks import check_positive, check_real, check_rolling_speed, check_steps, check_work
 from ..base.deprecation import renamed_keywords
 from ..base.errors import InputError, InputTypeError
-from ..dynamics.simulate import MAX_RECORDED
 from ..equivalent.cache import canonical
 from ..fe.kernelcache import cached_kernels
 from ..fe.kernels import ALIAS_FACTOR, MovingKernels, grid_of, track_key
@@ -128,13 +127,15 @@ def moving_green_kernels(track: Track, speed: float, dt: float = DEFAULT_DT, off
 def _kernels_for(track, speed, dt, offsets, x, memory, elements_per_bay, f_max, f_ref, cache) -> MovingKernels:
     """:func:`moving_green_kernels` without its warning (the response warns once, for kernels given or computed)."""
     track = _require_periodic(track)
-    speed, dt, memory = check_positive("speed", speed), check_positive("dt", dt), check_positive("memory", memory)
+    speed, dt, memory = check_rolling_speed("speed", speed), check_positive("dt", dt), check_positive("memory", memory)
     grid = grid_of(track, speed, dt, offsets)
     steps = check_steps(dt, memory, names=("dt", "memory"))
     x = check_real("x", x)
     if not math.isfinite(x):
         raise InputError(f"x must be finite (m), got {x!r}")
     start = int(round(x / grid.step)) % grid.positions
+    if elements_per_bay is not None:  # checked as every FE model checks it (never a string read as a number)
+        elements_per_bay = elements_per_bay_of([track], elements_per_bay)
     return cached_kernels(track, elements_per_bay, f_max, grid, steps, f_ref, cache, start)
 
 
@@ -256,7 +257,7 @@ def moving_green_response(track: Track, wheel: Wheel | Vehicle | Sequence[Wheel]
     track = _require_periodic(track)
     x = check_real("x", x)  # the vehicle's origin: wheel i at x + offsets[i]
     # the roughness's speed is checked below, against the rounded one too
-    run = check_run(wheel, roughness, x, check_positive("speed", speed), dt, duration, ramp, check_speed=False)
+    run = check_run(wheel, roughness, x, check_rolling_speed("speed", speed), dt, duration, ramp, check_speed=False)
     vehicle, k, dt, n_steps = run.vehicle, run.k, run.dt, run.n_steps
     settings = {"memory": memory, "elements_per_bay": elements_per_bay, "f_max": f_max, "f_ref": f_ref}
     if kernels is None:
@@ -322,9 +323,7 @@ def _check_start(kernels: MovingKernels, g: np.ndarray, vehicle: Vehicle) -> Non
 
 
 def _check_work(kernels: MovingKernels, n_steps: int, k: int, request: str) -> None:
-    """A run's convolutions and records within reason."""
+    """A run's convolutions within reason (its records are :func:`~.inputs.check_run`'s)."""
     L = kernels.memory
     check_work(float(n_steps) * k * k * L, MAX_LOOP_WORK, f"{request} and a memory of {L} steps take "
                f"{float(n_steps) * k * k * L:.3g} multiply-adds", "simulate less or use a shorter memory")
-    check_work((n_steps + 1) * (4 * k + 1), MAX_RECORDED, f"{request} record {(n_steps + 1) * (4 * k + 1)} values",
-               "simulate less")

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..base.checks import check_real
 from ..base.errors import InputError
-from ..base.fields import check_fields
+from ..base.fields import check_fields, check_rows
 from ..fe.gaps import GapResponse
 from ..fe.trackforces import TrackForces
 from ..methods.infinite import InfiniteTrack
@@ -110,6 +110,8 @@ class ContactResponse:
 
     def __post_init__(self):
         check_fields(self)  # a record built by hand is refused here, not in a method
+        check_rows(self, ("t",))
+        check_rows(self, ("t", "force", "w_wheel", "w_rail", "roughness", "x"), ndims=(1, 2))
 
     @property
     def dt(self) -> float:

@@ -39,7 +39,7 @@ from ..base.bands import third_octave_bands
 from ..base.checks import MAX_FREQUENCIES, as_real_array, brief, check_choice, check_positive, check_real, check_work
 from ..base.deprecation import deprecated_alias, renamed_keywords
 from ..base.errors import InputError, InputTypeError
-from ..base.fields import check_fields
+from ..base.fields import check_fields, check_rows
 from ..model.tracks import Track
 from .infinite import InfiniteTrack
 from .transfer import cyclic_reduction, period_dynamic_stiffness, vanishing_damping
@@ -169,6 +169,7 @@ class TrackDecayRate:
 
     def __post_init__(self):
         check_fields(self)  # a record built by hand is refused here, not in a method
+        check_rows(self, ("centres", "decay_rate", "suitable", "far_point_drop", "valid", "wave_attenuation"))
 
     def table(self):
         """The rates as a :class:`pandas.DataFrame`, a row per band, with the checks beside them."""

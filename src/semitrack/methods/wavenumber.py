@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import check_int_at_least, check_positive, check_work
+from ..base.checks import check_in_range, check_int_at_least, check_positive, check_work
 from ..base.errors import InputError
 
 # The paper's settings (Sec. 4.1), kept importable from here as well.
@@ -43,6 +43,8 @@ __all__ = ["PAPER_BETA_MAX", "PAPER_DBETA", "PAPER_DX", "PAPER_J_MAX", "Wavenumb
 #: ~1e-7 s per term with one support per period, ~1e-6 s with ten (a flexible slab), so 1e8 terms
 #: take from 10 s to ~2 min per frequency.
 MAX_TERMS_PER_FREQUENCY = 100_000_000
+#: Largest step of the rail's fields (m): the paper's is 2 mm; a metre already skips the supports.
+MAX_DX = 1.0
 #: Most terms per call, over all frequencies (~1.4e7 terms/s on one core: 1e10 ~ 12 min).
 MAX_TERMS = 10_000_000_000
 #: Most supports per period, squared: the method's per-frequency arrays grow with it, not with the
@@ -76,17 +78,24 @@ class WavenumberSettings:
     dx: float = PAPER_DX
 
     def __post_init__(self):
-        check_positive("beta_max", self.beta_max)
-        check_positive("dbeta", self.dbeta)
-        check_int_at_least("j_max", self.j_max, 0)
-        check_positive("dx", self.dx)
+        # held as plain floats and an int: 2**64 given for beta_max must not stay a Python int numpy reads as an object
+        object.__setattr__(self, "beta_max", check_positive("beta_max", self.beta_max))
+        object.__setattr__(self, "dbeta", check_positive("dbeta", self.dbeta))
+        object.__setattr__(self, "j_max", check_int_at_least("j_max", self.j_max, 0))
+        dx = check_in_range("dx", check_positive("dx", self.dx), (0.0, MAX_DX), "m, the step of the rail's fields")
+        object.__setattr__(self, "dx", dx)
         if self.dbeta >= self.beta_max:
             raise InputError(f"dbeta must be smaller than beta_max, got dbeta={self.dbeta}, beta_max={self.beta_max}")
 
     @property
+    def n_beta(self) -> int:
+        """The number of wavenumbers of the grid (counted, not allocated)."""
+        return 2 * int(round(self.beta_max / self.dbeta))
+
+    @property
     def beta(self) -> np.ndarray:
         """The wavenumber grid (rad/m)."""
-        n_half = int(round(self.beta_max / self.dbeta))
+        n_half = self.n_beta // 2
         return self.dbeta * np.arange(-n_half, n_half)
 
 
@@ -136,7 +145,7 @@ def displacement_fields(cell: PeriodicCell, omega: ArrayLike, x_rel: ArrayLike,
     omega = np.atleast_1d(np.asarray(omega, dtype=float))
     x_rel = np.atleast_1d(np.asarray(x_rel, dtype=float))
     x0 = cell.central_section if x0 is None else float(x0)
-    n_terms = (2 * settings.j_max + 1) * settings.beta.size  # terms of the sum over (j, beta)
+    n_terms = (2 * settings.j_max + 1) * settings.n_beta  # terms of the sum over (j, beta), before any is made
     check_work(n_terms, MAX_TERMS_PER_FREQUENCY, f"beta_max/dbeta/j_max = {settings.beta_max!r}/{settings.dbeta!r}/"
                f"{settings.j_max!r} give {n_terms} terms per frequency", "use a larger dbeta or a smaller beta_max")
     check_work(n_terms * omega.size, MAX_TERMS, f"{omega.size} frequencies x {n_terms} terms give "

@@ -84,6 +84,9 @@ def contact_semi_length(wheel: Wheel, *, E: float = STEEL_E, poisson: float = ST
     return float(np.sqrt(radius * wheel.static_approach))
 
 
+#: Roughness wavelengths the filter takes (m): from 1 nm (the filter is zero long before) to 1000 km.
+WAVELENGTH_RANGE = (1e-9, 1e6)
+
 def contact_filter(wavelength: ArrayLike, semi_length: float) -> np.ndarray:
     """The contact filter ``2 J1(k a) / (k a)`` at each wavelength: the factor on a roughness's amplitude.
 
@@ -108,6 +111,10 @@ def contact_filter(wavelength: ArrayLike, semi_length: float) -> np.ndarray:
     lam = as_real_array(wavelength, "wavelength")
     if lam.size and not np.all(lam > 0):
         raise InputError(f"wavelength must be positive (m), got {lam[~(lam > 0)].ravel()[0]!r}")
+    if lam.size and not np.all((lam >= WAVELENGTH_RANGE[0]) & (lam <= WAVELENGTH_RANGE[1])):
+        bad = lam[~((lam >= WAVELENGTH_RANGE[0]) & (lam <= WAVELENGTH_RANGE[1]))].ravel()[0]
+        lo, hi = WAVELENGTH_RANGE
+        raise InputError(f"wavelength must be from {lo:g} to {hi:g} m (a roughness's), got {bad!r}")
     a = check_in_range("semi_length", check_positive("semi_length", semi_length), SEMI_LENGTH_RANGE,
                        "m, a contact patch's half length")
     ka = 2 * np.pi * a / lam

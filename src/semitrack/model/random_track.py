@@ -248,7 +248,7 @@ class RandomTrack:
                            f"RandomTrack.values[{name!r}]")
             if a.shape != (n,) or not (np.isfinite(a).all() and (a > 0).all()):
                 raise InputError(f"RandomTrack.values[{name!r}] must hold {n} positive finite values (one per "
-                                 f"support {self.first}..{self.last}), got shape {a.shape}")
+                                 f"support first..last = {self.first}..{self.last}), got shape {a.shape}")
             values[name] = a
         object.__setattr__(self, "values", values)
         voided = self._indices("voided", self.voided)

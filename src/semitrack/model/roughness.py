@@ -39,7 +39,9 @@ from ..base.checks import (
     check_nonnegative,
     check_positive,
     check_real,
+    check_rolling_speed,
     check_string,
+    check_time_step,
     check_work,
 )
 from ..base.errors import InputError, InputTypeError
@@ -66,10 +68,10 @@ MAX_LINES = 100_000
 MAX_LEVEL = 100.0
 #: Most samples of one call of :meth:`Roughness.sampled` (8 bytes each).
 MAX_SAMPLES = 20_000_000
-#: The speeds a roughness is passed at (m/s): from walking pace to well beyond any train.
-SPEED_RANGE = (1e-3, 1e3)
 #: Longest period and time a roughness is read at (s): beyond it the phases 2 pi f t lose their digits.
 MAX_PERIOD = 1e7
+#: Largest amplitude of a roughness line (m): a metre is far beyond any rail's (their sum stays finite).
+MAX_AMPLITUDE = 1.0
 #: Farthest a roughness is shifted along the rail (m): the Earth's circumference 250 times.
 MAX_DISTANCE = 1e10
 #: Most samples x lines summed as cosines by :meth:`Roughness.sampled` when its period is no whole
@@ -120,7 +122,7 @@ class Roughness:
     label: str = field(default="", compare=False)
 
     def __post_init__(self):
-        speed = check_in_range("speed", check_positive("speed", self.speed), SPEED_RANGE, "m/s, a vehicle's")
+        speed = check_rolling_speed("speed", self.speed)
         period = check_in_range("period", check_positive("period", self.period), (0.0, MAX_PERIOD),
                                 "s, a roughness of at most 10 million seconds")
         check_string("label", self.label)
@@ -139,6 +141,9 @@ class Roughness:
                              f"got e.g. {f[np.argmax(np.abs(j - np.round(j)))]!r}")
         if not (np.all(np.isfinite(a)) and np.all(a >= 0) and np.all(np.isfinite(phi))):
             raise InputError("amplitudes must be non-negative and finite (m) and phases finite (rad)")
+        if np.any(a > MAX_AMPLITUDE):
+            raise InputError(f"amplitudes must be at most {MAX_AMPLITUDE:g} m (a roughness of the rail), got "
+                             f"{a.max()!r}")
         for key, value in (("frequencies", f), ("amplitudes", a), ("phases", phi), ("speed", speed),
                            ("period", period)):
             object.__setattr__(self, key, value)
@@ -168,6 +173,10 @@ class Roughness:
         Roughness
         """
         factor = check_nonnegative("factor", factor)
+        largest = float(self.amplitudes.max(initial=0.0)) * factor
+        if largest > MAX_AMPLITUDE:
+            raise InputError(f"factor={factor!r} makes the largest amplitude {largest:.3g} m, more than "
+                             f"{MAX_AMPLITUDE:g} m (a roughness of the rail)")
         return replace(self, amplitudes=self.amplitudes * factor)
 
     def band_levels(self, centres: ArrayLike) -> np.ndarray:
@@ -221,7 +230,7 @@ class Roughness:
         Roughness
             Lines at ``f speed / self.speed``, the period ``self.period self.speed / speed``.
         """
-        ratio = check_in_range("speed", check_positive("speed", speed), SPEED_RANGE, "m/s, a vehicle's") / self.speed
+        ratio = check_rolling_speed("speed", speed) / self.speed
         return replace(self, frequencies=self.frequencies * ratio, period=self.period / ratio, speed=float(speed))
 
     def sampled(self, dt: float, n: int) -> np.ndarray:
@@ -251,7 +260,7 @@ class Roughness:
         >>> bool(np.allclose(r.sampled(1e-5, 101), r(1e-5 * np.arange(101)), rtol=0, atol=1e-18))
         True
         """
-        dt, n = check_positive("dt", dt), check_int_at_least("n", n, 1)
+        dt, n = check_time_step("dt", dt), check_int_at_least("n", n, 1)
         check_work(n, MAX_SAMPLES, f"n={n} samples", "sample a shorter record, or in parts")
         self.warn_aliasing(dt)
         steps = self.period / dt
@@ -321,6 +330,7 @@ class Roughness:
         True
         """
         start, length, fade = check_real("start", start), check_positive("length", length), check_positive("fade", fade)
+        check_in_range("start", start, (-MAX_DISTANCE, MAX_DISTANCE), "m along the rail")
         if not length > 2 * fade:
             raise InputError(f"length must exceed 2 fade = {2 * fade!r} m (a fade at each end), got {length!r}")
         spatial_period = self.speed * self.period
@@ -519,6 +529,8 @@ def corrugation(speed: float, wavelength: float, amplitude: float, *, phase: flo
     """
     speed, wavelength = check_positive("speed", speed), check_positive("wavelength", wavelength)
     amplitude, phase = check_nonnegative("amplitude", amplitude), check_real("phase", phase)
+    check_in_range("amplitude", amplitude, (0.0, MAX_AMPLITUDE), "m, a roughness of the rail")
+    check_in_range("wavelength", wavelength, (1e-9, speed * MAX_PERIOD), f"m: one cycle in at most {MAX_PERIOD:g} s")
     f = speed / wavelength
     return _checked_for(dt, Roughness(np.array([f]), np.array([amplitude]), np.array([phase]), speed, 1.0 / f,
                                       label=f"corrugation {wavelength:.4g} m at {speed:.4g} m/s"))
