@@ -250,6 +250,11 @@ def _fit():
     (lambda: st.corrugation(20.0, 0.05, 1e-6).sampled(1e308, 10), ("dt must be from",)),  # nan
     (lambda: st.corrugation(20.0, 0.05, 1e-6).sampled(1e-308, 10), ("dt must be from",)),  # OverflowError
     (lambda: st.corrugation(20.0, 0.05, 1e-6).along_rail(-1e308, 2.0), ("start must be from",)),  # named x
+    (lambda: st.corrugation(20.0, 0.05, 1e-6).along_rail(0.0, 1e308), ("length must be from",)),  # OverflowError
+    (lambda: st.corrugation(20.0, 0.05, 1e-6).along_rail(0.0, 7e-6, fade=6e-8), ("length=",)),  # named x and r
+    (lambda: st.corrugation(20.0, 0.05, 1e-6, phase=float("inf")), ("phase must be finite",)),  # named phases
+    (lambda: st.corrugation(20.0, 0.05, 1e-6).scaled(1e300), ("factor=",)),  # named amplitudes
+    (lambda: st.roughness_from_spectrum(100.0, [5e-324], [-50.0]), ("wavelengths must be band centres from",)),
     (lambda: st.unit_cell_frequencies(m=5e-324, J=0.1, L=0.4, k=1e7), ("m must be from",)),  # nan
     (lambda: st.unit_cell_frequencies(m=1.0, J=0.1, L=1e308, k=1e7), ("L must be from",)),  # a LinAlgError
     (lambda: st.moving_green_response(st.slab_track(damping="viscous"), st.Wheel(), speed=5e-324, dt=1e-4,

@@ -70,6 +70,8 @@ MAX_LEVEL = 100.0
 MAX_SAMPLES = 20_000_000
 #: Longest period and time a roughness is read at (s): beyond it the phases 2 pi f t lose their digits.
 MAX_PERIOD = 1e7
+#: Band-centre wavelengths a roughness spectrum may hold (m): from 1 um (far below a contact patch) to 10 km.
+BAND_WAVELENGTHS = (1e-6, 1e4)
 #: Largest amplitude of a roughness line (m): a metre is far beyond any rail's (their sum stays finite).
 MAX_AMPLITUDE = 1.0
 #: Farthest a roughness is shifted along the rail (m): the Earth's circumference 250 times.
@@ -331,6 +333,7 @@ class Roughness:
         """
         start, length, fade = check_real("start", start), check_positive("length", length), check_positive("fade", fade)
         check_in_range("start", start, (-MAX_DISTANCE, MAX_DISTANCE), "m along the rail")
+        check_in_range("length", length, (0.0, MAX_DISTANCE), "m along the rail")
         if not length > 2 * fade:
             raise InputError(f"length must exceed 2 fade = {2 * fade!r} m (a fade at each end), got {length!r}")
         spatial_period = self.speed * self.period
@@ -339,6 +342,8 @@ class Roughness:
         n = math.floor(length / dx) + 1  # the last sample within the length
         check_work(n, MAX_PROFILE_SAMPLES, f"length={length!r} m at {dx:.3g} m a sample gives {n} samples",
                    "lay a shorter stretch, or drop the shortest wavelengths")
+        if n < 2:
+            raise InputError(f"length={length!r} m holds fewer than two samples {dx:.3g} m apart: lay a longer stretch")
         s = dx * np.arange(n)
         with warnings.catch_warnings():  # in space, the samples resolve every line: no aliasing
             warnings.simplefilter("ignore", RuntimeWarning)
@@ -410,6 +415,10 @@ def _band_numbers(centres: ArrayLike, name: str = "centres") -> np.ndarray:
     if c.ndim != 1 or c.size == 0 or not np.all(np.isfinite(c) & (c > 0)):
         raise InputError(f"{name} must be a non-empty 1-D array of positive band-centre wavelengths (m), "
                          f"got {centres!r}")
+    lo, hi = BAND_WAVELENGTHS
+    if not np.all((c >= lo) & (c <= hi)):
+        raise InputError(f"{name} must be band centres from {lo:g} to {hi:g} m (a rail's roughness), got "
+                         f"{c[~((c >= lo) & (c <= hi))][0]!r}")
     n = np.round(10 * np.log10(c)).astype(int)
     off = np.abs(c / 10.0 ** (n / 10) - 1) > 0.03
     if np.any(off):
@@ -529,6 +538,8 @@ def corrugation(speed: float, wavelength: float, amplitude: float, *, phase: flo
     """
     speed, wavelength = check_positive("speed", speed), check_positive("wavelength", wavelength)
     amplitude, phase = check_nonnegative("amplitude", amplitude), check_real("phase", phase)
+    if not math.isfinite(phase):
+        raise InputError(f"phase must be finite (rad), got {phase!r}")
     check_in_range("amplitude", amplitude, (0.0, MAX_AMPLITUDE), "m, a roughness of the rail")
     check_in_range("wavelength", wavelength, (1e-9, speed * MAX_PERIOD), f"m: one cycle in at most {MAX_PERIOD:g} s")
     f = speed / wavelength
