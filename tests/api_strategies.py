@@ -1052,7 +1052,7 @@ CLI_SURFACES: dict[str, CliSurface] = {
 }
 
 #: Names a refusal may give an option by, beside the option itself.
-CLI_WORDS = {"-o": ("--output",), "--band": ("band",), "track": (), "system": (), "name": ("example",)}
+CLI_WORDS = {"-o": ("--output",), "--band": ("band",), "--df": ("df",), "track": (), "system": (), "name": ("example",)}
 _FILE_KEYS = ("track", "system", "-o")
 
 

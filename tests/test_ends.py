@@ -65,7 +65,8 @@ def test_the_factory_and_its_rules():
         make_end("exact", st.paper_table4())
     with pytest.raises(ValueError, match="one system cannot close both"):
         model_ends("equivalent", "boundary", st.paper_table4())
-    with pytest.raises(ValueError, match="a model with zero bays needs 'equivalent', 'boundary', 'exact' ends"):
+    with pytest.raises(ValueError, match=r"a model with zero bays \(n_left = n_right = 0\) needs 'equivalent', "
+                                         r"'boundary', 'exact' ends"):
         model_ends("pinned", "exact", n_bays=0)
     ends = model_ends(PINNED, "equivalent", st.paper_table4())
     assert ends["left"] is PINNED and isinstance(ends["right"], EquivalentEnd)

@@ -92,8 +92,10 @@ def test_hostile_command_lines_end_in_success_or_a_named_refusal(name):
             named = names_in(err, words) or any(
                 printable(v).strip() and printable(v) in err and (k in FILE_ARGUMENTS or len(v.strip()) >= 4)
                 for k, v in replaced)
-            # "--" where a file belongs is the end-of-options marker, which argparse takes before any value
-            named = named or any(v == "--" and k in ("track", "system") for k, v in replaced)
+            # "--" where a file belongs is the end-of-options marker, which argparse takes before any value;
+            # a blank file name is named where the error quotes it ("error:  : not a valid TOML file")
+            named = named or any((v == "--" or (v.isspace() and f"error: {v}: " in err)) and k in ("track", "system")
+                                 for k, v in replaced)
             assert named, f"{call}: the refusal does not name {' or '.join(k for k, _ in replaced)}: {err.strip()}"
             assert outcome.cpu < REFUSAL_SECONDS, f"{call} was refused only after {outcome.cpu:.2f} s of CPU"
         else:

@@ -101,7 +101,7 @@ def test_a_realisation_depends_on_its_seed_alone_and_each_draw_has_its_own_strea
     assert not np.array_equal(other.values["kv"], a.values["kv"])
     assert a.seed == (5, 3) and st.random_track(BALLAST, 0, 3, seed=7).seed == 7
     # every seed its own draw: an int and the tuple of it, trailing zeros, entries beyond 32 bits
-    seeds = [5, (5,), (5, 0), (5, 0, 0), (0, 5), (2**32 + 5, 0), (5, 1, 0), (5, 1), 2**32 + 5, 2**64]
+    seeds = [5, (5,), (5, 0), (5, 0, 0), (0, 5), (2**32 + 5, 0), (5, 1, 0), (5, 1), 2**32 + 5, 2**63]
     draws = [st.random_track(BALLAST, 0, 3, cov={"kv": 0.2}, seed=s).values["kv"].tobytes() for s in seeds]
     assert len(set(draws)) == len(seeds)
 

@@ -303,3 +303,37 @@ def test_a_receptance_beyond_the_meshs_probe_is_computed_and_said_to_be_unchecke
     with pytest.warns(RuntimeWarning, match="measured up to 20000 Hz only"):
         alpha = model.receptance([20001.0], 0.0)  # was a refusal naming f_max, not f
     assert np.isfinite(alpha).all()
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    (lambda: st.RandomTrack(BALLASTED, 0, 3, seed=2**64), ("seed must be below 2**64",)),
+    (lambda: st.WavenumberSettings(j_max=2**64), ("j_max must be at most",)),  # held as an object
+    (lambda: st.WavenumberSettings(dx=0.25), ("dx must be from",)),  # a receptance that is not passive
+    (lambda: st.WheelFlat(1e308, shape="rounded"), ("length must be from",)),  # an OverflowError when used
+    (lambda: st.cached_fit(SLAB, "slab", n_bars=1 + 1j), ("n_bars",)),  # named "an argument of type complex"
+    (lambda: st.corrugation(1e-308, 0.05, 1e-6), ("speed must be from",)),  # named wavelength
+    (lambda: st.fit_equivalent(SLAB, "slab", n_bars=2, band=(3.0, 300.0), error_df=5e-324), ("error_df=",)),
+    (lambda: st.semi_infinite_receptance(SLAB, [100.0], method=np.ones((2, 2))), ("method must be one of",)),
+    (lambda: st.FETrack(SLAB, 0, 0), ("n_left = n_right = 0",)),  # named the ends only
+])
+def test_the_long_profiles_third_round_is_refused_naming_the_parameter(call, words):
+    refused(call, BadInput, *words, cpu=ONE_SECOND)
+
+
+def test_tuples_of_a_kind_refuse_entries_of_another():
+    import dataclasses
+    fit = _fit()
+    refused(lambda: dataclasses.replace(fit, free_parameters=[0.3]), BadInput, "FitResult.free_parameters")
+    run = st.wheel_rail_response(st.TruncatedTrack(SLAB, 2, elements_per_bay=4), st.Wheel(), dt=1e-4, duration=0.01,
+                                 ramp=0.002)
+    refused(lambda: dataclasses.replace(run, wheels=["0.3"]), BadInput, "ContactResponse.wheels")
+
+
+def test_the_command_line_reads_no_underscored_numbers(tmp_path, capsys):
+    from semitrack.cli import main
+    from semitrack.model.trackfile import example_path
+    assert main(["fit", str(example_path("slab")), "--bars", "1_0", "--layout", "slab", "--band", "3", "300",
+                 "-o", str(tmp_path / "f.json"), "--quiet"]) == 2  # Python's int("1_0") is 10: a 10-bar fit
+    assert "invalid integer value: '1_0'" in capsys.readouterr().err
+    assert main(["receptance", str(example_path("slab")), "--fmin", "1_00", "-o", str(tmp_path / "r.csv")]) == 2
+    assert "invalid number value: '1_00'" in capsys.readouterr().err

@@ -23,6 +23,7 @@ import functools
 import io
 import json
 import os
+import re
 import signal
 import sys
 import threading
@@ -102,9 +103,23 @@ class Typed(float):
         return self.text
 
 
+#: A number as the command line takes it: decimal digits, a point, an exponent (no "1_0", which Python reads as 10).
+_NUMBER = re.compile(r"\s*[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?\s*|\s*[+-]?(inf|infinity|nan)\s*", re.IGNORECASE)
+_INTEGER = re.compile(r"\s*[+-]?\d+\s*")
+
+
 def number(text: str) -> Typed:
     """argparse's converter of numbers (its error reads "invalid number value: 'abc'")."""
+    if not _NUMBER.fullmatch(text):
+        raise PackageInputError(text)  # a ValueError: argparse reports it as an invalid number
     return Typed(text)
+
+
+def integer(text: str) -> int:
+    """argparse's converter of integers: digits only (its error reads "invalid integer value: '1_0'")."""
+    if not _INTEGER.fullmatch(text):
+        raise PackageInputError(text)
+    return int(text)
 
 
 def frequency(name: str, value: float) -> float:
@@ -768,16 +783,16 @@ def _fit_parser(sub) -> None:
                               "  semitrack fit slab.toml --boundary --band 3 3000 -o boundary.json"
                               .format(*FIT_BANDS["ballasted"]))
     p.add_argument("track", help="track description file (TOML)")
-    p.add_argument("--bars", type=int, default=None, help="number of rigid bars N (default 5)")
+    p.add_argument("--bars", type=integer, default=None, help="number of rigid bars N (default 5)")
     p.add_argument("--layout", choices=("slab", "ballasted"), default=None,
                    help="the equivalent system's layout (default: ballasted for sleepers on ballast or a measured "
                         "foundation, whose own dynamics its second mass takes; slab otherwise)")
     p.add_argument("--band", type=number, nargs=2, metavar=("FMIN", "FMAX"), required=True, help="band to fit, Hz")
-    p.add_argument("--seed", type=int, default=0, help="seed of the multi-start (default 0)")
+    p.add_argument("--seed", type=integer, default=0, help="seed of the multi-start (default 0)")
     p.add_argument("--unconstrained", action="store_true", help="drop the paper's frequency constraints")
     p.add_argument("--boundary", action="store_true",
                    help="fit the broadband passive end model instead of a multi-rigid-body system")
-    p.add_argument("--poles", type=int, default=None,
+    p.add_argument("--poles", type=integer, default=None,
                    help="with --boundary: number of poles (default: chosen by the fit)")
     p.add_argument("-o", "--output", required=True,
                    help="JSON file for the fitted system (with --boundary: .json or .mat for the state space, "

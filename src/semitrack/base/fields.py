@@ -53,17 +53,25 @@ _PLAIN = {
 }
 
 
-def _numbers_tuple(inner: str):
-    """``(accepts, description)`` of ``tuple[float, float]``/``tuple[float, ...]``: a tuple of real numbers."""
+def _typed_tuple(inner: str, namespace: dict):
+    """``(accepts, description)`` of ``tuple[float, float]``, ``tuple[str, ...]``, ``tuple[Wheel, ...]``:
+    a tuple whose entries are all of one kind (and of that many, unless ``...``); None for others."""
     kinds = [k.strip() for k in inner.split(",")]
-    if not kinds or any(k not in ("float", "int", "...") for k in kinds):
+    size = None if kinds[-1] == "..." else len(kinds)
+    kinds = {k for k in kinds if k != "..."}
+    if len(kinds) != 1:
         return None
-    size = None if "..." in kinds else len(kinds)
-    real = _PLAIN["float"][0]
+    (kind,) = kinds
+    if kind in ("float", "int", "str"):
+        entry, said = _PLAIN[kind]
+    elif isinstance(namespace.get(kind), type):
+        entry, said = (lambda v, cls=namespace[kind]: isinstance(v, cls)), f"a {kind}"
+    else:
+        return None
 
     def accepts(v) -> bool:
-        return (isinstance(v, (tuple, list)) and (size is None or len(v) == size) and all(real(x) for x in v))
-    return accepts, f"a tuple of {size or 'any number of'} real numbers"
+        return (isinstance(v, (tuple, list)) and (size is None or len(v) == size) and all(entry(x) for x in v))
+    return accepts, f"a tuple of {size or 'any number of'} entries, each {said}"
 
 
 def _rule(annotation: str, namespace: dict):
@@ -75,8 +83,8 @@ def _rule(annotation: str, namespace: dict):
         return None
     head, _, inner = parts[0].partition("[")
     kind = namespace.get(head)
-    if head == "tuple" and inner and _numbers_tuple(inner.rstrip("]")) is not None:
-        accepts, said = _numbers_tuple(inner.rstrip("]"))
+    if head == "tuple" and inner and _typed_tuple(inner.rstrip("]"), namespace) is not None:
+        accepts, said = _typed_tuple(inner.rstrip("]"), namespace)
     elif head in _PLAIN:
         accepts, said = _PLAIN[head]
     elif getattr(kind, "__origin__", None) is Literal:  # an alias such as Layout = Literal["slab", "ballasted"]

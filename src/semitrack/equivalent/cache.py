@@ -129,7 +129,13 @@ def canonical(value):
     if isinstance(value, (tuple, list)):
         return [type(value).__name__] + [canonical(v) for v in value]
     if isinstance(value, dict):
-        return ["dict"] + [[str(k), canonical(value[k])] for k in sorted(value, key=str)]
+        out = ["dict"]
+        for k in sorted(value, key=str):
+            try:
+                out.append([str(k), canonical(value[k])])
+            except InputTypeError as err:  # say which argument: the caller's name for it
+                raise InputTypeError(f"{k}: {err}") from None
+        return out
     if isinstance(value, EquivalentSystem):
         return ["system", value.layout, canonical(value.parameters())]
     if isinstance(value, Track):
@@ -143,6 +149,11 @@ def canonical(value):
         raise InputTypeError("cached_fit cannot key a callable target (its code and state have no stable identity); "
                         "pass sampled (f, alpha) or call fit_equivalent")
     raise InputTypeError(f"cached_fit cannot key an argument of type {type(value).__name__}: {value!r}")
+
+
+def _named_canonical(arguments: dict) -> list:
+    """``[[name, canonical(value)], ...]`` of a call's arguments, a refusal naming the argument it could not key."""
+    return canonical(dict(arguments))[1:]
 
 
 def _bound_arguments(track, layout, n_bars, band, seed, options) -> dict:
@@ -187,7 +198,7 @@ def fit_cache_key(track: Track, layout: Layout, n_bars: int = 5, band: tuple[flo
     track = require_track(track)
     arguments = _bound_arguments(track, layout, n_bars, band, seed, options)
     description = {"source": package_source_digest(),
-                   "arguments": [[name, canonical(value)] for name, value in sorted(arguments.items())]}
+                   "arguments": _named_canonical(arguments)}
     return hashlib.sha256(json.dumps(description, sort_keys=True).encode()).hexdigest()
 
 
@@ -318,7 +329,7 @@ def response_cache_key(track: Track, f, method: Method = "wavenumber", **setting
     track = require_track(track)
     arguments = {"track": track, "f": np.atleast_1d(as_frequencies(f)), "method": method, "settings": settings}
     description = {"source": package_source_digest(), "kind": "central_response",
-                   "arguments": [[name, canonical(value)] for name, value in sorted(arguments.items())]}
+                   "arguments": _named_canonical(arguments)}
     return hashlib.sha256(json.dumps(description, sort_keys=True).encode()).hexdigest()
 
 

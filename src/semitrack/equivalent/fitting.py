@@ -40,7 +40,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..base.checks import check_band, check_int_at_least, check_work
+from ..base.checks import MAX_FREQUENCIES, check_band, check_int_at_least, check_work
 from ..base.errors import InputError, InputTypeError
 from ..base.fields import check_fields
 from ..base.paper_values import FIT_BANDS
@@ -278,10 +278,13 @@ def _check_arguments(track, layout, n_bars, band, seed, constrained, n_starts, t
     n_starts, max_nfev = check_int_at_least("n_starts", n_starts, 1), check_int_at_least("max_nfev", max_nfev, 1)
     check_work(n_starts, MAX_STARTS, f"n_starts={n_starts} asks for {n_starts} least-squares runs", "use fewer starts")
     check_work(max_nfev, MAX_NFEV, f"max_nfev={max_nfev} evaluations a start", "allow fewer evaluations")
+    error_df = _check_error_df(error_df)
+    check_work((band[1] - band[0]) / error_df, MAX_FREQUENCIES, f"error_df={error_df!r} Hz over band={band!r} gives "
+               f"{(band[1] - band[0]) / error_df:.3g} error frequencies", "give a larger error_df")
     return _Arguments(
         track=track, layout=layout, n_bars=n_bars, band=band, seed=seed, constrained=bool(constrained),
         n_starts=n_starts, max_nfev=max_nfev,
-        error_df=_check_error_df(error_df), initial=_check_initial(initial, layout, n_bars),
+        error_df=error_df, initial=_check_initial(initial, layout, n_bars),
         target=normalise_target(target),
     )
 

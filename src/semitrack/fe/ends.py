@@ -360,7 +360,8 @@ def model_ends(left: str | End, right: str | End, system=None, n_bays: int = 1,
     ends = {side: make_end(end, given) for side, end, given in zip(("left", "right"), names, systems)}
     if n_bays == 0 and not all(end.closes_alone for end in ends.values()):
         alone = ", ".join(repr(cls.name) for cls in _KINDS.values() if cls.closes_alone)
-        raise InputError(f"a model with zero bays needs {alone} ends, got ends ({_name(left)!r}, {_name(right)!r})")
+        raise InputError(f"a model with zero bays (n_left = n_right = 0) needs {alone} ends, got ends "
+                         f"({_name(left)!r}, {_name(right)!r})")
     for end in ends.values() if track is not None else ():
         end.check_track(track)
     return ends

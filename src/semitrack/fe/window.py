@@ -357,6 +357,9 @@ class WindowTrack:
         offset = check_int_at_least("offset", offset, -MAX_OFFSET_BAYS)
         if offset > MAX_OFFSET_BAYS:
             raise InputError(f"offset must be at most {MAX_OFFSET_BAYS} bays, got {offset!r}")
+        for name, value in (("n_left", n_left), ("n_right", n_right)):
+            if check_int_at_least(name, value, 0) > MAX_WINDOW_BAYS:
+                raise InputError(f"{name} must be at most {MAX_WINDOW_BAYS} bays, got {value!r}")
         n_left, n_right = (check_int_at_least(name, n, 1) for name, n in (("n_left", n_left), ("n_right", n_right)))
         changes = self.local_changes(offset, n_left, n_right)
         joints = self._local_joints(offset, n_left, n_right)

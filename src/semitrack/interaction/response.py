@@ -100,7 +100,7 @@ class ContactResponse:
     period: float | None
     n_dof: int
     elapsed: float
-    wheels: tuple = ()
+    wheels: tuple[Wheel, ...] = ()
     vehicle: Vehicle | None = None
     infinite: InfiniteTrack | None = None
     track_forces: TrackForces | None = None

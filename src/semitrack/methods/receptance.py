@@ -288,6 +288,7 @@ def semi_infinite_receptance(track: Track | PeriodicCell, f: ArrayLike, method: 
     """
     f = as_frequencies(f)
     cell = require_cell(track)
+    check_choice("method", method, METHODS)  # before any comparison: an array is never one
     blocks = frequency_blocks(cell, f)
     if len(blocks) > 1:
         parts = [semi_infinite_receptance(cell, block, method, **settings) for block in blocks]

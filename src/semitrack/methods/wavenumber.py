@@ -43,8 +43,11 @@ __all__ = ["PAPER_BETA_MAX", "PAPER_DBETA", "PAPER_DX", "PAPER_J_MAX", "Wavenumb
 #: ~1e-7 s per term with one support per period, ~1e-6 s with ten (a flexible slab), so 1e8 terms
 #: take from 10 s to ~2 min per frequency.
 MAX_TERMS_PER_FREQUENCY = 100_000_000
-#: Largest step of the rail's fields (m): the paper's is 2 mm; a metre already skips the supports.
-MAX_DX = 1.0
+#: Most periods summed each side (the paper's 20; the work guard counts the terms they make).
+MAX_J = 100_000
+#: Largest step of the rail's fields (m), twice the paper's 0.04 m: from 0.1 m on the method's receptance of the
+#: paper's tracks is no longer passive (Im alpha11 > 0 at 50-400 Hz, measured), whatever the other settings.
+MAX_DX = 0.08
 #: Most terms per call, over all frequencies (~1.4e7 terms/s on one core: 1e10 ~ 12 min).
 MAX_TERMS = 10_000_000_000
 #: Most supports per period, squared: the method's per-frequency arrays grow with it, not with the
@@ -81,7 +84,10 @@ class WavenumberSettings:
         # held as plain floats and an int: 2**64 given for beta_max must not stay a Python int numpy reads as an object
         object.__setattr__(self, "beta_max", check_positive("beta_max", self.beta_max))
         object.__setattr__(self, "dbeta", check_positive("dbeta", self.dbeta))
-        object.__setattr__(self, "j_max", check_int_at_least("j_max", self.j_max, 0))
+        j_max = check_int_at_least("j_max", self.j_max, 0)
+        if j_max > MAX_J:
+            raise InputError(f"j_max must be at most {MAX_J} (periods each side), got {j_max!r}")
+        object.__setattr__(self, "j_max", j_max)
         dx = check_in_range("dx", check_positive("dx", self.dx), (0.0, MAX_DX), "m, the step of the rail's fields")
         object.__setattr__(self, "dx", dx)
         if self.dbeta >= self.beta_max:

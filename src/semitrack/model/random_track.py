@@ -62,8 +62,8 @@ MAX_CORRELATION_LENGTH = 1e6
 MAX_GAP = 0.05
 #: The stream of each draw in the seed's :class:`numpy.random.SeedSequence` (fixed: a new field takes a new one).
 _STREAMS = {"kv": 0, "kphi": 1, "sleeper_mass": 2, "kb": 3, "voids": 4, "failed": 5}
-#: Largest seed entry (numpy's SeedSequence takes any non-negative integer; 128 bits are plenty).
-_MAX_SEED = 2**128
+#: Largest seed entry (plus one): 64 bits, as the package's records hold integers.
+_MAX_SEED = 2**64
 
 
 def lognormal_factors(rng: np.random.Generator, cov: float, n: int, correlation: float = 0.0) -> np.ndarray:
@@ -139,16 +139,16 @@ def _check_seed(seed: object) -> int | tuple[int, ...]:
         label = "seed" if entries is not seed else f"seed[{i}]"
         check_int_at_least(label, s, 0)
         if s >= _MAX_SEED:
-            raise InputError(f"{label} must be below 2**128, got an integer of {len(str(s))} digits")
+            raise InputError(f"{label} must be below 2**64, got an integer of {len(str(s))} digits")
     return tuple(int(s) for s in entries) if entries is seed else int(seed)
 
 
 def _entropy(seed: int | tuple[int, ...]) -> list[int]:
     """The seed as SeedSequence entropy that tells every seed apart: its length, then each entry in
-    four 32-bit words (SeedSequence alone joins an int's words and drops trailing zeros, so that
+    two 32-bit words (SeedSequence alone joins an int's words and drops trailing zeros, so that
     ``5``, ``(5, 0)`` and ``(5, 0, 0)`` would draw one track)."""
     entries = seed if isinstance(seed, tuple) else (seed,)
-    words = [(s >> (32 * j)) & 0xFFFFFFFF for s in entries for j in range(4)]
+    words = [(s >> (32 * j)) & 0xFFFFFFFF for s in entries for j in range(2)]
     return [len(entries) + (0 if isinstance(seed, tuple) else 1000), *words]
 
 

@@ -536,7 +536,7 @@ def corrugation(speed: float, wavelength: float, amplitude: float, *, phase: flo
     >>> corrugation(100.0, 0.05, 1e-5).period
     0.0005
     """
-    speed, wavelength = check_positive("speed", speed), check_positive("wavelength", wavelength)
+    speed, wavelength = check_rolling_speed("speed", speed), check_positive("wavelength", wavelength)
     amplitude, phase = check_nonnegative("amplitude", amplitude), check_real("phase", phase)
     if not math.isfinite(phase):
         raise InputError(f"phase must be finite (rad), got {phase!r}")

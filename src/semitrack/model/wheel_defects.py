@@ -44,6 +44,8 @@ __all__ = ["WheelDefect", "WheelFlat", "WheelPolygon", "FLAT_SHAPES", "MAX_DEFEC
 FLAT_SHAPES = ("new", "rounded")
 #: Deepest defect accepted (m): 1 cm, far beyond a flat that stays in service (about 1-3 mm).
 MAX_DEFECT_DEPTH = 0.01
+#: Longest flat (m): its chord is less than a wheel's diameter (the largest wheel's radius is 1 m).
+MAX_FLAT_LENGTH = 2.0
 #: The radii a wheel may have (m): from a 1 cm model wheel to 5 m, around every rail wheel (0.3-0.6 m).
 RADIUS_RANGE = (0.01, 5.0)
 #: Highest order of out-of-roundness accepted (waves per revolution): measured polygons reach ~30.
@@ -103,7 +105,8 @@ class WheelFlat(WheelDefect):
     position: float = 0.0
 
     def __post_init__(self):
-        object.__setattr__(self, "length", check_positive("length", self.length))
+        object.__setattr__(self, "length", check_in_range("length", check_positive("length", self.length),
+                                                          (0.0, MAX_FLAT_LENGTH), "m, a flat's chord"))
         if self.depth is not None:
             object.__setattr__(self, "depth", check_positive("depth", self.depth))
             check_in_range("depth", self.depth, (0.0, MAX_DEFECT_DEPTH), "m, a flat millimetres deep")
