@@ -420,3 +420,10 @@ def test_the_figures_draw_a_studys_table():
                        (lambda: exceedance_figure({"F": [1.0]}, "F"), "table")]:
         with pytest.raises(st.BadInput, match=name):
             call()
+
+
+def test_a_function_that_cannot_be_sent_to_the_workers_is_refused_naming_func(user_client):
+    import threading
+    lock = threading.Lock()
+    with pytest.raises(st.BadInput, match="func cannot be sent to the workers"):
+        st.run_study(functools.partial(sf.eigen, n=[lock]), [{"x": 1}], client=user_client, progress=False)

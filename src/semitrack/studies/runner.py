@@ -146,7 +146,11 @@ def _run(func, cases: list[dict], todo: list[int], client, store, inputs: frozen
         return
     from distributed import as_completed
 
-    shared = client.scatter(func, broadcast=True, hash=False)  # sent to each worker once, not with every case
+    try:
+        shared = client.scatter(func, broadcast=True, hash=False)  # sent to each worker once, not with every case
+    except Exception as err:  # noqa: BLE001 - pickling raises whatever the object it met raises
+        raise InputError(f"func cannot be sent to the workers ({type(err).__name__}: {str(err).splitlines()[0]}): "
+                         "give a function of a module, or a partial of one whose fixed arguments pickle") from None
     waiting = iter(todo)
     futures: dict = {}
 
