@@ -9,7 +9,8 @@ study runs serially, then through ``run_study(client=workers)``, side by side in
 a warm-up case (the parallel time includes the cluster's start and each worker's first case);
 printed: both wall times, their ratio, the seconds per case, and whether the tables are equal bit
 for bit. Then dask's overhead per case: ``--trivial`` cases that do
-nothing, on a cluster already running (a user's ``Client``), and the local cluster's start and close.
+nothing, on a cluster already running (a user's ``Client``; the cluster ``client=n`` starts, kept open),
+the same study on it once its workers have run a case, and the local cluster's start and close.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ import time
 
 import semitrack as st
 from semitrack.paper.random_track_study import bogie_over_random_track, monte_carlo_cases, study_track
+from semitrack.studies.runner import local_client
 
 
 def nothing(i: int) -> dict:
@@ -51,12 +53,9 @@ def main() -> None:
           f"{args.workers} workers {parallel_s:.1f} s, ratio {parallel_s / serial_s:.2f}; "
           f"tables equal bit for bit: {serial.equals(parallel)}")
 
-    from distributed import Client, LocalCluster
-
     start = time.perf_counter()
-    cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True, host="127.0.0.1",
-                           dashboard_address="127.0.0.1:0")
-    client = Client(cluster)
+    local = local_client(args.workers)  # the cluster client=n starts, kept open here: a user's running cluster
+    client = local.__enter__()
     started = time.perf_counter() - start
     trivial = [{"i": i} for i in range(args.trivial)]
     st.run_study(nothing, trivial[:4], client=client, progress=False)  # the workers' imports
@@ -69,8 +68,7 @@ def main() -> None:
     warm = st.run_study(one_case, cases, client=client, progress=False)
     warm_s = time.perf_counter() - start
     start = time.perf_counter()
-    client.close()
-    cluster.close()
+    local.__exit__(None, None, None)
     closed = time.perf_counter() - start
     print(f"on a running cluster whose workers had run a case ({args.workers} workers): {warm_s:.1f} s, ratio "
           f"{warm_s / serial_s:.2f}, equal: {warm.equals(serial)}")
