@@ -289,7 +289,7 @@ def test_records_refuse_fields_of_another_kind_or_shape():
                         (lambda: dataclasses.replace(boundary, band=["0.3"]), "BroadbandBoundary.band must be a tuple"),
                         (lambda: st.MatrixSystem(np.eye(2), np.zeros((2, 2)), np.eye(2), dofs=-0.0), "dofs must be")]:
         refused(call, BadInput, words)
-    assert type(st.WavenumberSettings(beta_max=2**64).beta_max) is float  # not an int numpy reads as an object
+    assert type(st.WavenumberSettings(beta_max=2**20).beta_max) is float  # not an int numpy may read as an object
     decay = st.track_decay_rate(SLAB, band=(100.0, 400.0), df=20.0)
     refused(lambda: dataclasses.replace(decay, centres=np.array([True])), BadInput, "TrackDecayRate.decay_rate")
     model = st.TruncatedTrack(SLAB, 2, elements_per_bay=4)
@@ -315,6 +315,9 @@ def test_a_receptance_beyond_the_meshs_probe_is_computed_and_said_to_be_unchecke
     (lambda: st.fit_equivalent(SLAB, "slab", n_bars=2, band=(3.0, 300.0), error_df=5e-324), ("error_df=",)),
     (lambda: st.semi_infinite_receptance(SLAB, [100.0], method=np.ones((2, 2))), ("method must be one of",)),
     (lambda: st.FETrack(SLAB, 0, 0), ("n_left = n_right = 0",)),  # named the ends only
+    (lambda: st.WavenumberSettings(beta_max=1e308), ("beta_max/dbeta",)),  # an OverflowError counting the grid
+    (lambda: st.moving_green_kernels(st.slab_track(damping="viscous"), 20.0, dt=1e-4, memory=0.005, x=-1e308,
+                                     elements_per_bay=4), ("x must be from",)),  # an OverflowError
 ])
 def test_the_long_profiles_third_round_is_refused_naming_the_parameter(call, words):
     refused(call, BadInput, *words, cpu=ONE_SECOND)
@@ -327,6 +330,20 @@ def test_tuples_of_a_kind_refuse_entries_of_another():
     run = st.wheel_rail_response(st.TruncatedTrack(SLAB, 2, elements_per_bay=4), st.Wheel(), dt=1e-4, duration=0.01,
                                  ramp=0.002)
     refused(lambda: dataclasses.replace(run, wheels=["0.3"]), BadInput, "ContactResponse.wheels")
+
+
+def test_a_long_period_is_sampled_without_its_whole_periods_fft():
+    """A period of 9348 s at 0.1 ms is 9e7 steps: its FFT asked 1.5 GB (a MemoryError); now the cosines, bounded."""
+    r = st.corrugation(20.0, 0.05, 1e-6)
+    long = st.Roughness(r.frequencies, r.amplitudes, r.phases, r.speed, period=9348.125)
+    np.testing.assert_allclose(long.sampled(1e-4, 10), r.sampled(1e-4, 10), atol=1e-18)
+    fit = _fit()
+    assert dataclasses_replace(fit, free_parameters=[]).free_parameters == ()  # a list held as the tuple it is
+
+
+def dataclasses_replace(record, **fields):
+    import dataclasses
+    return dataclasses.replace(record, **fields)
 
 
 def test_the_command_line_reads_no_underscored_numbers(tmp_path, capsys):

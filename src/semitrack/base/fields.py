@@ -8,8 +8,11 @@ error far from its cause. :func:`check_fields` refuses it where it is built, nam
 
 Only the kind of each field is checked, from its annotation (``np.ndarray``: numbers of any
 shape, NaN allowed, as results hold them; ``float``/``int``/``bool``/``str``; ``dict`` and
-``tuple``; a class of the package: an instance of it; ``X | None``: None too); numbers given
-as a list are held as an array, as the record's methods read them. Annotations this
+``tuple``, and ``tuple[float, float]``, ``tuple[str, ...]``, ``tuple[Wheel, ...]``: entries of
+that kind; a ``Literal`` alias such as ``Layout``: one of its values; a class of the package: an
+instance of it; ``X | None``: None too); numbers given as a list are held as an array, a list for
+a tuple as a tuple, as the record's methods read them. :func:`check_rows` adds the one rule of
+shape that records share: one row per entry of a first array (per time, per band). Annotations this
 reading does not know (callables, ``Any``) are not checked. The values' physics is the job of
 the code that computed them.
 """
@@ -132,6 +135,8 @@ def check_fields(record) -> None:
                                  f"({type(value).__name__})")
         if accepts is _is_numbers and not isinstance(value, np.ndarray):  # a list of numbers: held as an array
             object.__setattr__(record, name, np.asarray(value))
+        elif said.startswith(("a tuple", _PLAIN["tuple"][1])) and isinstance(value, list):  # held as the tuple it is
+            object.__setattr__(record, name, tuple(value))
         elif said.startswith(_PLAIN["float"][1]) and value is not None and not isinstance(value, float):
             object.__setattr__(record, name, check_real(f"{type(record).__name__}.{name}", value))  # held as float
         elif said.startswith(_PLAIN["int"][1]) and value is not None and not -2**63 <= value < 2**63:

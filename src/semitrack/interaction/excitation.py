@@ -139,8 +139,8 @@ def profile_along(profile: Irregularity, x: np.ndarray, wheels: Sequence[Wheel] 
                                      "give the wheel contact='point' to meet it under its centre")
             r[:, i] = rail_drop(profile, wheel.radius, x[:, i])
     if np.any(r[0] != 0):
-        raise InputError(f"the wheels must start off the profile (it spans {profile.extent} m): it is "
-                         f"{r[0].tolist()} m under them at the start")
+        raise InputError(f"the wheels must start off the profile (it spans {profile.extent} m): at x = "
+                         f"{x[0].tolist()} m it is {r[0].tolist()} m under them at the start; start them elsewhere")
     lo, hi = profile.extent
     if hi < x.min() or lo > x.max():  # nothing silently ignored: a profile no wheel reaches is said so
         warnings.warn(f"the profile spans {lo:.6g} to {hi:.6g} m, and the wheels run from {x.min():.6g} to "

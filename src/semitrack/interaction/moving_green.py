@@ -31,14 +31,13 @@ Limits, where a user meets them:
 from __future__ import annotations
 
 import dataclasses
-import math
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
-from ..base.checks import check_positive, check_real, check_rolling_speed, check_steps, check_work
+from ..base.checks import check_in_range, check_positive, check_real, check_rolling_speed, check_steps, check_work
 from ..base.deprecation import renamed_keywords
 from ..base.errors import InputError, InputTypeError
 from ..equivalent.cache import canonical
@@ -47,7 +46,7 @@ from ..fe.kernels import ALIAS_FACTOR, MovingKernels, grid_of, track_key
 from ..fe.models import elements_per_bay_of
 from ..methods.infinite import InfiniteTrack
 from ..model.irregularity import Irregularity
-from ..model.roughness import Roughness
+from ..model.roughness import MAX_DISTANCE, Roughness
 from ..model.tracks import Track, require_track
 from ..model.vehicle import Bogie, Vehicle, WheelGroup
 from ..model.wheel import Wheel
@@ -130,9 +129,7 @@ def _kernels_for(track, speed, dt, offsets, x, memory, elements_per_bay, f_max, 
     speed, dt, memory = check_rolling_speed("speed", speed), check_positive("dt", dt), check_positive("memory", memory)
     grid = grid_of(track, speed, dt, offsets)
     steps = check_steps(dt, memory, names=("dt", "memory"))
-    x = check_real("x", x)
-    if not math.isfinite(x):
-        raise InputError(f"x must be finite (m), got {x!r}")
+    x = check_in_range("x", check_real("x", x), (-MAX_DISTANCE, MAX_DISTANCE), "m along the rail")
     start = int(round(x / grid.step)) % grid.positions
     if elements_per_bay is not None:  # checked as every FE model checks it (never a string read as a number)
         elements_per_bay = elements_per_bay_of([track], elements_per_bay)

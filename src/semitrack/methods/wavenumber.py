@@ -90,6 +90,9 @@ class WavenumberSettings:
         object.__setattr__(self, "j_max", j_max)
         dx = check_in_range("dx", check_positive("dx", self.dx), (0.0, MAX_DX), "m, the step of the rail's fields")
         object.__setattr__(self, "dx", dx)
+        if self.beta_max / self.dbeta > MAX_TERMS_PER_FREQUENCY:  # its grid could not be counted, let alone made
+            raise InputError(f"beta_max/dbeta = {self.beta_max!r}/{self.dbeta!r} gives more than "
+                             f"{MAX_TERMS_PER_FREQUENCY} wavenumbers: use a larger dbeta or a smaller beta_max")
         if self.dbeta >= self.beta_max:
             raise InputError(f"dbeta must be smaller than beta_max, got dbeta={self.dbeta}, beta_max={self.beta_max}")
 

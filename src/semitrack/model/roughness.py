@@ -267,7 +267,7 @@ class Roughness:
         self.warn_aliasing(dt)
         steps = self.period / dt
         N = int(round(steps))
-        if N < 2 or abs(steps - N) > 1e-9 * steps:
+        if N < 2 or N > MAX_SAMPLES or abs(steps - N) > 1e-9 * steps:  # else one period's FFT: N numbers
             work = n * self.frequencies.size
             check_work(work, MAX_COSINE_WORK, f"{n} samples x {self.frequencies.size} roughness lines give {work} "
                        f"cosines (the period {self.period!r} s is no whole number of steps dt={dt!r} s)",
