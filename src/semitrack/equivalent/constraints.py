@@ -274,8 +274,8 @@ def support_mass_frequency(k: ArrayLike, s: ArrayLike, mu: ArrayLike) -> np.ndar
 
 def _in_range(name: str, value: float) -> float:
     """A bar's parameter within :data:`PARAMETER_RANGE` (SI units): beyond it the eigenproblem over- or underflows."""
-    lo, hi = PARAMETER_RANGE
-    if not lo <= value <= hi:
+    if not within_parameter_range(value):  # the bars' one predicate (positive values only reach here)
+        lo, hi = PARAMETER_RANGE
         raise InputError(f"{name} must be from {lo:g} to {hi:g} (SI units, a bar of an equivalent system), "
                          f"got {value!r}")
     return value

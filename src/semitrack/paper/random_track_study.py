@@ -26,7 +26,7 @@ from ..model.tracks import Track, ballasted_track
 from ..model.vehicle import Bogie
 from ..studies.statistics import percentile_table
 
-__all__ = ["STUDY_TRACK", "DRAWN", "WATCHED", "bogie_over_random_track", "monte_carlo_cases", "study_track",
+__all__ = ["DRAWN", "WATCHED", "bogie_over_random_track", "monte_carlo_cases", "study_track",
            "drawn_statistics", "FORCES", "force_percentiles"]
 
 #: The supports drawn at random (the rest of the infinite track is nominal): the bogie's path with margins.
@@ -38,8 +38,6 @@ WATCHED = (0, 8)
 STUDY_COV = {"kv": 0.25, "kb": 0.4}
 #: The range of the gaps under a hanging sleeper (m).
 STUDY_GAP = (0.5e-3, 2e-3)
-#: The name of the study's track: the paper's ballasted track with viscous damping (for the time domain).
-STUDY_TRACK = "ballasted, viscous"
 
 
 @cache

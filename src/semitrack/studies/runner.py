@@ -274,20 +274,12 @@ def run_study(func: Callable, cases: Sequence[dict], *, client=None, cache_dir=N
 
     failed = sum(bool(o[1]) for o in outcomes if o is not None)
     try:
-        if client is None or not todo:
-            tally = _Tally(len(cases), cached, failed, show, 1)
-            with _closing(tally):
-                _run(func, cases, todo, None, store, inputs, 1)
-        elif isinstance(client, int):
-            with local_client(client) as local:
-                tally = _Tally(len(cases), cached, failed, show, client)
-                with _closing(tally):
-                    _run(func, cases, todo, local, store, inputs, client)
-        else:
-            slots = _n_workers(client)
+        with _where(client, bool(todo)) as (runner, slots):
             tally = _Tally(len(cases), cached, failed, show, slots)
-            with _closing(tally):
-                _run(func, cases, todo, client, store, inputs, slots)
+            try:
+                _run(func, cases, todo, runner, store, inputs, slots)
+            finally:
+                tally.close()
     finally:
         if unstored:
             warnings.warn(f"run_study: {len(unstored)} case(s) ran but their records were not stored in cache_dir, "
@@ -296,11 +288,15 @@ def run_study(func: Callable, cases: Sequence[dict], *, client=None, cache_dir=N
 
 
 @contextmanager
-def _closing(tally: _Tally):
-    try:
-        yield
-    finally:
-        tally.close()
+def _where(client, work: bool):
+    """``(client or None, cases run at once)``: this process, a local cluster for the study, or the user's."""
+    if client is None or not work:  # nothing to run: no cluster is started
+        yield None, 1
+    elif isinstance(client, int):
+        with local_client(client) as local:
+            yield local, client
+    else:
+        yield client, _n_workers(client)
 
 
 def _table(cases: list[dict], outcomes: list, cached: int, computed: int):
