@@ -566,6 +566,15 @@ add("track_decay_rate", lambda **kw: st.track_decay_rate(**kw),
              "bays": (0.0, 0.5, 1.0, 2.0, 4.0)},
     lambda r, a: finite("decay rate", r.decay_rate), weight=0.5)
 record("TrackDecayRate", lambda: FX.decay, then=lambda r: _frame_ok(r.table()))
+#: A lower limit by band: numbers or text as bands, any rate (NaN, negative, text) beside them.
+hostile_limit = hs.one_of(hostile, hs.dictionaries(hs.one_of(hs.floats(), hs.integers(-10, 10**6), hs.text(max_size=3)),
+                                                   hs.one_of(hs.floats(), hostile), max_size=4))
+for _name, _check in (("meets", lambda r, a: all(isinstance(v, bool) for v in r.values())),
+                      ("limits", lambda r, a: None), ("table", lambda r, a: _frame_ok(r))):
+    add(f"TrackDecayRate.{_name}", method(lambda: FX.decay, _name), lambda: {"limit": {250: 2.0, 315.0: 2.0}},
+        _check, kinds={"limit": hostile_limit}, nan_ok=True, weight=0.3)  # NaN: no limit in that band
+add("nominal_bands", lambda **kw: st.nominal_bands(**kw), lambda: {"centres": [100.0, 1258.9]},
+    lambda r, a: finite("nominal bands", r))
 record("CentralResponse", lambda: st.central_response(FX.slab, F3))
 add("paper_frequency_table", lambda **kw: st.paper_frequency_table(**kw),
     lambda: {"track": FX.slab, "with_wavenumber": False, "rel_window": 0.1, "wavenumber_response": None},
@@ -973,6 +982,7 @@ HUGE: dict[str, tuple[str, str, Callable[[], Any]]] = {
     "weld 1e9 m long": ("DippedWeld", "length", lambda: 1e9),
     "decay x 1e9 m": ("track_decay_rate", "x", lambda: 1e9),
     "decay grid to 1e9 bays": ("track_decay_rate", "bays", lambda: np.arange(0.0, 1e9, 1e3)),
+    "a limit of 1e5 bands": ("TrackDecayRate.meets", "limit", lambda: {float(n): 1.0 for n in range(1, 100_001)}),
     "far change": ("InfiniteTrack", "changes", lambda: {10**8: {"kv": 1e8}}),
     "1e6 response points": ("InfiniteTrack.receptance", "x", lambda: np.zeros(10**6)),
     "random track 1e9 supports": ("random_track", "last", lambda: 10**9),

@@ -205,7 +205,8 @@ def test_fit_boundary_writes_a_passive_model_that_loads_back(tmp_path):
     track_file.write_text(track_to_toml(track))
     for suffix in ("json", "mat"):
         out = tmp_path / f"boundary.{suffix}"
-        result = run("fit", track_file, "--boundary", "--band", 3, 3000, "--poles", 24, "-o", out)
+        band = ("--band", 3, 3000) if suffix == "json" else ()  # the default band is the API's, 3-3000 Hz
+        result = run("fit", track_file, "--boundary", *band, "--poles", 24, "-o", out)
         assert result.returncode == 0, result.stderr
         assert "proven passive" in result.stdout
         loaded = st.load_boundary(out)
@@ -214,6 +215,9 @@ def test_fit_boundary_writes_a_passive_model_that_loads_back(tmp_path):
         np.testing.assert_allclose(loaded.receptance(f), reference.receptance(f), rtol=1e-10)
     bad = run("fit", track_file, "--boundary", "--band", 3, 3000, "-o", tmp_path / "b.txt")
     assert bad.returncode == 2 and ".json/.mat/.csv/.bdf/.inp" in bad.stderr
+    system = run("fit", track_file, "-o", tmp_path / "s.json")  # an equivalent system holds only in its band
+    assert system.returncode == 2 and "--band is needed for an equivalent system's fit" in system.stderr
+    assert len(system.stderr.strip().splitlines()) == 1 and not (tmp_path / "s.json").exists()
 
 
 def test_boundary_files_export_to_every_format(tmp_path):
@@ -404,6 +408,12 @@ def test_decay_writes_the_rates_and_a_plot(tmp_path):
     table = pd.read_csv(tmp_path / "tdr.csv", comment="#")
     expected = st.track_decay_rate(st.ballasted_track(), band=(500, 1000), df=5.0)
     np.testing.assert_allclose(table["decay_rate_dB_per_m"], expected.decay_rate, rtol=1e-5)
+    assert table["band_Hz"].tolist() == [500, 630, 800, 1000]  # nominal names, the exact centres beside them
+    np.testing.assert_allclose(table["centre_Hz"], expected.centres, rtol=1e-5)
+    np.testing.assert_array_equal(table["iso3095_limit_dB_per_m"], [6.0, 6.0, 2.19, 0.8])
+    assert dict(zip(table["band_Hz"].astype(float), table["meets_iso3095"].astype(bool))) == expected.meets()
+    failing = [f"{b:g}" for b, ok in expected.meets().items() if not ok]
+    assert f"{len(failing)} of 4 judged bands fail: {' '.join(failing)} Hz" in (tmp_path / "tdr.csv").read_text()
     assert (tmp_path / "tdr.png").stat().st_size > 1000
     slab = tmp_path / "floating.toml"
     slab.write_text(example_path("floating-slab").read_text())

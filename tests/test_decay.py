@@ -6,10 +6,13 @@ long FE model with exact ends, 48 elements per bay); the free-wave attenuation o
 solvent against the decay between two far positions; the standard's validity checks.
 """
 
+import re
+
 import numpy as np
 import pytest
 
 import semitrack as st
+from semitrack.base.errors import InputError, InputTypeError
 from semitrack.methods.decay import EN15461_BAYS, FRF_KINDS, _band_edges, decay_intervals, formula_1
 
 X = np.array(EN15461_BAYS) * 0.6  # the grid on a 0.6 m sleeper spacing
@@ -76,7 +79,8 @@ def test_the_standard_s_checks_and_the_frf_kinds():
     rates = {kind: st.track_decay_rate(slab, band=(1000, 1000), frf=kind, df=5.0).decay_rate[0] for kind in FRF_KINDS}
     assert max(rates.values()) / min(rates.values()) < 1.05  # in one band the kinds weigh the lines alike
     table = tdr.table()
-    assert list(table.columns)[:2] == ["band (Hz)", "decay rate (dB/m)"] and len(table) == 7
+    assert list(table.columns)[:3] == ["band (Hz)", "centre (Hz)", "decay rate (dB/m)"] and len(table) == 7
+    assert table["band (Hz)"].tolist() == [500, 630, 800, 1000, 1250, 1600, 2000]
     changed = st.track_decay_rate(st.InfiniteTrack(slab, {3: None}), band=(1000, 1000), df=5.0)
     assert np.isnan(changed.wave_attenuation).all()
 
@@ -118,3 +122,68 @@ def test_bad_input():
     with pytest.raises(TypeError, match="band must be a pair"):
         st.track_decay_rate(st.slab_track(), band=100)
     assert st.ISO3095_TDR_LIMIT[1000] == 0.8
+
+
+#: The ISO 3095 limits as its Figure 3 names them, typed from the nominal band names (Hz) for an
+#: independent lookup: the band of an exact centre is the nominal name nearest it on a log scale.
+_NOMINAL = (100, 125, 160, 200, 250, 315, 400, 500, 630, 800, 1000, 1250, 1600, 2000, 2500, 3150, 4000, 5000)
+
+
+def _nearest_nominal(centre):
+    return min(_NOMINAL, key=lambda b: abs(np.log(b / centre)))
+
+
+@pytest.mark.parametrize("name", ["slab", "ballasted", "measured pad"])
+def test_the_iso_3095_verdict_agrees_with_a_lookup_by_nominal_band(name):
+    """tdr.meets() band by band against the limit looked up by the nominal band nearest each
+    exact centre (all within 2 %), for the paper's two tracks and a measured pad; the table and
+    the nominal names carry the same verdict."""
+    measured = st.FrequencyTable([0.0, 500.0, 3000.0, 6000.0], [5e7 + 4e6j, 6e7 + 6e6j, 8e7 + 1e7j, 9e7 + 1.2e7j])
+    track = {"slab": st.slab_track(), "ballasted": st.ballasted_track(),
+             "measured pad": st.slab_track(kv=measured)}[name]
+    tdr = st.track_decay_rate(track, band=(100, 5000), df=5.0)
+    nearest = [_nearest_nominal(c) for c in tdr.centres]
+    assert tdr.nominal.tolist() == nearest == list(_NOMINAL)
+    assert np.all(np.abs(np.log(tdr.centres / nearest)) < 0.02)
+    expected = {b: bool(r >= st.ISO3095_TDR_LIMIT[b]) for b, r in zip(nearest, tdr.decay_rate)
+                if b in st.ISO3095_TDR_LIMIT}
+    verdict = tdr.meets()
+    assert verdict == expected and len(verdict) == 14 and min(verdict) == 250
+    assert not all(verdict.values()) or name == "slab"  # a verdict that can say no
+    table = tdr.table()
+    judged = table.dropna(subset=["ISO 3095 limit (dB/m)"])
+    assert dict(zip(judged["band (Hz)"], judged["meets ISO 3095"].astype(bool))) == expected
+    assert table["meets ISO 3095"].isna().sum() == 4  # 100-200 Hz: no limit
+
+
+def test_the_verdict_takes_a_limit_by_exact_centre_or_nominal_name_and_refuses_a_bad_one():
+    tdr = st.track_decay_rate(st.ballasted_track(), band=(800, 1250), df=5.0)
+    rate = tdr.decay_rate[1]
+    assert tdr.meets({1000: rate}) == {1000.0: True} == tdr.meets({1000.0: rate * (1 - 1e-12)})
+    assert tdr.meets({1258.925: 0.0, 800: 1e3}) == {800.0: False, 1250.0: True}
+    assert tdr.meets({}) == {} and tdr.table({1000: 1.0})["meets the limit"].isna().sum() == 2
+    for limit, words in [({1100: 1.0}, "name one-third-octave bands"), ({1000: -1.0}, "limit[1000]"),
+                         ({1000: 1.0, 1000.0001: 2.0}, "twice"), ([(1000, 1.0)], "mapping"),
+                         ({"1000": 1.0}, "limit's bands"), ({1000: float("nan")}, "finite decay rate")]:
+        with pytest.raises((InputError, InputTypeError), match=re.escape(words)):
+            tdr.meets(limit)
+
+
+def test_the_default_bands_leave_out_those_a_measured_table_does_not_reach_and_say_so():
+    """A pad table of exactly 10 Hz-5 kHz holds the 5 kHz band's centre, not its lines to 5.62 kHz:
+    the default bands stop at 4 kHz with a warning naming 5000 Hz; asked for by hand, the band is
+    refused by the table; a table that holds no band is refused by name."""
+    table = st.FrequencyTable([10.0, 500.0, 5000.0], [5e7 + 4e6j, 6e7 + 6e6j, 8e7 + 1e7j])
+    track = st.slab_track(kv=table)
+    with pytest.warns(UserWarning, match=r"the band 5000 Hz \(whose lines reach 4467-5623 Hz\)"):
+        tdr = st.track_decay_rate(track, df=10.0)
+    assert tdr.nominal[0] == 100 and tdr.nominal[-1] == 4000 and len(tdr.centres) == 17
+    with pytest.raises(InputError, match="covers 10-5000 Hz and was asked for"):
+        st.track_decay_rate(track, band=(4000, 5000), df=10.0)
+    narrow = st.slab_track(kv=st.FrequencyTable([300.0, 400.0], [5e7 + 4e6j, 6e7 + 6e6j]))
+    with pytest.raises(InputError, match="covers none of the standard's bands"):
+        st.track_decay_rate(narrow)
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a track without tables: the standard's 18 bands, no warning
+        assert len(st.track_decay_rate(st.ballasted_track(), df=20.0).centres) == 18

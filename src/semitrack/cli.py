@@ -356,11 +356,23 @@ def decay_csv(track: Track, tdr) -> str:
     buf = io.StringIO()
     buf.write(f"# track decay rate of {printable(track.name)!r} ({track_kind(track)}), EN 15461 grid and Formula 1, "
               f"{tdr.frf} averaged over lines {tdr.df:g} Hz apart; Formula 2 floor {tdr.floor:.4f} dB/m\n")
-    buf.write("# band_Hz: exact one-third-octave centre; valid: suitable (floor <= rate / 2) and a far-point drop "
-              ">= 10 dB; wave: the least attenuated Bloch wave at the centre\n")
-    buf.write("band_Hz,decay_rate_dB_per_m,wave_dB_per_m,far_point_drop_dB,suitable,valid\n")
-    for row in zip(tdr.centres, tdr.decay_rate, tdr.wave_attenuation, tdr.far_point_drop, tdr.suitable, tdr.valid):
-        buf.write(f"{row[0]:.6g},{row[1]:.6g},{row[2]:.6g},{row[3]:.6g},{int(row[4])},{int(row[5])}\n")
+    buf.write("# band_Hz: the nominal one-third-octave band (IEC 61260), centre_Hz its exact centre; valid: suitable "
+              "(floor <= rate / 2) and a far-point drop >= 10 dB; wave: the least attenuated Bloch wave at the "
+              "centre\n")
+    verdict = tdr.meets()
+    failing = [f"{b:g}" for b, ok in verdict.items() if not ok]
+    buf.write("# iso3095_limit_dB_per_m: the ISO 3095 lower limit (empty below 250 Hz, where it sets none); "
+              f"meets_iso3095: rate >= limit; {len(failing)} of {len(verdict)} judged bands fail"
+              f"{': ' + ' '.join(failing) + ' Hz' if failing else ''}\n")
+    buf.write("band_Hz,centre_Hz,decay_rate_dB_per_m,wave_dB_per_m,far_point_drop_dB,suitable,valid,"
+              "iso3095_limit_dB_per_m,meets_iso3095\n")
+    limits = tdr.limits()
+    for row in zip(tdr.nominal, tdr.centres, tdr.decay_rate, tdr.wave_attenuation, tdr.far_point_drop, tdr.suitable,
+                   tdr.valid, limits):
+        judged = row[0] in verdict
+        limit, meets = (f"{row[7]:g}", str(int(verdict[row[0]]))) if judged else ("", "")
+        buf.write(f"{row[0]:g},{row[1]:.6g},{row[2]:.6g},{row[3]:.6g},{row[4]:.6g},{int(row[5])},{int(row[6])},"
+                  f"{limit},{meets}\n")
     return buf.getvalue()
 
 
@@ -368,8 +380,10 @@ def cmd_decay(args: argparse.Namespace) -> int:
     from .methods.decay import ISO3095_TDR_LIMIT, track_decay_rate
 
     track = _track(args.track)
-    fmin, fmax = checked(check_band, args.band, "--band")
-    frequency("--band", fmin), frequency("--band", fmax)
+    band = None
+    if args.band is not None:
+        band = checked(check_band, args.band, "--band")
+        frequency("--band", band[0]), frequency("--band", band[1])
     checked(check_positive, "--df", args.df)
     out, plot = output_paths(("-o", None if args.output == "-" else args.output), ("--plot", args.plot),
                              inputs=input_files(args.track, track))
@@ -378,7 +392,7 @@ def cmd_decay(args: argparse.Namespace) -> int:
     if track.has_flexible_slab:
         raise InputError("semitrack decay takes a track without a flexible slab ([slab]): the decay rate's exact "
                          "transfer functions are InfiniteTrack's, which holds pads on a rigid foundation or sleepers")
-    tdr = track_decay_rate(track, band=(fmin, fmax), df=args.df, frf=args.frf)
+    tdr = track_decay_rate(track, band=band, df=args.df, frf=args.frf)
     text = decay_csv(track, tdr)
     if out is None:
         stdout()
@@ -394,9 +408,17 @@ def cmd_decay(args: argparse.Namespace) -> int:
 
 
 def cmd_fit(args: argparse.Namespace) -> int:
+    from .boundary.fitting import DEFAULT_BOUNDARY_BAND
+
     track = _track(args.track)
-    fmin, fmax = checked(check_band, args.band, "--band")
-    frequency("--band", args.band[0]), frequency("--band", args.band[1])
+    if args.band is None and not args.boundary:
+        raise InputError("--band is needed for an equivalent system's fit, which holds only in its band (the "
+                         "paper's: --band {:g} {:g} on the slab track, {:g} {:g} on the ballasted); --boundary "
+                         "fits {:g}-{:g} Hz by default".format(*FIT_BANDS["slab"], *FIT_BANDS["ballasted"],
+                                                               *DEFAULT_BOUNDARY_BAND))
+    band = list(DEFAULT_BOUNDARY_BAND) if args.band is None else args.band
+    fmin, fmax = checked(check_band, band, "--band")
+    frequency("--band", band[0]), frequency("--band", band[1])
     checked(check_int_at_least, "--seed", args.seed, 0)
     (out,) = output_paths(("-o", args.output), inputs=input_files(args.track, track))
     _fit_options_agree(args)
@@ -763,8 +785,9 @@ def _decay_parser(sub) -> None:
                        formatter_class=argparse.RawDescriptionHelpFormatter,
                        epilog="example:\n  semitrack decay ballasted.toml -o tdr.csv --plot tdr.png")
     p.add_argument("track", help="track description file (TOML)")
-    p.add_argument("--band", type=number, nargs=2, metavar=("FMIN", "FMAX"), default=[100.0, 5000.0],
-                   help="lowest and highest band centres, Hz (default 100 5000)")
+    p.add_argument("--band", type=number, nargs=2, metavar=("FMIN", "FMAX"), default=None,
+                   help="lowest and highest band centres, Hz (default 100 5000, the standard's, less the end bands "
+                        "a measured table does not reach)")
     p.add_argument("--df", type=number, default=2.0, help="spacing of the lines averaged in each band, Hz (default 2)")
     p.add_argument("--frf", choices=("accelerance", "mobility", "receptance"), default="accelerance",
                    help="transfer function averaged in the bands (default accelerance, the standard's)")
@@ -787,7 +810,8 @@ def _fit_parser(sub) -> None:
     p.add_argument("--layout", choices=("slab", "ballasted"), default=None,
                    help="the equivalent system's layout (default: ballasted for sleepers on ballast or a measured "
                         "foundation, whose own dynamics its second mass takes; slab otherwise)")
-    p.add_argument("--band", type=number, nargs=2, metavar=("FMIN", "FMAX"), required=True, help="band to fit, Hz")
+    p.add_argument("--band", type=number, nargs=2, metavar=("FMIN", "FMAX"), default=None,
+                   help="band to fit, Hz (needed for a system; with --boundary default 3 3000)")
     p.add_argument("--seed", type=integer, default=0, help="seed of the multi-start (default 0)")
     p.add_argument("--unconstrained", action="store_true", help="drop the paper's frequency constraints")
     p.add_argument("--boundary", action="store_true",

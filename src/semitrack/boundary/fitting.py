@@ -328,7 +328,11 @@ def _choose(results: dict) -> int:
     return min(good) if good else min(passive, key=lambda n: passive[n][1].max)
 
 
-def fit_boundary(track: Track, band: tuple[float, float] = (3.0, 3000.0), n_poles: int | None = None,
+#: The band a broadband boundary is fitted over by default (Hz).
+DEFAULT_BOUNDARY_BAND = (3.0, 3000.0)
+
+
+def fit_boundary(track: Track, band: tuple[float, float] = DEFAULT_BOUNDARY_BAND, n_poles: int | None = None,
                  seed: int = 0, *, tol: tuple[float, float] = (0.002, 0.005), df: float = 3.0,
                  n_starts: int = 1, n_iter: int = 20) -> BroadbandBoundary:
     """Fit a passive rational model of the end dynamic stiffness of the semi-infinite ``track``.

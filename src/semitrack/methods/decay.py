@@ -30,12 +30,14 @@ track, ``-20 lg |lambda| / d`` dB/m with ``lambda`` its factor over one period
 
 from __future__ import annotations
 
+import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.bands import third_octave_bands
+from ..base.bands import band_index, nominal_bands, third_octave_bands
 from ..base.checks import MAX_FREQUENCIES, as_real_array, brief, check_choice, check_positive, check_real, check_work
 from ..base.deprecation import deprecated_alias, renamed_keywords
 from ..base.errors import InputError, InputTypeError
@@ -44,7 +46,7 @@ from ..model.tracks import Track
 from .infinite import InfiniteTrack
 from .transfer import cyclic_reduction, period_dynamic_stiffness, vanishing_damping
 
-__all__ = ["EN15461_BAYS", "ISO3095_TDR_LIMIT", "FRF_KINDS", "TrackDecayRate", "track_decay_rate",
+__all__ = ["EN15461_BAYS", "ISO3095_TDR_LIMIT", "FRF_KINDS", "MAX_LIMIT_BANDS", "TrackDecayRate", "track_decay_rate",
            "bloch_attenuation", "formula_1", "decay_intervals"]
 
 #: The hammer's positions of EN 15461 (its Figure 2), in sleeper bays from the accelerometer at
@@ -171,13 +173,105 @@ class TrackDecayRate:
         check_fields(self)  # a record built by hand is refused here, not in a method
         check_rows(self, ("centres", "decay_rate", "suitable", "far_point_drop", "valid", "wave_attenuation"))
 
-    def table(self):
-        """The rates as a :class:`pandas.DataFrame`, a row per band, with the checks beside them."""
+    @property
+    def nominal(self) -> np.ndarray:
+        """The bands' nominal names (Hz): 1250 for the centre 1258.9, as the standards name them."""
+        return nominal_bands(self.centres)
+
+    def limits(self, limit: Mapping[float, float] | None = None) -> np.ndarray:
+        """Each band's lower limit (dB/m), NaN where the limit names none.
+
+        Parameters
+        ----------
+        limit : mapping of float to float, optional
+            Band (nominal name or exact centre, Hz) to the least decay rate (dB/m);
+            :data:`ISO3095_TDR_LIMIT` when omitted.
+
+        Returns
+        -------
+        ndarray, shape (n_bands,)
+        """
+        by_index = _limit_by_band(ISO3095_TDR_LIMIT if limit is None else limit)
+        return np.array([by_index.get(n, np.nan) for n in band_index(self.centres, "centres")])
+
+    def meets(self, limit: Mapping[float, float] | None = None) -> dict[float, bool]:
+        """The verdict per band: does the decay rate reach the lower limit?
+
+        Only the bands the limit names are judged (ISO 3095 sets none below 250 Hz). A rate the
+        standard's checks find unfit (``valid`` False) is judged as computed: here the transfer
+        functions are exact, and the grid's floor is reported beside it in :meth:`table`.
+
+        Parameters
+        ----------
+        limit : mapping of float to float, optional
+            Band (nominal name or exact centre, Hz) to the least decay rate (dB/m);
+            :data:`ISO3095_TDR_LIMIT` when omitted.
+
+        Returns
+        -------
+        dict of float to bool
+            Nominal band name (Hz) to ``decay_rate >= limit``, ascending.
+
+        Examples
+        --------
+        >>> tdr = track_decay_rate(semitrack.ballasted_track(), band=(800, 1250))  # doctest: +SKIP
+        >>> tdr.meets()  # doctest: +SKIP
+        {800.0: True, 1000.0: False, 1250.0: True}
+        """
+        bound = self.limits(limit)
+        judged = np.isfinite(bound)
+        return {float(b): bool(r >= x) for b, r, x in zip(self.nominal[judged], self.decay_rate[judged], bound[judged])}
+
+    def table(self, limit: Mapping[float, float] | None = None):
+        """The rates as a :class:`pandas.DataFrame`, a row per band, with the checks and the verdict.
+
+        Parameters
+        ----------
+        limit : mapping of float to float, optional
+            Band to the least decay rate (dB/m), as :meth:`meets`; :data:`ISO3095_TDR_LIMIT` when
+            omitted. Its columns are named for ISO 3095 only when it is that limit.
+
+        Returns
+        -------
+        pandas.DataFrame
+            ``band (Hz)`` (nominal), ``centre (Hz)`` (exact), the rate, the Bloch wave, the
+            far-point drop, ``suitable``, ``valid``, the limit (NaN where none) and whether the
+            rate meets it (``<NA>`` where there is no limit).
+        """
         import pandas as pd  # the tables' library: imported for the table only
 
-        return pd.DataFrame({"band (Hz)": self.centres, "decay rate (dB/m)": self.decay_rate,
-                             "Bloch wave (dB/m)": self.wave_attenuation, "far-point drop (dB)": self.far_point_drop,
-                             "suitable": self.suitable, "valid": self.valid})
+        bound = self.limits(limit)
+        iso = limit is None or limit is ISO3095_TDR_LIMIT
+        bound_name, verdict_name = ("ISO 3095 limit", "meets ISO 3095") if iso else ("limit", "meets the limit")
+        judged = self.meets(limit)
+        verdict = pd.array([judged.get(band, pd.NA) for band in self.nominal], dtype="boolean")
+        return pd.DataFrame({"band (Hz)": self.nominal, "centre (Hz)": self.centres,
+                             "decay rate (dB/m)": self.decay_rate, "Bloch wave (dB/m)": self.wave_attenuation,
+                             "far-point drop (dB)": self.far_point_drop,
+                             "suitable": self.suitable, "valid": self.valid, f"{bound_name} (dB/m)": bound,
+                             verdict_name: verdict})
+
+
+#: Most bands a limit may name (a guard against a mistyped table).
+MAX_LIMIT_BANDS = 1000
+
+
+def _limit_by_band(limit: Mapping[float, float]) -> dict[int, float]:
+    """A lower limit checked and keyed by band index n (centre ``10^(n/10)``)."""
+    if not isinstance(limit, Mapping):
+        raise InputTypeError(f"limit must be a mapping of band (Hz) to the least decay rate (dB/m), got "
+                             f"{type(limit).__name__}")
+    check_work(len(limit), MAX_LIMIT_BANDS, f"limit names {len(limit)} bands", "name the one-third-octave bands")
+    keys = band_index(list(limit), "limit's bands") if limit else np.zeros(0, dtype=int)
+    by_index = {}
+    for n, (band, rate) in zip(keys.tolist(), limit.items()):
+        rate = check_real(f"limit[{band!r}]", rate)
+        if not (np.isfinite(rate) and rate >= 0):
+            raise InputError(f"limit[{band!r}] must be a finite decay rate >= 0 (dB/m), got {rate!r}")
+        if n in by_index:
+            raise InputError(f"limit names the band of {band!r} twice")
+        by_index[n] = rate
+    return by_index
 
 
 def _grid(bays: ArrayLike) -> np.ndarray:
@@ -202,6 +296,31 @@ def _band_edges(band) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     if hi > MAX_BAND_CENTRE:
         raise InputError(f"band must end at most at {MAX_BAND_CENTRE:g} Hz (EN 15461 asks 100-5000 Hz), got {band!r}")
     return third_octave_bands(lo, hi)
+
+
+#: The bands EN 15461 asks for (Hz), the default.
+STANDARD_BAND = (100.0, 5000.0)
+
+
+def _default_bands(inf: InfiniteTrack) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The standard's bands less those a measured table's band does not hold (warned), or a refusal."""
+    centres, lower, upper = third_octave_bands(*STANDARD_BAND)
+    tracks = [inf.track] + ([inf.right] if inf.right is not None else [])
+    lo = max(t.frequency_band[0] for t in tracks)
+    hi = min(t.frequency_band[1] for t in tracks)
+    inside = (lower >= lo) & (upper <= hi)
+    if not np.any(inside):
+        raise InputError(f"the track's measured curves hold {lo:g}-{hi:g} Hz, which covers none of the standard's "
+                         f"bands' lines (100-5000 Hz, edges {lower[0]:.4g}-{upper[-1]:.4g} Hz): give band= within "
+                         "them, or extend the tables (or outside='hold')")
+    if not np.all(inside):
+        left = nominal_bands(centres[~inside])
+        names = ", ".join(f"{b:g}" for b in left)
+        warnings.warn(f"track_decay_rate: the track's measured curves hold {lo:g}-{hi:g} Hz, so the band"
+                      f"{'s' * (left.size > 1)} {names} Hz (whose lines reach {lower[~inside][0]:.4g}-"
+                      f"{upper[~inside][-1]:.4g} Hz) are left out of the standard's 100-5000 Hz; give band= to "
+                      "choose, or extend the tables", UserWarning, stacklevel=4)
+    return centres[inside], lower[inside], upper[inside]
 
 
 def bloch_attenuation(track: Track, f: ArrayLike) -> np.ndarray:
@@ -234,7 +353,7 @@ def bloch_attenuation(track: Track, f: ArrayLike) -> np.ndarray:
 
 
 @renamed_keywords({"bands": "band", "x_load": "x"})
-def track_decay_rate(track: Track | InfiniteTrack, *, band: tuple[float, float] = (100.0, 5000.0),
+def track_decay_rate(track: Track | InfiniteTrack, *, band: tuple[float, float] | None = None,
                      frf: str = "accelerance", df: float = 2.0, x: float = 0.0,
                      bays: ArrayLike = EN15461_BAYS) -> TrackDecayRate:
     """The track decay rate of EN 15461 by one-third-octave band, from the exact transfer functions.
@@ -244,9 +363,11 @@ def track_decay_rate(track: Track | InfiniteTrack, *, band: tuple[float, float] 
     track : Track or InfiniteTrack
         The track, periodic, or with changes, a transition or joints (then the grid runs in +x
         from ``x``).
-    band : (float, float)
+    band : (float, float), optional
         The lowest and highest band centres (Hz); nominal values name their band (``bands=``
-        until 0.3).
+        until 0.3). By default the standard's 100-5000 Hz, less the end bands whose lines a
+        measured table of the track does not reach (with a warning naming them): a table to
+        5 kHz covers the 5 kHz band's centre, not its upper edge at 5.62 kHz.
     frf : {"accelerance", "mobility", "receptance"}
         The transfer function averaged in the bands; the standard's is the accelerance.
     df : float
@@ -275,7 +396,7 @@ def track_decay_rate(track: Track | InfiniteTrack, *, band: tuple[float, float] 
     inf = track if isinstance(track, InfiniteTrack) else InfiniteTrack(track)
     frf = check_choice("frf", frf, FRF_KINDS)
     df, x = check_positive("df", df), check_real("x", x)
-    centres, lower, upper = _band_edges(band)
+    centres, lower, upper = _default_bands(inf) if band is None else _band_edges(band)
     check_work(float(np.sum(upper - lower)) / df, MAX_FREQUENCIES, f"df={df!r} Hz puts "
                f"{float(np.sum(upper - lower)) / df:.3g} lines in the bands", "give a larger df")  # before arange
     lines = [np.arange(np.ceil(lo / df), np.ceil(hi / df)) * df for lo, hi in zip(lower, upper)]

@@ -21,18 +21,12 @@ from numpy.typing import ArrayLike
 from ..base.bands import HALF_BAND
 from ..base.checks import as_frequencies
 from ..base.errors import InputError
-from ..methods.decay import EN15461_BAYS, ISO3095_TDR_LIMIT, TrackDecayRate
+from ..methods.decay import EN15461_BAYS, TrackDecayRate
 from ..methods.infinite import InfiniteTrack
 from ..model.tracks import Track
 
 __all__ = ["decay_table", "pinned_length_table", "long_grid", "local_change_curves", "change_ratio_table",
            "change_measure_table", "damping_sensitivity_table", "transition_cases"]
-
-
-def _limit(centre: float) -> float:
-    """The ISO 3095 limit of the band with this exact centre (NaN where it sets none)."""
-    nominal = {round(10 * np.log10(b)): v for b, v in ISO3095_TDR_LIMIT.items()}
-    return nominal.get(round(10 * np.log10(centre)), np.nan)
 
 
 def decay_table(rates: Mapping[str, TrackDecayRate]) -> pd.DataFrame:
@@ -50,14 +44,13 @@ def decay_table(rates: Mapping[str, TrackDecayRate]) -> pd.DataFrame:
         whether the band is valid, and whether the rate meets the limit; the limit (dB/m).
     """
     first = next(iter(rates.values()))
-    table = pd.DataFrame(index=pd.Index(first.centres.round(0), name="band (Hz)"))
-    table["ISO 3095 limit (dB/m)"] = [_limit(c) for c in first.centres]
+    table = pd.DataFrame(index=pd.Index(first.nominal, name="band (Hz)"))
+    table["ISO 3095 limit (dB/m)"] = first.limits()
     for name, tdr in rates.items():
         table[f"{name}: decay rate (dB/m)"] = tdr.decay_rate
         table[f"{name}: least attenuated wave (dB/m)"] = tdr.wave_attenuation
         table[f"{name}: valid"] = tdr.valid
-        table[f"{name}: meets the limit"] = np.where(np.isnan(table["ISO 3095 limit (dB/m)"]), np.nan,
-                                                     tdr.decay_rate >= table["ISO 3095 limit (dB/m)"])
+        table[f"{name}: meets the limit"] = tdr.table()["meets ISO 3095"].to_numpy()
     return table
 
 
@@ -93,7 +86,7 @@ def pinned_length_table(rates: Mapping[str, TrackDecayRate], spacings: Mapping[s
                              "longer grid (track_decay_rate's bays=)")
         i = int(np.argmin(np.where(keep, tdr.decay_rate, np.inf)))
         length = drop_db / tdr.decay_rate[i]
-        rows.append({"track": name, "lowest decay rate (dB/m)": tdr.decay_rate[i], "its band (Hz)": tdr.centres[i],
+        rows.append({"track": name, "lowest decay rate (dB/m)": tdr.decay_rate[i], "its band (Hz)": tdr.nominal[i],
                      "grid (m)": tdr.distances[-1], f"{drop_db:g} dB away (m)": length,
                      "bays": length / spacings[name], "pinned model around one wheel (m)": 2 * length})
     return pd.DataFrame(rows).set_index("track")
