@@ -250,6 +250,20 @@ def test_boundary_files_export_to_every_format(tmp_path):
     assert mck.returncode == 2 and "--mck applies with --boundary" in mck.stderr
     same = run("export", boundary_file, "--format", "json")
     assert same.returncode == 2 and "would replace the input" in same.stderr
+    # the labels of a code's file: the API's, refused where a file names its DOFs
+    labelled = run("export", boundary_file, "-o", tmp_path / "n101.bdf", "--node", 101, "--first-label", 501)
+    assert labelled.returncode == 0, labelled.stderr
+    st.export_boundary(reference, tmp_path / "api.bdf", node=101, first_label=501)
+    assert (tmp_path / "n101.bdf").read_text() == (tmp_path / "api.bdf").read_text()
+    fitted = run("fit", track_file, "--boundary", "--poles", 24, "--node", 101, "--first-label", 501,
+                 "-o", tmp_path / "fit101.bdf")
+    assert fitted.returncode == 0 and (tmp_path / "fit101.bdf").read_text() == (tmp_path / "api.bdf").read_text()
+    assert_bad_input(run("export", boundary_file, "-o", tmp_path / "n.mat", "--node", 101), "--node", ".mat file")
+    assert_bad_input(run("export", boundary_file, "-o", tmp_path / "n.bdf", "--node", 0), "--node")
+    assert_bad_input(run("fit", track_file, "--boundary", "--node", 5, "-o", tmp_path / "b.json"), "--node")
+    assert_bad_input(run("fit", track_file, "--band", 3, 300, "--node", 5, "-o", tmp_path / "s.json"),
+                     "--node and --first-label label a --boundary fit's")
+    assert not any((tmp_path / name).exists() for name in ("n.mat", "n.bdf", "b.json", "s.json"))
 
 
 @pytest.mark.parametrize("sub", ["example", "receptance", "fit", "export", "features"])

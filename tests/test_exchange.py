@@ -12,6 +12,7 @@ Tolerances: 1e-9 relative between the receptance of what a file holds and of the
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,6 +23,7 @@ import semitrack as st
 from semitrack.dynamics.signals import hann_pulse
 from semitrack.fe.timedomain import pulse_response, relative_l2_error
 
+DATA = Path(__file__).parent / "data"
 F = np.geomspace(1.0, 2e4, 60)
 CONVENTION_KEYS = ("side", "load_convention", "port_dofs", "port_indices", "left_end_mirror", "units", "track",
                    "band_hz", "text")
@@ -259,3 +261,127 @@ def test_a_third_party_newmark_code_attaches_the_exported_end(boundary, tmp_path
     ref = pulse_response(st.TruncatedTrack(track, n_bays, ends="boundary", system=boundary), [0.0],
                          dt=dt, duration=t_end, f_max=f_max)
     assert relative_l2_error(u[:, [rail.dof(0.0, "w")]], ref.u)[0] < 1e-6
+
+
+def _words(text, comment):
+    """The header's words: its comment lines joined, without their comment marks."""
+    return " ".join(line[len(comment) + 1:] for line in text.splitlines() if line.startswith(f"{comment} "))
+
+
+def _static_map_lines(text, comment):
+    """The file's static state of the internal DOFs: {label: (T_w, T_psi)} from its comment table."""
+    lines = text.splitlines()
+    start = next(i for i, line in enumerate(lines) if "label, T_w (u_j per m), T_psi (u_j per rad)" in line) + 1
+    rows = {}
+    for line in lines[start:]:
+        if not line.startswith(f"{comment} ") or "," not in line:
+            break
+        label, t_w, t_psi = (x.strip() for x in line[len(comment) + 1:].split(","))
+        rows[int(label)] = (float(t_w), float(t_psi))
+    return rows
+
+
+def test_a_bdf_with_node_101_names_it_in_every_port_card_and_holds_the_static_stiffness(boundary, tmp_path):
+    """``node=101`` puts the ports on grid 101 in every matrix, ``first_label`` moves the scalar points;
+    the KSTAT matrices hold the 2x2 static stiffness, which equals the static condensation of the K
+    read back from the same file (a dense solve here), and the listed static state is what that
+    condensation puts on the internal DOFs."""
+    system = boundary.matrix_system()
+    text = st.export_system(system, tmp_path / "end.bdf", node=101, first_label=501).read_text()
+    matrices = _parse_bdf(text)
+    assert {"KEND", "KENDR", "BEND", "BENDR", "MEND", "MENDR", "KSTAT", "KSTATR"} <= set(matrices)
+    n = system.n_internal
+    labels = [(101, 2), (101, 6)] + [(p, 0) for p in range(501, 501 + n)]
+    for name, entries in matrices.items():  # every port card on grid 101; the rest on the scalar points
+        for row, col in entries:
+            for grid, component in (row, col):
+                assert (grid == 101 and component in (2, 6)) or (501 <= grid < 501 + n and component == 0), name
+    assert any(row[0] == 101 for row, _ in matrices["KEND"]) and "SPOINT  501" in text
+    assert "Ports on node 101" in text and "node 1:" not in text
+    static = _dense(matrices["KSTAT"], labels[:2]) + _dense(matrices["KSTATR"], labels[:2])
+    np.testing.assert_allclose(static, system.static_stiffness(), rtol=1e-13)  # both ports flip: signs cancel
+    np.testing.assert_allclose(static, boundary.rational.K0, rtol=1e-8)  # the end's own static stiffness
+    K = _dense(matrices["KEND"], labels) + _dense(matrices["KENDR"], labels)
+    T = np.array(list(_static_map_lines(text, "$").values()))
+    assert T.shape == (n, 2) and list(_static_map_lines(text, "$")) == list(range(501, 501 + n))
+    # the static state leaves the internal DOFs unloaded: K_ii T + K_ip = 0, and condenses K to KSTAT
+    np.testing.assert_allclose(K[2:, 2:] @ T + K[2:, :2], 0.0, atol=1e-6 * np.abs(K[2:, :2]).max())
+    np.testing.assert_allclose(K[:2, :2] + K[:2, 2:] @ T, static, rtol=1e-8)
+
+
+def test_an_inp_with_node_and_first_label_holds_the_static_stiffness(boundary, tmp_path):
+    system = boundary.matrix_system()
+    text = st.export_boundary(boundary, tmp_path / "end.inp", node=7, first_label=100).read_text()
+    matrices = _parse_inp(text)
+    n = system.n_internal
+    labels = [(7, 2), (7, 6)] + [(p, 1) for p in range(100, 100 + n)]
+    M, C, K = (_dense(matrices[name], labels) for name in ("END_M", "END_C", "END_K"))
+    assert _close(_port_receptance(M, C, K), _written(boundary))
+    np.testing.assert_array_equal(_dense(matrices["END_K_STATIC"], labels[:2]), system.static_stiffness())
+    assert "*NODE, NSET=SEMITRACK_END_INTERNAL\n100, 0., 0., 0." in text
+    assert "*MATRIX ASSEMBLE, STIFFNESS=END_K, MASS=END_M, VISCOUS DAMPING=END_C" in text  # the static one unassembled
+    assert list(_static_map_lines(text, "**")) == list(range(100, 100 + n))
+
+
+@pytest.mark.parametrize("options, words", [
+    ({"node": 0}, "node"), ({"node": 1.5}, "node"), ({"node": True}, "node"), ({"first_label": -3}, "first_label"),
+    ({"node": 9_000_010}, "lies among the internal DOFs' labels"), ({"node": 10**8}, "at most 99999999"),
+    ({"first_label": 99_999_990}, "at most 99999999")])
+def test_bad_labels_are_refused_by_name(boundary, tmp_path, options, words):
+    with pytest.raises(st.BadInput, match=words):
+        st.export_system(boundary.matrix_system(), tmp_path / "end.bdf", **options)
+    assert not (tmp_path / "end.bdf").exists()
+
+
+@pytest.mark.parametrize("suffix", ["json", "csv", "mat"])
+def test_labels_for_a_format_that_names_dofs_are_refused_not_ignored(boundary, tmp_path, suffix):
+    for call in (lambda: st.export_system(boundary.matrix_system(), tmp_path / f"e.{suffix}", node=101),
+                 lambda: st.export_system(st.paper_table4(), tmp_path / f"e.{suffix}", first_label=5)):
+        with pytest.raises(st.BadInput, match="label the DOFs of a .bdf or .inp file"):
+            call()
+    if suffix != "csv":
+        with pytest.raises(st.BadInput, match="label the DOFs"):
+            st.export_boundary(boundary, tmp_path / f"b.{suffix}", node=101)
+
+
+def test_every_end_file_records_the_track_s_damping_and_a_hysteretic_end_warns_for_a_time_domain_code(tmp_path):
+    """The fitted track's damping model travels in every format and back; writing a hysteretic
+    track's end for Nastran or Abaqus warns once, naming this file's line; a viscous one does not."""
+    import warnings
+
+    hysteretic = st.fit_boundary(st.slab_track(), band=(3.0, 3000.0), n_poles=24)
+    assert hysteretic.track_damping == "hysteretic"
+    for suffix in ("json", "mat"):
+        back = st.load_boundary(st.export_boundary(hysteretic, tmp_path / f"h.{suffix}"))
+        assert back.track_damping == "hysteretic"
+    for suffix in ("json", "csv", "mat"):
+        back = st.load_matrix_system(st.export_boundary(hysteretic, tmp_path / f"hm.{suffix}", mck=True))
+        assert back.info["track_damping"] == "hysteretic"
+    assert json.loads((tmp_path / "h.json").read_text())["conventions"]["track_damping"] == "hysteretic"
+    for suffix in ("bdf", "inp"):
+        with pytest.warns(UserWarning, match="fitted to the hysteretic track 'slab'") as caught:
+            text = st.export_boundary(hysteretic, tmp_path / f"h.{suffix}").read_text()
+        assert len(caught) == 1 and caught[0].filename == __file__  # the user's line, not the package's
+        assert "damping is hysteretic (loss factors, not causal)" in _words(text, "$" if suffix == "bdf" else "**")
+        assert '"track_damping": "hysteretic"' in "".join(line[2 + (suffix == "inp"):] for line in text.splitlines()
+                                                         if line.startswith(("$|", "**|")))
+    with pytest.warns(UserWarning, match="hysteretic") as caught:  # the same warning by the other route
+        st.export_system(hysteretic.matrix_system(), tmp_path / "hs.bdf")
+    assert caught[0].filename == __file__
+    viscous = st.load_boundary(DATA / "boundary_slab_viscous_24.json")  # a file from before the record: ""
+    assert viscous.track_damping == ""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        st.export_boundary(viscous, tmp_path / "v.bdf")
+        fitted = st.fit_boundary(st.slab_track(damping="viscous"), band=(3.0, 3000.0), n_poles=24)
+        assert st.load_boundary(st.export_boundary(fitted, tmp_path / "v.json")).track_damping == "viscous"
+        st.export_boundary(fitted, tmp_path / "v.inp")
+    assert "damping is viscous (causal)" in _words((tmp_path / "v.inp").read_text(), "**")
+
+
+def test_a_file_recording_an_unknown_damping_model_is_refused(tmp_path):
+    data = json.loads((DATA / "boundary_slab_viscous_24.json").read_text())
+    data.setdefault("conventions", {})["track_damping"] = "coulomb"
+    (tmp_path / "b.json").write_text(json.dumps(data))
+    with pytest.raises(st.BadInput, match=r"conventions\['track_damping'\] must be one of"):
+        st.load_boundary(tmp_path / "b.json")

@@ -461,6 +461,22 @@ def _fit_options_agree(args: argparse.Namespace) -> None:
     elif args.poles is not None:
         raise InputError("--poles sets the order of a --boundary fit: add --boundary, or give an equivalent "
                          "system's --bars instead")
+    elif args.node is not None or args.first_label is not None:
+        raise InputError("--node and --first-label label a --boundary fit's .bdf or .inp file; an equivalent "
+                         "system's JSON names its DOFs: write it, then 'semitrack export system.json -o end.bdf "
+                         "--node N'")
+
+
+def _file_labels(args: argparse.Namespace, fmt: str) -> dict:
+    """``--node`` and ``--first-label`` checked, for a .bdf or .inp file only (never ignored)."""
+    given = [name for name, value in (("--node", args.node), ("--first-label", args.first_label)) if value is not None]
+    if given and fmt not in ("bdf", "inp"):
+        raise InputError(f"{' and '.join(given)} label the DOFs of a .bdf or .inp file; a .{fmt} file names them: "
+                         "drop them, or write a .bdf or .inp file")
+    for name, value in (("--node", args.node), ("--first-label", args.first_label)):
+        if value is not None:
+            checked(check_int_at_least, name, value, 1)
+    return {"node": args.node, "first_label": args.first_label}
 
 
 def _end_format(out: Path, given: str | None) -> str:
@@ -485,10 +501,11 @@ def _fit_boundary(args: argparse.Namespace, track: Track, band: tuple[float, flo
         checked(check_n_poles, args.poles, "--poles")
     progress = Progress("fit", 1, quiet=args.quiet)
     progress.update(0, "fitting a broadband boundary")
+    labels = _file_labels(args, out.suffix.lower().lstrip("."))
     bnd = fit_boundary(track, band=band, n_poles=args.poles, seed=args.seed)
     progress.update(1)
     progress.close()
-    export_boundary(bnd, out, mck=args.mck)
+    export_boundary(bnd, out, mck=args.mck, **labels)
     proof = "proven passive" if bnd.passivity else "NOT passive"
     print(f"fitted a broadband boundary with {bnd.n_poles} poles to '{printable(track.name)}' "
           f"({track_kind(track)}) over {band[0]:g}-{band[1]:g} Hz ({proof})")
@@ -621,8 +638,9 @@ def cmd_export(args: argparse.Namespace) -> int:
             raise InputError(f"the output {output!r} would replace the input: give -o FILE")
     (out,) = output_paths(("-o", output), inputs=(("system file", args.system),))
     fmt = _end_format(out, args.format)
+    labels = _file_labels(args, fmt)
     if isinstance(source, BroadbandBoundary):
-        export_boundary(source, out, format=fmt, mck=args.mck)
+        export_boundary(source, out, format=fmt, mck=args.mck, **labels)
         as_mck = ", as M, C, K" if args.mck or fmt in ("csv", "bdf", "inp") else ""
         what = f"a broadband boundary ({source.n_poles} poles{as_mck})"
     else:
@@ -631,7 +649,7 @@ def cmd_export(args: argparse.Namespace) -> int:
         conventions = _file_header(args.system)[1]  # the track and band it was fitted on, carried on
         band = conventions.get("band_hz")
         export_system(source, out, format=fmt, track=conventions.get("track") or None,
-                      band=band if isinstance(band, list) and len(band) == 2 else None)
+                      band=band if isinstance(band, list) and len(band) == 2 else None, **labels)
         what = f"a {source.kind} system with {source.n_dof} DOFs"
     print(f"{fmt} export of {what} written to {out}")
     return 0
@@ -823,8 +841,17 @@ def _fit_parser(sub) -> None:
                         ".csv, .bdf (Nastran), .inp (Abaqus) for its M, C, K)")
     p.add_argument("--mck", action="store_true",
                    help="with --boundary: write the end's M, C, K (second-order form) also as .json or .mat")
+    _label_arguments(p)
     p.add_argument("--quiet", action="store_true", help="no progress line")
     p.set_defaults(func=cmd_fit)
+
+
+def _label_arguments(p) -> None:
+    """``--node`` and ``--first-label``: the labels of a .bdf or .inp end file."""
+    p.add_argument("--node", type=integer, default=None,
+                   help=".bdf/.inp: the grid or node of your model's end that carries the ports (default 1)")
+    p.add_argument("--first-label", type=integer, default=None,
+                   help=".bdf/.inp: the scalar point or node of the first internal DOF (default 9000001)")
 
 
 def _export_parser(sub) -> None:
@@ -839,6 +866,7 @@ def _export_parser(sub) -> None:
                    help="format (default: from the suffix of -o): json, mat (a boundary's state space, or a system); "
                         "csv, bdf (Nastran DMIG), inp (Abaqus *MATRIX INPUT): M, C, K")
     p.add_argument("--mck", action="store_true", help="a boundary's M, C, K (second-order form) also as .json or .mat")
+    _label_arguments(p)
     p.add_argument("-o", "--output", default=None,
                    help="file to write (default: the input's name with the format's suffix)")
     p.set_defaults(func=cmd_export)

@@ -26,7 +26,7 @@ from __future__ import annotations
 import time
 import warnings
 from dataclasses import dataclass, field
-from typing import NamedTuple
+from typing import Literal, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -111,6 +111,10 @@ class OrderTrial(NamedTuple):
     elapsed: float  #: wall time of this order's fit (s)
 
 
+#: A recorded damping model of the fitted track ("": not recorded).
+TrackDamping = Literal["", "hysteretic", "viscous"]
+
+
 @dataclass(frozen=True, eq=False)
 class BroadbandBoundary:
     """A passive rational model of a semi-infinite track's end, fitted over a band.
@@ -127,6 +131,10 @@ class BroadbandBoundary:
         The exact passivity test of the final model.
     track_name : str
         Name of the fitted track.
+    track_damping : {"", "hysteretic", "viscous"}
+        The fitted track's damping model ("" if not recorded, as in files before 0.3): a
+        hysteretic track's end is a causal fit to a non-causal target, recorded in every file it
+        is written to, and warned about when written for a time-domain code.
     enforcement_rounds : int
         Rounds of passivity enforcement that were needed (0: the refined fit was passive).
     orders_tried : dict
@@ -142,6 +150,7 @@ class BroadbandBoundary:
     errors: ErrorSummary
     passivity: BoundaryPassivityReport
     track_name: str = ""
+    track_damping: TrackDamping = ""
     enforcement_rounds: int = 0
     orders_tried: dict = field(default_factory=dict)
     elapsed: float = 0.0
@@ -231,7 +240,7 @@ class BroadbandBoundary:
         """
         return second_order_system(self.rational, info={
             "origin": "broadband boundary (fit_boundary), reciprocal passive synthesis", "track": self.track_name,
-            "band_hz": [float(b) for b in self.band], "n_poles": self.n_poles})
+            "band_hz": [float(b) for b in self.band], "n_poles": self.n_poles, "track_damping": self.track_damping})
 
     model = deprecated_alias("rational", "model")
     second_order = deprecated_alias("matrix_system", "second_order")
@@ -409,7 +418,7 @@ def fit_boundary(track: Track, band: tuple[float, float] = DEFAULT_BOUNDARY_BAND
         warnings.warn(f"fit_boundary: passivity could not be enforced ({report}); the model may "
                       "generate energy in a time-domain simulation", RuntimeWarning, stacklevel=2)
     return BroadbandBoundary(rational=model, band=band, errors=err, passivity=report, track_name=track.name,
-                             enforcement_rounds=rounds,
+                             track_damping=track.damping, enforcement_rounds=rounds,
                              orders_tried={n: OrderTrial(r[1].median, r[1].max, bool(passivity_report(r[0])),
                                                          r[2], r[3]) for n, r in results.items()},
                              elapsed=time.perf_counter() - start)

@@ -30,7 +30,7 @@ import scipy.io
 from ..base.checks import check_flag
 from ..base.errors import InputError, InputTypeError
 from ..base.files import atomic_write, file_suffix
-from ..equivalent.exchange import MATRIX_SUFFIXES, end_conventions, mat_conventions, save_matrix_system
+from ..equivalent.exchange import MATRIX_SUFFIXES, end_conventions, mat_conventions, refuse_labels, save_matrix_system
 from ..equivalent.metrics import ErrorSummary
 from .fitting import BroadbandBoundary
 from .passivity import passivity_report
@@ -80,7 +80,7 @@ def boundary_to_dict(boundary: BroadbandBoundary) -> dict:
         "state_space": {"A": ss.A.tolist(), "B": ss.B.tolist(), "C": ss.C.tolist(), "D": ss.D.tolist(),
                         "K0": ss.K0.tolist(), "dofs": list(ss.dofs)},
         "units": UNITS,
-        "conventions": end_conventions(b.track_name, b.band),
+        "conventions": end_conventions(b.track_name, b.band, b.track_damping),
     }
 
 
@@ -125,7 +125,8 @@ def boundary_from_dict(data: dict, source: str = "data", check: bool = True) -> 
         check_boundary_physics(model, passivity, source)
     errors = ErrorSummary(median=v["median_error"], max=v["max_error"], per_element={})
     return BroadbandBoundary(rational=model, band=v["band"], errors=errors, passivity=passivity,
-                             track_name=v["track"], enforcement_rounds=v["enforcement_rounds"])
+                             track_name=v["track"], track_damping=v["track_damping"],
+                             enforcement_rounds=v["enforcement_rounds"])
 
 
 def save_boundary(boundary: BroadbandBoundary, path, format: str | None = None) -> Path:
@@ -172,7 +173,8 @@ def _second_order_variables(boundary: BroadbandBoundary) -> dict:
                                      "first; implicit integrators only (massless DOFs)"}}
 
 
-def export_boundary(boundary: BroadbandBoundary, path, format: str | None = None, mck: bool = False) -> Path:
+def export_boundary(boundary: BroadbandBoundary, path, format: str | None = None, mck: bool = False, *,
+                    node: int | None = None, first_label: int | None = None) -> Path:
     """Write a boundary in any format: its state space (``.json``, ``.mat``) or its M, C, K.
 
     Parameters
@@ -186,10 +188,18 @@ def export_boundary(boundary: BroadbandBoundary, path, format: str | None = None
     mck : bool
         Write the second-order form (:meth:`~.fitting.BroadbandBoundary.matrix_system`) also as
         ``.json`` or ``.mat``; ``.csv``, ``.bdf`` and ``.inp`` always hold it.
+    node, first_label : int, optional
+        ``.bdf`` and ``.inp``: the node carrying the ports and the first internal DOF's label
+        (:func:`semitrack.export_system`).
 
     Returns
     -------
     Path
+
+    Warns
+    -----
+    UserWarning
+        A ``.bdf`` or ``.inp`` file of an end fitted to a hysteretic track.
     """
     b, mck = _check_boundary(boundary), check_flag("mck", mck)
     key = file_suffix(path, format)
@@ -197,8 +207,9 @@ def export_boundary(boundary: BroadbandBoundary, path, format: str | None = None
         raise InputError(f"format must be one of {', '.join(x[1:] for x in MATRIX_SUFFIXES)} (or a path with that "
                          f"suffix), got {format if format is not None else Path(path).suffix!r}")
     if key in STATE_SPACE_SUFFIXES and not mck:
+        refuse_labels(key, node, first_label)
         return save_boundary(b, path, format=key)
-    return save_matrix_system(b.matrix_system(), path, format=key)
+    return save_matrix_system(b.matrix_system(), path, format=key, node=node, first_label=first_label)
 
 
 def load_boundary(path, check: bool = True) -> BroadbandBoundary:

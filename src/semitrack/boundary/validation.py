@@ -28,7 +28,7 @@ import numpy as np
 
 from ..base.errors import InputError
 from ..base.files import check_input_path, read_json, read_mat
-from ..equivalent.exchange import check_conventions
+from ..equivalent.exchange import check_conventions, check_track_damping
 from ..model.tracks import Track
 from .fitting import MAX_POLES, track_end_limits
 from .passivity import BoundaryPassivityReport
@@ -241,9 +241,15 @@ def check_boundary_data(data: dict, source: str, fmt: str, version: int) -> dict
             "K0": _matrix(data, "K0", source, (2, 2)), "D": _matrix(data, "D", source, (2, 2)),
             "band": _band(data, source), "median_error": _real(data, "median_error", source, math.nan),
             "max_error": _real(data, "max_error", source, math.nan), "enforcement_rounds": _rounds(data, source),
-            "track": track,
+            "track": track, "track_damping": _track_damping(data, source),
             "state_space": None if stored is None else {k: _matrix(stored, k, f"{source}: state_space")
                                                         for k in ("A", "B", "C", "D", "K0")}}
+
+
+def _track_damping(data: dict, source: str) -> str:
+    """The fitted track's damping model from the conventions ("" in a file that does not record it)."""
+    conventions = data.get("conventions") or {}
+    return check_track_damping(conventions.get("track_damping", ""), f"{source}: conventions['track_damping']")
 
 
 def check_boundary_physics(model: RationalEndStiffness, passivity: BoundaryPassivityReport, source: str) -> None:

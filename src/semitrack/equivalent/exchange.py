@@ -53,11 +53,15 @@ from pathlib import Path
 
 import numpy as np
 
+from ..base.checks import check_int_at_least
 from ..base.errors import InputError, InputTypeError
 from ..base.files import atomic_write, check_input_path, file_suffix, read_json, read_mat, read_text
+from ..base.notices import warn_user
 from .mechanical import PORT_DOFS, MatrixSystem, MechanicalSystem
 
-__all__ = ["end_conventions", "conventions_text", "check_conventions", "CHECKED_CONVENTIONS", "mat_conventions",
+__all__ = ["end_conventions", "conventions_text", "check_conventions", "check_labels", "check_track_damping",
+           "refuse_labels",
+           "TRACK_DAMPING", "MAX_LABEL", "FIRST_INTERNAL_LABEL", "CHECKED_CONVENTIONS", "mat_conventions",
            "matrix_system_to_dict", "matrix_system_from_dict", "save_matrix_system", "load_matrix_system",
            "save_nastran_dmig", "save_abaqus_matrix", "MATRIX_FORMAT", "MATRIX_SUFFIXES", "CODE_AXES"]
 
@@ -75,7 +79,7 @@ MAX_MATRIX_BYTES = 50_000_000
 FIRST_INTERNAL_LABEL = 9_000_001
 
 
-def end_conventions(track: str = "", band=None) -> dict:
+def end_conventions(track: str = "", band=None, track_damping: str = "") -> dict:
     """The conventions record of an end file (module docstring), with the track and band fitted on.
 
     Parameters
@@ -84,6 +88,10 @@ def end_conventions(track: str = "", band=None) -> dict:
         Name of the track the system models ("" if not known).
     band : sequence of two floats, optional
         Band of the fit (Hz), if any.
+    track_damping : {"", "hysteretic", "viscous"}
+        The damping model of the track it was fitted on ("" if not recorded): an end fitted to
+        a hysteretic (loss-factor, not causal) track holds in the time domain only as well as
+        its causal fit could follow it.
 
     Returns
     -------
@@ -100,12 +108,25 @@ def end_conventions(track: str = "", band=None) -> dict:
         "units": {"length": "m", "rotation": "rad", "force": "N", "moment": "N m", "time": "s", "mass": "kg",
                   "frequency": "Hz"},
         "time_factor": "exp(i omega t)", "track": str(track), "band_hz": band,
+        "track_damping": check_track_damping(track_damping),
         "precision": "IEEE doubles written in full (repr: 17 significant digits); at least 12 are needed",
-        "text": conventions_text(track, band),
+        "text": conventions_text(track, band, track_damping),
     }
 
 
-def conventions_text(track: str = "", band=None) -> str:
+#: The damping models an end file may record of its track ("": not recorded).
+TRACK_DAMPING = ("", "hysteretic", "viscous")
+
+
+def check_track_damping(value, source: str = "track_damping") -> str:
+    """A recorded damping model of the track: one of :data:`TRACK_DAMPING`, or the package's refusal."""
+    if value not in TRACK_DAMPING or not isinstance(value, str):
+        raise InputError(f"{source} must be one of {', '.join(map(repr, TRACK_DAMPING))} (the track's damping "
+                         f"model, '' if not recorded), got {str(value)[:40]!r}")
+    return value
+
+
+def conventions_text(track: str = "", band=None, track_damping: str = "") -> str:
     """The conventions in words, as every file states them.
 
     Parameters
@@ -114,9 +135,15 @@ def conventions_text(track: str = "", band=None) -> str:
         Name of the track the system models.
     band : sequence of two floats, optional
         Band of the fit (Hz).
+    track_damping : {"", "hysteretic", "viscous"}
+        The track's damping model, if recorded.
     """
     fitted = f" It was fitted on the track {track!r}" if track else " The track it models is not recorded"
     fitted += f" over {band[0]:g}-{band[1]:g} Hz." if band is not None else "."
+    fitted += {"hysteretic": " That track's damping is hysteretic (loss factors, not causal): in the time domain "
+                             "the end holds only as well as its causal fit follows it; fit a viscous track's end "
+                             "for time-domain use.",
+               "viscous": " That track's damping is viscous (causal).", "": ""}[track_damping]
     return ("This file models the semi-infinite track to the right of a cut. Its first two DOFs (the ports) are "
             "the rail's w (m, downward) and psi (rad, the clockwise rotation of the cross-section from bending "
             "alone) at the cut; (Q, M) are the force and moment applied to that end, so the force on your end "
@@ -187,11 +214,12 @@ def _check_system(system) -> MechanicalSystem:
     return system
 
 
-def _info(system: MechanicalSystem, track: str | None, band) -> tuple[str, object]:
-    """The track and band of a system: given, or from a MatrixSystem's info."""
+def _info(system: MechanicalSystem, track: str | None, band) -> tuple[str, object, str]:
+    """The track, band and track's damping model of a system: given, or from a MatrixSystem's info."""
     info = system.info if isinstance(system, MatrixSystem) else {}
+    damping = info.get("track_damping", "")
     return (track if track is not None else str(info.get("track", ""))), \
-        (band if band is not None else info.get("band_hz"))
+        (band if band is not None else info.get("band_hz")), (damping if damping in TRACK_DAMPING else "")
 
 
 # --- JSON, CSV, MAT of a MatrixSystem --------------------------------------------------------------
@@ -208,10 +236,10 @@ def matrix_system_to_dict(system: MechanicalSystem, track: str | None = None, ba
         The band it was fitted on (Hz; default: the system's ``info``).
     """
     system = _check_system(system)
-    track, band = _info(system, track, band)
+    track, band, damping = _info(system, track, band)
     M, C, K = system.matrices()
     info = dict(system.info) if isinstance(system, MatrixSystem) else {"origin": f"{system.kind} equivalent system"}
-    return {"format": MATRIX_FORMAT, "version": MATRIX_VERSION, "conventions": end_conventions(track, band),
+    return {"format": MATRIX_FORMAT, "version": MATRIX_VERSION, "conventions": end_conventions(track, band, damping),
             "info": info, "dof_names": system.dof_names(),
             "static_stiffness": system.static_stiffness().tolist(),
             "limits": ("implicit integrators only when M is singular (massless DOFs); a static or preload step "
@@ -243,7 +271,9 @@ def matrix_system_from_dict(data: dict, source: str = "data") -> MatrixSystem:
     try:
         return MatrixSystem(np.asarray(data["M"], dtype=float), np.asarray(data["C"], dtype=float),
                             np.asarray(data["K"], dtype=float), dofs=tuple(dofs),
-                            info=dict(data.get("info", {}), track=conv.get("track", ""), band_hz=conv.get("band_hz")))
+                            info=dict(data.get("info", {}), track=conv.get("track", ""), band_hz=conv.get("band_hz"),
+                                      track_damping=check_track_damping(conv.get("track_damping", ""),
+                                                                        f"{source}: conventions['track_damping']")))
     except KeyError as exc:
         raise InputError(f"{source}: missing key {exc.args[0]!r}") from None
     except (TypeError, ValueError) as exc:
@@ -297,7 +327,8 @@ def _csv_data(text: str, source: str) -> dict:
 
 
 def save_matrix_system(system: MechanicalSystem, path: str | os.PathLike, track: str | None = None,
-                       band=None, format: str | None = None) -> Path:
+                       band=None, format: str | None = None, *, node: int | None = None,
+                       first_label: int | None = None) -> Path:
     """Write any end system's M, C, K with its conventions: ``.json``, ``.csv``, ``.mat``, ``.bdf``, ``.inp``.
 
     Parameters
@@ -312,16 +343,27 @@ def save_matrix_system(system: MechanicalSystem, path: str | os.PathLike, track:
         The band it was fitted on (Hz; default: the system's ``info``).
     format : {"json", "csv", "mat", "bdf", "inp"}, optional
         The format; default: from the suffix of ``path``.
+    node : int, optional
+        ``.bdf`` and ``.inp`` only: the grid or node of the user's end that carries the ports
+        (default 1).
+    first_label : int, optional
+        ``.bdf`` and ``.inp`` only: the label of the first internal DOF's scalar point or node
+        (default :data:`FIRST_INTERNAL_LABEL`); the internal DOFs take the labels after it.
 
     Returns
     -------
     Path
+
+    Warns
+    -----
+    UserWarning
+        A ``.bdf`` or ``.inp`` file (for a time-domain code) of an end fitted to a hysteretic track.
     """
     suffix = file_suffix(path, format)
-    if suffix == ".bdf":
-        return save_nastran_dmig(system, path, track, band)
-    if suffix == ".inp":
-        return save_abaqus_matrix(system, path, track, band)
+    if suffix in (".bdf", ".inp"):
+        write = save_nastran_dmig if suffix == ".bdf" else save_abaqus_matrix
+        return write(system, path, track, band, node=node, first_label=first_label)
+    refuse_labels(suffix, node, first_label)
     data = matrix_system_to_dict(system, track, band)
     if suffix == ".json":
         return atomic_write(path, lambda fh: json.dump(data, fh, indent=1), binary=False)
@@ -426,29 +468,83 @@ def _code_matrices(system: MechanicalSystem) -> tuple[np.ndarray, np.ndarray, np
     return tuple(sign[:, None] * X * sign[None, :] for X in system.matrices())
 
 
-def _labels(system: MechanicalSystem, port_node: int) -> list[tuple[int, int]]:
-    """(node or grid, component) of each DOF: the ports on ``port_node``, internal DOFs as scalar points."""
-    ports = [(port_node, CODE_AXES["w"]["dof"]), (port_node, CODE_AXES["psi"]["dof"])]
-    return ports + [(FIRST_INTERNAL_LABEL + j, 0) for j in range(system.n_internal)]
+#: Largest grid, node or scalar-point label a .bdf or .inp file names (Nastran's IDs stay below 10^8).
+MAX_LABEL = 99_999_999
 
 
-def _header(system: MechanicalSystem, comment: str, track, band, port_node: int) -> list[str]:
+def check_labels(system: MechanicalSystem, node, first_label) -> tuple[int, int]:
+    """The port node and the first internal label, checked: integers in 1..:data:`MAX_LABEL`, the
+    internal labels' range clear of the port node and within the limit."""
+    node = 1 if node is None else check_int_at_least("node", node, 1)
+    first = FIRST_INTERNAL_LABEL if first_label is None else check_int_at_least("first_label", first_label, 1)
+    last = first + max(system.n_internal, 1) - 1
+    if node > MAX_LABEL or last > MAX_LABEL:
+        raise InputError(f"node={node} and the internal labels {first}..{last} must stay at most {MAX_LABEL} "
+                         "(Nastran's largest ID): give a smaller node or first_label")
+    if system.n_internal and first <= node <= last:
+        raise InputError(f"node={node} lies among the internal DOFs' labels {first}..{last}: give a first_label "
+                         f"above {node} or below {node - system.n_internal + 1}")
+    return node, first
+
+
+def refuse_labels(suffix: str, node, first_label) -> None:
+    """Refuse ``node`` or ``first_label`` for a format that names DOFs, not labels (never ignored)."""
+    given = [name for name, value in (("node", node), ("first_label", first_label)) if value is not None]
+    if given:
+        raise InputError(f"{' and '.join(given)} label the DOFs of a .bdf or .inp file; a {suffix} file holds the "
+                         "matrices by DOF name: leave them out, or write .bdf/.inp")
+
+
+def _labels(system: MechanicalSystem, node: int, first: int) -> list[tuple[int, int]]:
+    """(node or grid, component) of each DOF: the ports on ``node``, internal DOFs as scalar points."""
+    ports = [(node, CODE_AXES["w"]["dof"]), (node, CODE_AXES["psi"]["dof"])]
+    return ports + [(first + j, 0) for j in range(system.n_internal)]
+
+
+def _header(system: MechanicalSystem, comment: str, track, band, node: int, first: int,
+            static: str) -> list[str]:
     """Comment lines of at most 72 characters (Nastran reads 80 columns, Abaqus 256): the conventions
     in words, the node mapping and limits, then the conventions as JSON split over lines ``<comment>|``
     (a reader joins them)."""
     conv = end_conventions(*_info(system, track, band))
-    last = FIRST_INTERNAL_LABEL + system.n_internal - 1
+    last = first + system.n_internal - 1
     words = (f"semitrack end system: {system.n_dof} DOFs ({system.n_internal} internal), SI units. "
-             + conv["text"] + f" Ports on node {port_node}: {CODE_AXES['w']['note']} (DOF 2), "
+             + conv["text"] + f" Ports on node {node}: {CODE_AXES['w']['note']} (DOF 2), "
              f"{CODE_AXES['psi']['note']} (DOF 6), for x along the track and y up; the port rows and columns "
-             f"are written in those axes. Internal DOFs: labels {FIRST_INTERNAL_LABEL}..{last}. Massless "
-             "DOFs: implicit integration only; a static or preload step closes the cut with the 2x2 static "
-             "stiffness instead; the internal masses are mathematical (no gravity on them).")
+             f"are written in those axes. Internal DOFs: labels {first}..{last}. Massless "
+             "DOFs: implicit integration only. A static or preload step closes the cut with the 2x2 static "
+             f"stiffness (the matrix {static} below) instead of the whole end; the internal DOFs' static state "
+             "(listed below) is where a dynamic step that follows starts them; the internal masses are "
+             "mathematical (no gravity on them).")
     lines = [f"{comment} {line}" for line in textwrap.wrap(words, 72 - len(comment) - 1)]
     data = json.dumps({k: v for k, v in conv.items() if k != "text"})
     width = 72 - len(comment) - 1
     lines.append(f"{comment} conventions as JSON (join the lines that start with {comment}|):")
     return lines + [f"{comment}|{data[k:k + width]}" for k in range(0, len(data), width)]
+
+
+def _static_lines(system: MechanicalSystem, comment: str, labels: list[tuple[int, int]]) -> list[str]:
+    """The internal DOFs' static state per unit port displacement, in the file's axes, as comments:
+    ``u_j = T_w u_port_w + T_psi u_port_psi`` (label, T_w, T_psi; 0 for a DOF no spring holds)."""
+    if not system.n_internal:
+        return []
+    # a unit displacement of DOF 2 (6) in the file's axes is the package's w (psi) times its sign
+    T = np.column_stack([system.static_internal([CODE_AXES["w"]["sign"], 0.0]),
+                         system.static_internal([0.0, CODE_AXES["psi"]["sign"]])])
+    lines = [f"{comment} static state of the internal DOFs, per unit port displacement in this",
+             f"{comment} file's axes (u_j = T_w * DOF 2 + T_psi * DOF 6 of node {labels[0][0]}):",
+             f"{comment} label, T_w (u_j per m), T_psi (u_j per rad)"]
+    return lines + [f"{comment} {labels[2 + j][0]}, {float(T[j, 0])!r}, {float(T[j, 1])!r}" for j in range(T.shape[0])]
+
+
+def _hysteretic_warning(system: MechanicalSystem, track, band, suffix: str) -> None:
+    """Warn when a time-domain file is written for an end fitted to a hysteretic track."""
+    name, _, damping = _info(system, track, band)
+    if damping == "hysteretic":
+        warn_user(f"export {suffix}: the end was fitted to the hysteretic track {name!r} (loss factors, not "
+                  "causal); a time-domain code gets its causal fit, which follows that track less closely than "
+                  "a viscous track's end follows its own: fit on damping='viscous' for time-domain use (the "
+                  "file records track_damping)")
 
 
 def _nastran_real(value: float) -> str:
@@ -480,7 +576,7 @@ def _dmig_lines(name: str, X: np.ndarray, labels: list[tuple[int, int]]) -> list
 
 
 def save_nastran_dmig(system: MechanicalSystem, path: str | os.PathLike, track: str | None = None,
-                      band=None, port_node: int = 1) -> Path:
+                      band=None, *, node: int | None = None, first_label: int | None = None) -> Path:
     """Write M, C, K as Nastran ``DMIG`` bulk data for ``K2GG``, ``B2GG``, ``M2GG`` (module docstring).
 
     Parameters
@@ -493,29 +589,49 @@ def save_nastran_dmig(system: MechanicalSystem, path: str | os.PathLike, track: 
         The track it models (default: the system's ``info``).
     band : sequence of two floats, optional
         The band it was fitted on (Hz).
-    port_node : int
-        The grid of the user's end node that carries the ports.
+    node : int, optional
+        The grid of the user's end node that carries the ports (default 1).
+    first_label : int, optional
+        The first internal DOF's scalar point (default :data:`FIRST_INTERNAL_LABEL`).
 
     Returns
     -------
     Path
     """
     system = _check_system(system)
-    labels = _labels(system, port_node)
-    lines = _header(system, "$", track, band, port_node)
+    node, first = check_labels(system, node, first_label)
+    _hysteretic_warning(system, track, band, ".bdf")
+    labels = _labels(system, node, first)
+    lines = _header(system, "$", track, band, node, first, "KSTAT")
     lines += ["$ Case Control: K2GG = KEND, KENDR   B2GG = BEND, BENDR   M2GG = MEND, MENDR",
-              "$ (each matrix is a leading part and its remainder: their sum is the double)"]
+              "$ (each matrix is a leading part and its remainder: their sum is the double)",
+              "$ A static or preload run: K2GG = KSTAT, KSTATR (the 2x2 static stiffness on",
+              f"$ node {node}) in place of KEND, KENDR, and no B2GG, M2GG; the scalar points",
+              "$ then carry nothing (constrain them, or let AUTOSPC)."]
+    lines += _static_lines(system, "$", labels)
     if system.n_internal:
-        lines.append(f"SPOINT  {FIRST_INTERNAL_LABEL:<8}THRU    {FIRST_INTERNAL_LABEL + system.n_internal - 1:<8}")
+        lines.append(f"SPOINT  {first:<8}THRU    {first + system.n_internal - 1:<8}")
     for code, X in zip("MBK", _code_matrices(system)):
-        lead = np.vectorize(lambda v: float(_nastran_real(v).replace("D", "E")))(X)
-        lines += _dmig_lines(f"{code}END", lead, labels) + _dmig_lines(f"{code}ENDR", X - lead, labels)
+        lines += _split_dmig(f"{code}END", X, labels)
+    lines += _split_dmig("KSTAT", _code_static(system), labels[:2])
     text = "\n".join(lines) + "\n"
     return atomic_write(path, lambda fh: fh.write(text), binary=False)
 
 
+def _split_dmig(name: str, X: np.ndarray, labels: list[tuple[int, int]]) -> list[str]:
+    """A matrix as two DMIG entries, ``name`` (what a field holds) and ``name + "R"`` (the rest)."""
+    lead = np.vectorize(lambda v: float(_nastran_real(v).replace("D", "E")))(X)
+    return _dmig_lines(name, lead, labels) + _dmig_lines(f"{name}R", X - lead, labels)
+
+
+def _code_static(system: MechanicalSystem) -> np.ndarray:
+    """The 2x2 static stiffness in a code's axes (both ports flip: the signs cancel, kept for clarity)."""
+    sign = np.array([CODE_AXES["w"]["sign"], CODE_AXES["psi"]["sign"]])
+    return sign[:, None] * system.static_stiffness() * sign[None, :]
+
+
 def save_abaqus_matrix(system: MechanicalSystem, path: str | os.PathLike, track: str | None = None,
-                       band=None, port_node: int = 1) -> Path:
+                       band=None, *, node: int | None = None, first_label: int | None = None) -> Path:
     """Write M, C, K as Abaqus ``*MATRIX INPUT`` keywords for ``*MATRIX ASSEMBLE`` (module docstring).
 
     Parameters
@@ -528,24 +644,33 @@ def save_abaqus_matrix(system: MechanicalSystem, path: str | os.PathLike, track:
         The track it models (default: the system's ``info``).
     band : sequence of two floats, optional
         The band it was fitted on (Hz).
-    port_node : int
-        The label of the user's end node that carries the ports.
+    node : int, optional
+        The label of the user's end node that carries the ports (default 1).
+    first_label : int, optional
+        The node of the first internal DOF (default :data:`FIRST_INTERNAL_LABEL`).
 
     Returns
     -------
     Path
     """
     system = _check_system(system)
-    labels = [(node, max(dof, 1)) for node, dof in _labels(system, port_node)]  # internal DOFs: DOF 1 of a node
-    lines = _header(system, "**", track, band, port_node)
+    node, first = check_labels(system, node, first_label)
+    _hysteretic_warning(system, track, band, ".inp")
+    labels = [(label, max(dof, 1)) for label, dof in _labels(system, node, first)]  # internal: DOF 1 of a node
+    lines = _header(system, "**", track, band, node, first, "END_K_STATIC")
     lines[0:0] = ["** For Abaqus (*MATRIX INPUT, *MATRIX ASSEMBLE). Not for CalculiX: it has no matrix",
                   "** keyword for rotations or damping and skips these cards, running without the end."]
+    lines += ["** END_K_STATIC: the 2x2 static stiffness, for a static or preload analysis:",
+              "** assemble STIFFNESS=END_K_STATIC alone there (the internal nodes then carry",
+              "** nothing: constrain them)."]
+    lines += _static_lines(system, "**", labels)
     if system.n_internal:
         lines.append("*NODE, NSET=SEMITRACK_END_INTERNAL")
-        lines += [f"{node}, 0., 0., 0." for node, _ in labels[2:]]
-    for name, X in zip(("END_M", "END_C", "END_K"), _code_matrices(system)):
+        lines += [f"{label}, 0., 0., 0." for label, _ in labels[2:]]
+    for name, X, rows in zip(("END_M", "END_C", "END_K", "END_K_STATIC"),
+                             (*_code_matrices(system), _code_static(system)), (labels,) * 3 + (labels[:2],)):
         lines.append(f"*MATRIX INPUT, NAME={name}")
-        lines += [f"{labels[i][0]}, {labels[i][1]}, {labels[j][0]}, {labels[j][1]}, {float(X[i, j])!r}"
+        lines += [f"{rows[i][0]}, {rows[i][1]}, {rows[j][0]}, {rows[j][1]}, {float(X[i, j])!r}"
                   for j in range(X.shape[0]) for i in range(j, X.shape[0]) if X[i, j] != 0.0]
     lines.append("*MATRIX ASSEMBLE, STIFFNESS=END_K, MASS=END_M, VISCOUS DAMPING=END_C")
     text = "\n".join(lines) + "\n"

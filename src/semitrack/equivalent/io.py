@@ -73,7 +73,14 @@ from ..base.checks import check_band, check_string
 from ..base.deprecation import renamed_keywords
 from ..base.errors import BadInput, InputError, InputTypeError
 from ..base.files import atomic_write, check_input_path, file_suffix, read_json, read_mat, read_text
-from .exchange import MATRIX_SUFFIXES, check_conventions, end_conventions, mat_conventions, save_matrix_system
+from .exchange import (
+    MATRIX_SUFFIXES,
+    check_conventions,
+    end_conventions,
+    mat_conventions,
+    refuse_labels,
+    save_matrix_system,
+)
 from .mechanical import MechanicalSystem
 from .systems import PARAMETER_UNITS, EquivalentSystem
 
@@ -534,7 +541,7 @@ _WRITERS = {".json": save_system_json, ".csv": save_system_csv, ".mat": save_sys
 @renamed_keywords({"band_hz": "band"})
 def export_system(system: MechanicalSystem, path: str | os.PathLike,
                   format: Literal["json", "csv", "mat", "bdf", "inp"] | None = None, *, track: str | None = None,
-                  band=None) -> Path:
+                  band=None, node: int | None = None, first_label: int | None = None) -> Path:
     """Write an end system as JSON, CSV, MAT, Nastran ``.bdf`` or Abaqus ``.inp``, atomically.
 
     A paper-style system (:class:`~.systems.EquivalentSystem`) is written with its parameters
@@ -555,10 +562,21 @@ def export_system(system: MechanicalSystem, path: str | os.PathLike,
         The track it was fitted on (default: the system's own record, if any).
     band : sequence of two floats, optional
         The band it was fitted on (Hz); until 0.3 also ``band_hz=``.
+    node : int, optional
+        ``.bdf`` and ``.inp``: the grid or node of your model's end that carries the ports
+        (default 1); refused for the other formats, which name DOFs, not labels.
+    first_label : int, optional
+        ``.bdf`` and ``.inp``: the scalar point or node of the first internal DOF (default
+        9000001); the others follow it, clear of ``node``, at most 99999999.
 
     Returns
     -------
     Path
+
+    Warns
+    -----
+    UserWarning
+        A ``.bdf`` or ``.inp`` file of an end fitted to a hysteretic track (its record says so).
 
     Raises
     ------
@@ -583,9 +601,10 @@ def export_system(system: MechanicalSystem, path: str | os.PathLike,
     if track is not None:
         check_string("track", track)
     band = None if band is None else check_band(band)
-    if isinstance(system, EquivalentSystem) and key in _WRITERS:
-        return _WRITERS[key](system, path, track=track or "", band=band)
     if not isinstance(system, MechanicalSystem):
         raise InputTypeError(f"system must be a MechanicalSystem (an EquivalentSystem or "
                              f"BroadbandBoundary.matrix_system()), got {type(system).__name__}")
-    return save_matrix_system(system, path, track, band, format=key)
+    if isinstance(system, EquivalentSystem) and key in _WRITERS:
+        refuse_labels(key, node, first_label)
+        return _WRITERS[key](system, path, track=track or "", band=band)
+    return save_matrix_system(system, path, track, band, format=key, node=node, first_label=first_label)

@@ -30,7 +30,6 @@ track, ``-20 lg |lambda| / d`` dB/m with ``lambda`` its factor over one period
 
 from __future__ import annotations
 
-import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -42,6 +41,7 @@ from ..base.checks import MAX_FREQUENCIES, as_real_array, brief, check_choice, c
 from ..base.deprecation import deprecated_alias, renamed_keywords
 from ..base.errors import InputError, InputTypeError
 from ..base.fields import check_fields, check_rows
+from ..base.notices import warn_user
 from ..model.tracks import Track
 from .infinite import InfiniteTrack
 from .transfer import cyclic_reduction, period_dynamic_stiffness, vanishing_damping
@@ -316,10 +316,10 @@ def _default_bands(inf: InfiniteTrack) -> tuple[np.ndarray, np.ndarray, np.ndarr
     if not np.all(inside):
         left = nominal_bands(centres[~inside])
         names = ", ".join(f"{b:g}" for b in left)
-        warnings.warn(f"track_decay_rate: the track's measured curves hold {lo:g}-{hi:g} Hz, so the band"
-                      f"{'s' * (left.size > 1)} {names} Hz (whose lines reach {lower[~inside][0]:.4g}-"
-                      f"{upper[~inside][-1]:.4g} Hz) are left out of the standard's 100-5000 Hz; give band= to "
-                      "choose, or extend the tables", UserWarning, stacklevel=4)
+        warn_user(f"track_decay_rate: the track's measured curves hold {lo:g}-{hi:g} Hz, so the band"
+                  f"{'s' * (left.size > 1)} {names} Hz (whose lines reach {lower[~inside][0]:.4g}-"
+                  f"{upper[~inside][-1]:.4g} Hz) are left out of the standard's 100-5000 Hz; give band= to "
+                  "choose, or extend the tables")
     return centres[inside], lower[inside], upper[inside]
 
 
