@@ -8,6 +8,8 @@ continuous closed form with the same curve per length; tables interpolate exactl
 and refuse what they do not cover; files give one-line located errors.
 """
 
+import re
+
 import numpy as np
 import pytest
 
@@ -325,6 +327,35 @@ def test_a_malformed_or_active_table_file_gives_one_line(measured_files, content
     with pytest.raises(st.TrackFileError, match=message) as caught:
         load_track_toml(measured_files / "track.toml")
     assert "\n" not in str(caught.value)
+
+
+@pytest.mark.parametrize("header", ["f_Hz, re, im", "frequency_Hz,real_N_per_m,imag_N_per_m",
+                                    "f (Hz),Re k (N/m),Im k (N/m)", "Frequency [Hz], Real, Imaginary", "f, Re, Im",
+                                    "f (Hz), Re kphi (N m/rad), Im kphi (N m/rad)"])
+def test_a_header_is_read_by_meaning(tmp_path, header):
+    """The headers a spreadsheet or a rig writes: the frequency with its unit, the real and imaginary parts."""
+    path = tmp_path / "t.csv"
+    _write_table(path, [0.0, 50.0], [1e7 + 0j, 1e7 + 1e5j], header=header)
+    table = st.load_frequency_table(path)
+    np.testing.assert_array_equal(table.points, [1e7 + 0j, 1e7 + 1e5j])
+
+
+@pytest.mark.parametrize("header, words", [
+    ("f_kHz, re, im", "column 1, 'f_kHz', names a frequency in kHz"),
+    ("omega (rad/s), re, im", "names an angular frequency"),
+    ("f_Hz, re (kN/mm), im (kN/mm)", "column 2, 're (kN/mm)', names kN"),
+    ("f (Hz), |k| (N/m), phase (deg)", "column 2, '|k| (N/m)', does not name the real part second"),
+    ("f_Hz, amplitude, phase", "names a magnitude"),
+    ("f (Hz), Re k (dB), Im k (dB)", "names decibels"),
+    ("f_Hz, im, re", "column 2, 'im', does not name the real part second"),
+    ("f_measured, re, im", "names no unit the package reads: the frequency in Hz"),
+    ("re, im, f", "does not name the frequency (Hz) first")])
+def test_a_header_of_another_table_or_unit_is_refused_by_its_word(tmp_path, header, words):
+    path = tmp_path / "t.csv"
+    _write_table(path, [0.0, 50.0], [1e7 + 0j, 1e7 + 1e5j], header=header)
+    with pytest.raises(st.BadInput, match=re.escape(words)) as caught:
+        st.load_frequency_table(path)
+    assert "\n" not in str(caught.value) and "line 2" in str(caught.value)
 
 
 def test_a_comment_never_swallows_rows_and_a_byte_order_mark_is_dropped(tmp_path):

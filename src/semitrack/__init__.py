@@ -107,6 +107,8 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "roughness_from_spectrum": ("model.roughness", "roughness_from_spectrum"),
     "third_octave_bands": ("base.bands", "third_octave_bands"),
     "nominal_bands": ("base.bands", "nominal_bands"),
+    "HystereticDampingWarning": ("base.notices", "HystereticDampingWarning"),
+    "ImplausibleValueWarning": ("base.notices", "ImplausibleValueWarning"),
     "RandomTrack": ("model.random_track", "RandomTrack"),
     "random_track": ("model.random_track", "random_track"),
     "run_study": ("studies.runner", "run_study"),

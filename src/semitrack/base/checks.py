@@ -13,6 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .errors import InputError, InputTypeError
+from .notices import ImplausibleValueWarning, warn_user
 
 
 def _is_real_number(value: object) -> bool:
@@ -43,6 +44,20 @@ def check_nonnegative(name: str, value: object) -> float:
     if not (math.isfinite(v) and v >= 0):
         raise InputError(f"{name} must be non-negative and finite, got {value!r}")
     return v
+
+
+#: The largest gap under a sleeper (m) taken without a warning: hanging sleepers hang over
+#: 0.5-5 mm; a gap typed in millimetres as metres reads 1000 times too large.
+PLAUSIBLE_GAP = 0.02
+
+
+def check_gap(name: str, value: object) -> float:
+    """A gap under a sleeper (m): >= 0 and finite; above :data:`PLAUSIBLE_GAP` it warns, naming the unit."""
+    g = check_nonnegative(name, value)
+    if g > PLAUSIBLE_GAP:
+        warn_user(f"{name}={g:g} m is a gap of {1e3 * g:.0f} mm under a sleeper (hanging sleepers hang over "
+                  f"0.5-5 mm): gaps are in metres, so {g:g} mm is {g * 1e-3:g} m", ImplausibleValueWarning)
+    return g
 
 
 def check_in_range(name: str, value: float, bounds: tuple[float, float], why: str) -> float:
@@ -253,6 +268,14 @@ def as_real_array(value: ArrayLike, name: str, *, finite: bool = True, ndim: int
     if finite and not np.all(np.isfinite(arr)):
         raise InputError(f"{name} must be finite, got {arr[~np.isfinite(arr)].ravel()[0]!r} in it")
     return arr
+
+
+def shown(value: object) -> str:
+    """A number as a message shows it: six significant digits, no type (``np.float64(23.77...)`` reads
+    ``23.7778``); anything else as :func:`brief`."""
+    if _is_real_number(value):
+        return f"{float(value):.6g}"
+    return brief(value)
 
 
 def brief(value: object) -> str:

@@ -11,10 +11,20 @@ import os
 import sys
 import warnings
 
-__all__ = ["PACKAGE_DIR", "user_stacklevel", "warn_user"]
+__all__ = ["PACKAGE_DIR", "HystereticDampingWarning", "ImplausibleValueWarning", "user_stacklevel", "warn_user"]
 
 #: The package's folder: frames of files under it are the package's own.
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__))) + os.sep
+
+
+class HystereticDampingWarning(UserWarning):
+    """A hysteretic (loss-factor) track run in the time domain, on the viscous dampers that stand in
+    for its loss factors: filter this class to silence it where that is meant."""
+
+
+class ImplausibleValueWarning(UserWarning):
+    """A value the package accepts but which is far outside what a track holds (a gap of metres,
+    a pad without stiffness): most often a unit mistyped."""
 
 
 def user_stacklevel() -> int:

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ..base.checks import check_int_at_least, check_nonnegative
+from ..base.checks import check_gap, check_int_at_least
 from ..base.errors import InputError, InputTypeError
 from ..dynamics.factor import factorise
 from ..dynamics.points import PointSet
@@ -105,7 +105,7 @@ def sleeper_gaps(model: FETrack, gaps: Mapping[int, float]) -> SleeperGaps:
                              "sleeper hangs from the rail without its linear ballast; the gap's ballast replaces it")
         ks.append(k)
         dofs.append(sleeper)
-        gs.append(check_nonnegative(f"ballast_gaps[{k}]", g))
+        gs.append(check_gap(f"ballast_gaps[{k}]", g))
         kbs.append(float(model.support_values["kb_track"][i]))
     return SleeperGaps(np.array(ks, np.int64), np.array(dofs, np.int64), np.array(gs, float), np.array(kbs, float))
 

@@ -43,7 +43,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..base.checks import as_real_array, check_choice, check_work
+from ..base.checks import as_real_array, check_choice, check_work, shown
 from ..base.errors import InputError
 from ..base.fields import check_fields
 from ..equivalent.cache import canonical, package_source_digest
@@ -131,15 +131,15 @@ def grid_of(track: Track, speed: float, dt: float, offsets: Sequence[float] = (0
     d = float(track.spacing)
     steps = d / (speed * dt)  # per spacing: inf for a speed of 1e-308 m/s, bounded before any int()
     check_work(steps if math.isfinite(steps) else math.inf, MAX_STEPS_PER_SPACING,
-               f"speed={speed!r} m/s and dt={dt!r} s pass a support spacing in {steps:.3g} steps",
+               f"speed={shown(speed)} m/s and dt={shown(dt)} s pass a support spacing in {steps:.3g} steps",
                "give a higher speed or a longer dt (the kernels' set-up grows with the steps per spacing)")
     offsets = as_real_array(offsets, "offsets", ndim=1, empty=False)
     if np.abs(offsets).max() > MAX_OFFSET:
         raise InputError(f"offsets must lie within {MAX_OFFSET:g} m of the first wheel (one vehicle), "
-                         f"got {np.abs(offsets).max()!r} m")
+                         f"got {shown(np.abs(offsets).max())} m")
     P = max(1, int(round(steps)))
     if P < 4:
-        raise InputError(f"speed={speed!r} m/s and dt={dt!r} s pass a support spacing of {d} m in "
+        raise InputError(f"speed={shown(speed)} m/s and dt={shown(dt)} s pass a support spacing of {d:g} m in "
                          f"{d / (speed * dt):.3g} steps; the moving Green's functions need at least 4 steps per "
                          "spacing: give a smaller dt")
     h = d / P

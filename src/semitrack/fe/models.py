@@ -55,9 +55,9 @@ from ..equivalent.systems import EquivalentSystem
 from ..methods.infinite import InfiniteTrack
 from ..model.tracks import Track, require_track
 from .assembly import DAMPED, TrackMatrices, assemble, supports_share
-from .damping import reference_frequencies
+from .damping import reference_frequencies, warn_hysteretic
 from .element import point_flexibility, shear_parameter, timoshenko_shape_functions
-from .ends import EXACT, FREE, PINNED, End, EndName, FarEndName, end_kinds, make_far_end, model_ends
+from .ends import EXACT, FREE, PINNED, BoundaryEnd, End, EndName, FarEndName, end_kinds, make_far_end, model_ends
 from .mesh import KINDS, DofMap, Kind, Mesh, bay_mesh, dof_map, rail_dof
 from .meshsize import (
     MAX_MESH_FREQUENCY,
@@ -742,6 +742,8 @@ class FETrack:
             ``K`` and ``C`` include the boundary's static stiffness and dashpot at the end DOFs;
             its states come from :meth:`boundary_states`.
         """
+        boundaries = [end.boundary for end in self.end_models.values() if isinstance(end, BoundaryEnd)]
+        warn_hysteretic(self.tracks, f_ref, max((b.max_error for b in boundaries), default=None))
         time = {side: end.time_matrices(side) for side, end in self.end_models.items()}
         d = self._parts.data
         K = sum(d[family] for family in DAMPED) + d["K_end"] + d["K_joint"]

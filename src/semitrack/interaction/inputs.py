@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..base.checks import check_nonnegative, check_positive, check_steps, check_time_step, check_work
+from ..base.checks import check_nonnegative, check_positive, check_steps, check_time_step, check_work, shown
 from ..base.errors import InputError, InputTypeError
 from ..dynamics.simulate import MAX_RECORDED
 from ..model.roughness import Roughness
@@ -98,9 +98,9 @@ def check_roughness_speed(roughness: Roughness | None, speed: float, rounded: fl
         return
     accepted = (speed,) if rounded is None else (speed, rounded)
     if not any(math.isclose(roughness.speed, v, rel_tol=1e-9) for v in accepted):
-        also = "" if rounded is None else f" (or the rounded {rounded!r} m/s)"
+        also = "" if rounded is None else f" (or the rounded {shown(rounded)} m/s)"
         raise InputError(f"a rolling wheel passes the roughness at its own speed: roughness.speed must equal "
-                         f"speed={speed!r} m/s{also}, got {roughness.speed!r}")
+                         f"speed={shown(speed)} m/s{also}, got {shown(roughness.speed)} m/s")
 
 
 def check_run(wheel: Wheel | Vehicle | Sequence[Wheel], roughness: Roughness | None, x: float | Sequence[float],

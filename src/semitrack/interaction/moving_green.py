@@ -37,7 +37,15 @@ from pathlib import Path
 
 import numpy as np
 
-from ..base.checks import check_in_range, check_positive, check_real, check_rolling_speed, check_steps, check_work
+from ..base.checks import (
+    check_in_range,
+    check_positive,
+    check_real,
+    check_rolling_speed,
+    check_steps,
+    check_work,
+    shown,
+)
 from ..base.deprecation import renamed_keywords
 from ..base.errors import InputError, InputTypeError
 from ..equivalent.cache import canonical
@@ -287,9 +295,9 @@ def _check_kernels(kernels: MovingKernels, track: Track, speed: float, dt: float
     grid = grid_of(track, speed, dt, vehicle.offsets)
     theirs = kernels.grid
     differ = [text for same, text in (
-        (grid.dt == theirs.dt, f"dt={dt!r} s (the kernels': {theirs.dt!r} s)"),
-        (grid.positions == theirs.positions, f"speed={speed!r} m/s, {grid.positions} steps per spacing (the kernels': "
-                                             f"{theirs.speed:.6g} m/s, {theirs.positions})"),
+        (grid.dt == theirs.dt, f"dt={shown(dt)} s (the kernels': {shown(theirs.dt)} s)"),
+        (grid.positions == theirs.positions, f"speed={shown(speed)} m/s, {grid.positions} steps per spacing (the "
+                                             f"kernels': {theirs.speed:.6g} m/s, {theirs.positions})"),
         (grid.offsets == theirs.offsets[:len(grid.offsets)], f"the vehicle's offsets {grid.offsets} steps (the "
                                                               f"kernels': {theirs.offsets})")) if not same]
     if differ:

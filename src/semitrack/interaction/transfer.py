@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..base.bands import third_octave_bands
-from ..base.checks import check_int_at_least
+from ..base.checks import check_int_at_least, shown
 from ..base.errors import InputError, InputTypeError
 from ..base.fields import check_fields
 from ..methods.wheelrail import wheel_rail_force
@@ -113,7 +113,7 @@ def contact_transfer(response: ContactResponse, band: tuple[float, float] = (50.
         raise InputError(f"wheel must be below the number of wheels, {n_wheels}, got {wheel}")
     if response.period is None or response.speed != 0:
         raise InputError("contact_transfer needs a stationary wheel (speed=0) driven by a roughness, got "
-                         f"speed={response.speed!r} m/s and period={response.period!r}")
+                         f"speed={shown(response.speed)} m/s and period={shown(response.period)} s")
     try:
         lo, hi = band
     except (TypeError, ValueError):

@@ -27,7 +27,7 @@ from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
-from ..base.checks import check_int_at_least, check_nonnegative, check_work
+from ..base.checks import check_gap, check_int_at_least, check_work
 from ..base.errors import InputError, InputTypeError
 from ..dynamics.newmark import Newmark
 from ..dynamics.points import PointSet
@@ -203,7 +203,7 @@ class _Reach:
         self.gaps = {}
         for kk, g in (ballast_gaps or {}).items():  # the FE route's rules, checked before any step
             kk = check_int_at_least("ballast_gaps key (a support index)", kk, -10**9)
-            self.gaps[kk] = check_nonnegative(f"ballast_gaps[{kk}]", g)
+            self.gaps[kk] = check_gap(f"ballast_gaps[{kk}]", g)
             if not any(track.holds(kk, int(o), n_left, n_right) for o in stops):
                 lo, hi = int(stops[0]) - n_left, int(stops[-1]) + n_right - 1
                 raise InputError(f"ballast_gaps: support {kk} is beyond the window's reach over this run (supports "

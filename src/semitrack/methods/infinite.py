@@ -28,6 +28,7 @@ from scipy.linalg import solve_banded
 from ..base.checks import as_frequencies, as_real_array, check_int_at_least, check_nonnegative, check_real, check_work
 from ..base.deprecation import renamed_keywords
 from ..base.errors import InputError, InputTypeError
+from ..base.notices import ImplausibleValueWarning, warn_user
 from ..model.curves import FrequencyCurve, as_curve, stiffness_values
 from ..model.timoshenko import segment_dynamic_stiffness
 from ..model.tracks import Track, require_track
@@ -152,6 +153,10 @@ def check_changes(changes, ballasted: Callable[[int], bool]) -> dict[int, dict |
         if not ballasted(k) and {"sleeper_mass", "kb", "eta_ballast"} & set(fields):
             raise InputError(f"changes[{k}] sets sleeper or ballast fields on a support of a track without sleepers")
         out[k] = {name: _change_value(f"changes[{k}][{name!r}]", name, value) for name, value in fields.items()}
+        if isinstance(out[k].get("kv"), float) and out[k]["kv"] == 0.0:
+            warn_user(f"changes[{k}]['kv']=0 N/m: support {k}'s pad carries no vertical load (pads hold 10^7-10^9 "
+                      f"N/m); a failed fastener or a missing support is changes={{{k}: None}}, a worn pad its "
+                      "stiffness in N/m", ImplausibleValueWarning)
     return out
 
 

@@ -39,7 +39,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..base.checks import brief, check_in_range, check_int_at_least, check_real
+from ..base.checks import brief, check_gap, check_in_range, check_int_at_least, check_real
 from ..base.errors import InputError, InputTypeError
 from ..base.fields import check_fields
 from .tracks import Track
@@ -196,6 +196,7 @@ def _check_voids(voids: object, track: Track) -> tuple[float, tuple[float, float
         if not 0.0 < g <= MAX_GAP:
             raise InputError(f"voids['gap'] must be within (0, {MAX_GAP:g}] m (a gap in mm written as m is 1000 "
                              f"times too large), got {brief(gap)}")
+    check_gap("voids['gap']", high)  # within the bound, but above a plausible gap: warned
     if low > high:
         raise InputError(f"voids['gap'] must be a range (low, high) with low <= high, got {brief(gap)}")
     return fraction, (low, high)

@@ -43,8 +43,10 @@ from ..base.checks import (
     check_string,
     check_time_step,
     check_work,
+    shown,
 )
 from ..base.errors import InputError, InputTypeError
+from ..base.notices import warn_user
 from ..dynamics.signals import sin2_ramp
 from .irregularity import RailProfile
 
@@ -351,27 +353,26 @@ class Roughness:
         envelope = sin2_ramp(s, fade) * sin2_ramp(s[-1] - s, fade)
         return RailProfile(start + s, r * envelope)
 
-    def warn_aliasing(self, dt: float, stacklevel: int = 3) -> None:
+    def warn_aliasing(self, dt: float) -> None:
         """Warn when lines lie above the Nyquist frequency ``1 / (2 dt)``: sampled at ``dt`` they alias.
 
         A 40 kHz corrugation sampled at dt = 20 us (Nyquist 25 kHz) acts as a 10 kHz one; the
-        warning names the lines and where they land.
+        warning names the lines and where they land, at the user's line that asked for the
+        sampling (once there, however many of the package's calls sample the same roughness).
 
         Parameters
         ----------
         dt : float
             Time step (s).
-        stacklevel : int
-            Of the warning (the caller of the public function that samples).
         """
         nyquist = 0.5 / dt
         above = self.frequencies[self.frequencies > nyquist]
         if above.size:
             alias = np.abs(above - np.round(above * dt) / dt)
-            warnings.warn(f"{above.size} roughness line(s) from {above[0]:.6g} to {above[-1]:.6g} Hz lie above the "
-                          f"Nyquist frequency {nyquist:.6g} Hz of dt={dt!r} s and alias (e.g. {above[0]:.6g} Hz acts "
-                          f"as {alias[0]:.6g} Hz): use dt < {0.5 / above[-1]:.3g} s or drop those wavelengths",
-                          RuntimeWarning, stacklevel=stacklevel)
+            warn_user(f"{above.size} roughness line(s) from {above[0]:.6g} to {above[-1]:.6g} Hz lie above the "
+                      f"Nyquist frequency {nyquist:.6g} Hz of dt={shown(dt)} s and alias (e.g. {above[0]:.6g} Hz "
+                      f"acts as {alias[0]:.6g} Hz): use dt < {0.5 / above[-1]:.3g} s or drop those wavelengths",
+                      RuntimeWarning)
 
     def __call__(self, t: ArrayLike) -> np.ndarray:
         """The roughness at times ``t`` (s): ``sum_k a_k cos(2 pi f_k t + phi_k)`` (m).
@@ -486,7 +487,7 @@ def roughness_from_spectrum(speed: float, wavelengths: ArrayLike | None = None, 
         lam_lo, lam_hi = 10.0 ** (k / 10 - _HALF_BAND), 10.0 ** (k / 10 + _HALF_BAND)
         first, last = np.ceil(speed / lam_hi * period), np.floor(speed / lam_lo * period)
         count = len(lines) + max(last - first + 1, 0)
-        check_work(count, MAX_LINES, f"speed={speed!r} m/s and period={period!r} s give {count:.4g} lines",
+        check_work(count, MAX_LINES, f"speed={shown(speed)} m/s and period={shown(period)} s give {count:.4g} lines",
                    "use a lower speed, a shorter period or fewer bands")  # counted before any array exists
         j = np.arange(first, last + 1)
         if j.size == 0:
@@ -504,7 +505,7 @@ def roughness_from_spectrum(speed: float, wavelengths: ArrayLike | None = None, 
 def _checked_for(dt: float | None, roughness: Roughness) -> Roughness:
     """``roughness``, warned about when it has lines that a step ``dt`` (if given) cannot resolve."""
     if dt is not None:
-        roughness.warn_aliasing(check_positive("dt", dt), stacklevel=4)
+        roughness.warn_aliasing(check_positive("dt", dt))
     return roughness
 
 

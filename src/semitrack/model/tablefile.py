@@ -8,13 +8,16 @@ The format (what a spreadsheet or a measurement system exports)::
     10, 5.3e7, 6.2e6
     ...
 
-One header row that names the three columns, the frequency in Hz (``f``, ``f_Hz``, ``f (Hz)``,
-``frequency``), the real part (``re``, ``real``) and the imaginary part (``im``, ``imag``); then
-one row per frequency, in the units of the table's quantity
+One header row that names the three columns by meaning, read word by word (case and
+punctuation aside): first the frequency (its first word ``f``, ``freq`` or ``frequency``; in Hz:
+``f``, ``f_Hz``, ``f (Hz)``, ``frequency [Hz]``), then the real part (a word ``re`` or ``real``:
+``re``, ``Re k (N/m)``, ``real_N_per_m``) and the imaginary part (``im``, ``imag`` or
+``imaginary``); then one row per frequency, in the SI unit of the table's quantity
 (:data:`semitrack.model.curves.TABLE_QUANTITIES`) and the package's time factor
 ``exp(i omega t)``. Columns are separated by commas; blank lines and lines starting with ``#``
-are skipped, each line on its own; a byte-order mark is dropped. A magnitude-and-phase table or
-a frequency in kHz is refused by its header, not misread. The file is read as bounded UTF-8 text
+are skipped, each line on its own; a byte-order mark is dropped. A header that names another
+table or unit (a magnitude, a phase, dB, kHz, an angular frequency, kN or mm) is refused by that
+word, not misread or converted. The file is read as bounded UTF-8 text
 (:func:`semitrack.base.files.read_text`): nothing in it is executed or evaluated, numbers are
 parsed by ``float`` and must be finite.
 
@@ -115,22 +118,49 @@ def _parse(text: str, source: str) -> tuple[np.ndarray, np.ndarray]:
     return out[:, 0], out[:, 1] + 1j * out[:, 2]
 
 
-#: What the header's columns may be called (case aside): the frequency in Hz, the real part, the
-#: imaginary part. A magnitude and phase, or a frequency in kHz, is another table: refused by name.
-_HEADER = (("f", "f_hz", "freq", "freq_hz", "frequency", "frequency_hz"), ("re", "real"), ("im", "imag", "imaginary"))
+#: How a header names its columns, read by meaning (case aside), word by word: the frequency, the
+#: real part, the imaginary part. Each name is split into words (letters, or digits) so that
+#: ``frequency_Hz``, ``f (Hz)``, ``Re k (N/m)`` and ``real_N_per_m`` all read.
+FREQUENCY_WORDS = ("f", "freq", "frequency")
+REAL_WORDS = ("re", "real")
+IMAG_WORDS = ("im", "imag", "imaginary")
+#: Words that name another table (a magnitude and phase, a level) or another unit than the
+#: package's (kHz, an angular frequency, a prefixed force or length): refused by name, never
+#: converted or misread.
+FOREIGN_WORDS = {"khz": "a frequency in kHz", "mhz": "a frequency in MHz", "omega": "an angular frequency",
+                 "rad": "an angular frequency", "rpm": "a speed", "mag": "a magnitude", "magnitude": "a magnitude",
+                 "abs": "a magnitude", "amplitude": "a magnitude", "phase": "a phase", "arg": "a phase",
+                 "angle": "a phase", "deg": "degrees", "db": "decibels", "kn": "kN", "mn": "MN", "mm": "mm",
+                 "um": "micrometres", "cm": "cm", "km": "km"}
+
+
+def _words(name: str) -> list[str]:
+    """The words of a column's name: runs of letters or of digits, lower case (``f (Hz)``: f, hz)."""
+    return re.findall(r"[a-zµ]+|[0-9]+", name.lower())
 
 
 def _check_header(source: str, number: int, names: list[str]) -> None:
-    """The header must say the columns are f (Hz), real part, imaginary part."""
-    hint = "the header must name the frequency in Hz, the real part and the imaginary part, e.g. 'f_Hz, re, im'"
+    """The header must say the columns are f (Hz), real part, imaginary part (module docstring)."""
+    hint = ("the header must name the frequency in Hz, the real part and the imaginary part, e.g. 'f_Hz, re, im' "
+            "or 'frequency (Hz), Re k (N/m), Im k (N/m)'")
     if len(names) != 3:
         raise InputError(f"{source}, line {number}: {hint}; got {len(names)} column(s) "
                          f"{', '.join(names)[:80]!r}{_separator_hint(names)}")
-    for name, allowed in zip(names, _HEADER):
-        key = re.sub(r"[\s()\[\]_]+", "_", name.lower()).strip("_")  # "f (Hz)", "f [Hz]" -> "f_hz"
-        if key not in allowed:
-            raise InputError(f"{source}, line {number}: {hint} (a magnitude and phase, or kHz, is not read); "
-                             f"got {', '.join(names)[:80]!r}")
+    for position, (name, part) in enumerate(zip(names, (FREQUENCY_WORDS, REAL_WORDS, IMAG_WORDS))):
+        words = _words(name)
+        # rad in a value's unit is a rotational stiffness's (N m/rad), the package's; in the frequency's, rad/s
+        foreign = [w for w in words if w in FOREIGN_WORDS and not (position > 0 and w == "rad")]
+        if foreign:
+            raise InputError(f"{source}, line {number}: column {position + 1}, {name.strip()[:40]!r}, names "
+                             f"{FOREIGN_WORDS[foreign[0]]}: a magnitude and phase, or kHz, is not read (convert "
+                             f"the table); {hint}")
+        if not words or (words[0] not in part if position == 0 else not set(words) & set(part)):
+            what = ("the frequency (Hz) first", "the real part second", "the imaginary part third")[position]
+            raise InputError(f"{source}, line {number}: {hint}; column {position + 1}, {name.strip()[:40]!r}, does "
+                             f"not name {what}")
+        if position == 0 and len(words) > 1 and "hz" not in words:
+            raise InputError(f"{source}, line {number}: column 1, {name.strip()[:40]!r}, names no unit the package "
+                             f"reads: the frequency in Hz ('f_Hz' or 'f (Hz)'; 'f' alone is Hz)")
 
 
 def _separator_hint(cells: list[str]) -> str:
