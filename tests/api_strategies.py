@@ -910,6 +910,8 @@ add("run_study", lambda **kw: st.run_study(**kw),
 NOT_SURFACES = {
     "BadInput": "an exception class: it takes any message by design",
     "TrackFileError": "an exception class: it takes any message by design",
+    "HystereticDampingWarning": "a warning class: it takes any message by design",
+    "ImplausibleValueWarning": "a warning class: it takes any message by design",
     "PAPER_FIT_BANDS": "a data constant (the paper's fit bands)",
     "PAPER_GRID": "a data constant (the paper's frequency grid)",
     "QUANTITIES": "a data constant (the names of the response quantities)",

@@ -92,8 +92,8 @@ def test_a_step_longer_than_the_run_is_refused(model, dt, duration):
 
 # --- roughness -----------------------------------------------------------------------------------------
 @pytest.mark.parametrize("options, words", [
-    ({"speed": 1e10}, ("speed=10000000000.0", "lines")),
-    ({"speed": 100.0, "period": 1e7}, ("period=10000000.0", "lines")),
+    ({"speed": 1e10}, ("speed=1e+10", "lines")),
+    ({"speed": 100.0, "period": 1e7}, ("period=1e+07", "lines")),
 ])
 def test_roughness_lines_are_counted_before_any_array(options, words):
     refused(lambda: roughness_from_spectrum(**options), InputError, *words)
@@ -113,7 +113,8 @@ def test_roughness_above_the_nyquist_frequency_is_warned(model):
     r = corrugation(speed, speed / 40_000.0, 1e-7)  # a 40 kHz line; dt = 20 us resolves 25 kHz
     with pytest.warns(RuntimeWarning, match=r"40000 to 40000 Hz.*Nyquist frequency 25000 Hz") as record:
         st.wheel_rail_response(model, st.Wheel(), r, dt=2e-5, duration=0.03, ramp=0.01)
-    assert "acts as 10000 Hz" in str(record[0].message)
+    aliasing = [w for w in record if "Nyquist" in str(w.message)]  # beside it the hysteretic track's own warning
+    assert len(aliasing) == 1 and "acts as 10000 Hz" in str(aliasing[0].message)
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # resolved: no warning
         r.sampled(1e-5, 10)
