@@ -842,6 +842,8 @@ add("moving_green_kernels", _quiet(lambda **kw: st.moving_green_kernels(**kw)),
 record("MovingKernels", lambda: FX.kernels, then=lambda k: finite("kernel rows", k.rows(0)))
 add("MovingKernels.rows", method(lambda: FX.kernels, "rows"), lambda: {"lag": 0}, lambda r, a: finite("rows", r))
 record("ContactResponse", lambda: FX.response, then=lambda r: [finite("spectrum", s) for s in r.force_spectrum()])
+add("ContactResponse.summary", method(lambda: FX.response, "summary"), lambda: {"reference": None, "after": None},
+    lambda r, a: _frame_ok(r), kinds={"reference": hs.one_of(hostile, hs.just(st.Wheel()))}, nan_ok=True)
 add("ContactResponse.force_spectrum", method(lambda: FX.response, "force_spectrum"), lambda: {"after": 0.01},
     lambda r, a: [finite("spectrum", s) for s in r])
 add("contact_transfer", lambda **kw: st.contact_transfer(**kw),

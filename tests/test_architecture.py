@@ -123,7 +123,7 @@ def test_every_lazy_export_resolves_from_a_layer_below_the_top():
 
 #: The routes of a vehicle's run (interaction/): each imports only the layer's shared part, never another route.
 ROUTES = {"fe_model", "window_model", "infinite_convolution", "moving_green"}
-SHARED = {"response", "inputs", "excitation", "convolved_run", "fe_wheels"}
+SHARED = {"response", "summary", "inputs", "excitation", "convolved_run", "fe_wheels"}
 #: The one hand-over between routes: ``wheel_rail_response`` passes a WindowTrack to the window
 #: route, the same run on an FE model that travels with the vehicle.
 HANDOVER = {"fe_model": {"window_model"}}

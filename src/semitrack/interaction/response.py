@@ -21,6 +21,7 @@ from ..methods.infinite import InfiniteTrack
 from ..model.tracks import Track
 from ..model.vehicle import Vehicle
 from ..model.wheel import Wheel
+from .summary import run_summary
 
 __all__ = ["ContactResponse", "ROUTES", "contact_response"]
 
@@ -163,6 +164,36 @@ class ContactResponse:
         window = np.hanning(force.shape[0]).reshape((-1,) + (1,) * (force.ndim - 1))
         amplitude = np.abs(np.fft.rfft(force * window, axis=0)) * 4 / force.shape[0]
         return np.fft.rfftfreq(force.shape[0], self.dt), amplitude
+
+    def summary(self, reference: ContactResponse | None = None, after: float | None = None):
+        """The run's figures engineers read, beside a reference run's (:func:`~.summary.run_summary`).
+
+        Parameters
+        ----------
+        reference : ContactResponse, optional
+            A run to compare with (the same vehicle on the perfect track, say): its values and
+            the ratios join the table.
+        after : float, optional
+            Statistics from this time on (s); by default from the end of the fade-in (``ramp``).
+
+        Returns
+        -------
+        pandas.DataFrame
+            Indexed by ``(item, quantity)``: per wheel (as the vehicle names them) the peak,
+            minimum, rms and static contact force (kN), peak over static and time out of
+            contact (ms); per watched support the peak rail-seat and ballast force (kN); the
+            rail's peak sagging moment; per hanging sleeper its peak ballast force and time on
+            the ballast. Columns ``value`` (and ``reference``, ``ratio``).
+
+        Examples
+        --------
+        >>> import semitrack as st
+        >>> model = st.TruncatedTrack(st.slab_track(damping="viscous"), 2, elements_per_bay=4)
+        >>> res = st.wheel_rail_response(model, st.Wheel(), dt=1e-4, duration=0.02, ramp=0.005)
+        >>> round(float(res.summary().loc[("wheel", "peak / static (-)"), "value"]), 3)
+        1.0
+        """
+        return run_summary(self, reference, after)
 
     @property
     def x_from_support(self) -> np.ndarray:

@@ -68,6 +68,11 @@ class Vehicle:
         """Each wheel's position along +x from the first wheel (m)."""
         raise NotImplementedError
 
+    @property
+    def wheel_names(self) -> tuple[str, ...]:
+        """How tables and figures name the wheels, in the order of :attr:`wheels`."""
+        raise NotImplementedError
+
     def matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``M, C, K`` of the vehicle (SI), its first k DOFs the wheels'."""
         raise NotImplementedError
@@ -214,6 +219,11 @@ class WheelGroup(Vehicle):
     def offsets(self) -> np.ndarray:
         return np.array(self.spacing)
 
+    @property
+    def wheel_names(self) -> tuple[str, ...]:
+        """``("wheel",)`` for one wheel, ``("wheel 1", "wheel 2", ...)`` for several, in the order of :attr:`wheels`."""
+        return ("wheel",) if len(self.members) == 1 else tuple(f"wheel {i}" for i in range(1, len(self.members) + 1))
+
     def matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         return (np.diag([w.mass for w in self.members]), np.diag([w.primary_damping for w in self.members]),
                 np.diag([w.primary_stiffness for w in self.members]))
@@ -318,6 +328,11 @@ class Bogie(Vehicle):
     @property
     def offsets(self) -> np.ndarray:
         return np.array([0.0, -self.wheelbase])
+
+    @property
+    def wheel_names(self) -> tuple[str, ...]:
+        """The first wheel leads (offset 0, the bogie runs towards +x), the second trails it."""
+        return ("leading wheel", "trailing wheel")
 
     def _lever(self) -> np.ndarray:
         """The frame's (bounce, pitch) motion at each wheel: w = z + s theta, s from the centre along +x."""

@@ -30,6 +30,7 @@ from .contact import (  # noqa: F401
     force_history_figure,
     linear_force_figure,
     rolling_figure,
+    run_figure,
 )
 from .decay import decay_rate_figure, local_change_figure  # noqa: F401
 from .flats import centre_path_figure, contact_filter_figure, impact_speed_figure  # noqa: F401

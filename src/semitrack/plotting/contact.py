@@ -1,4 +1,5 @@
-"""Figures of the wheel on the rail: the linear force per roughness, band levels, force histories and spectra."""
+"""Figures of the wheel on the rail: the linear force per roughness, band levels, force histories and spectra,
+and one run with the forces in its track."""
 
 from __future__ import annotations
 
@@ -6,7 +7,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .style import house_figure, legend_below, magnitude_axes, new_figure, plot_magnitude
+from .style import house_figure, legend_below, magnitude_axes, new_figure, panels, plot_magnitude
 
 #: Line styles of the two contact positions of the linear theory.
 POSITION_STYLE = {"above a support": dict(color="k"), "at mid-span": dict(color="tab:blue", ls="--")}
@@ -144,6 +145,73 @@ def rolling_figure(runs: Mapping[str, object], spacing: float, after: float, nea
     axes[0].set(xlabel="Wheel position (m; supports in grey)", ylabel="Contact force (kN)")
     axes[1].set(xlabel="Frequency (Hz)", ylabel="Force amplitude (N)", xlim=(0.0, 2200.0), ylim=(0.1, None))
     legend_below(fig, axes[1])
+    if title:
+        fig.suptitle(title)
+    return fig, axes
+
+
+@house_figure
+def run_figure(response, reference=None, title: str = ""):
+    """One run as an engineer looks at it: each wheel's contact force, and the track's forces beside it.
+
+    Panels: the contact force of every wheel against time (the reference run dashed in the same
+    colour); with watched supports, their rail-seat forces; with ballast forces (a ballasted
+    track's watched supports, or hanging sleepers), those. Wheels are named as the vehicle
+    names them.
+
+    Parameters
+    ----------
+    response : ContactResponse
+        The run (any route).
+    reference : ContactResponse, optional
+        A run to draw beside it, dashed (the perfect track, say).
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    fig, axes
+    """
+    forces, gaps = response.track_forces, response.gaps
+    ballast = (forces is not None and forces.ballast is not None) or gaps is not None
+    n = 1 + (forces is not None) + ballast
+    fig, axes = panels(n, figsize=(4.8 * n + 1.0, 3.6))
+    colours = ("k", "tab:blue", "tab:red", "tab:green", "tab:purple", "tab:brown")
+    names = response.vehicle.wheel_names
+    for run, style in ((response, "-"), (reference, "--")):
+        if run is None:
+            continue
+        force = run.force.reshape(run.t.size, -1)
+        for j, name in enumerate(names[:force.shape[1]]):
+            label = name if run is response else f"{name}, reference"
+            axes[0].plot(1e3 * run.t, force[:, j] / 1e3, ls=style, color=colours[j % len(colours)], lw=1.0,
+                         label=label)
+    axes[0].set_title("Contact force")
+    axes[0].set_xlabel("Time (ms)")
+    axes[0].set_ylabel("Force (kN, compression)")
+    if forces is not None:
+        for j, k in enumerate(forces.supports):
+            axes[1].plot(1e3 * response.t, forces.rail_seat[:, j] / 1e3, lw=1.0, color=colours[(j + 1) % 6],
+                         label=f"support {k}")
+        axes[1].set_title("Rail seat (pad) at the watched supports")
+        axes[1].set_xlabel("Time (ms)")
+        axes[1].set_ylabel("Force (kN, compression)")
+        axes[1].legend(loc="best")
+    if ballast:
+        ax = axes[-1]
+        if forces is not None and forces.ballast is not None:
+            for j, k in enumerate(forces.supports):
+                ax.plot(1e3 * response.t, forces.ballast[:, j] / 1e3, lw=1.0, color=colours[(j + 1) % 6],
+                        label=f"support {k}")
+        if gaps is not None:
+            for j, k in enumerate(gaps.supports):
+                ax.plot(1e3 * response.t, gaps.force[:, j] / 1e3, lw=1.4, ls=":", color="tab:orange",
+                        label=f"hanging sleeper {k} ({1e3 * gaps.gaps[j]:.3g} mm)")
+        ax.set_title("Sleeper on ballast")
+        ax.set_xlabel("Time (ms)")
+        ax.set_ylabel("Force (kN, compression)")
+        ax.legend(loc="best")
+    legend_below(fig, axes[0])
     if title:
         fig.suptitle(title)
     return fig, axes
