@@ -249,6 +249,25 @@ class Fixtures:
         return example_path("slab")
 
     @functools.cached_property
+    def track_with_changes(self) -> Path:
+        from semitrack.model.trackfile import example_path
+        text = example_path("ballasted").read_text() + "\n[[changes]]\nsupport = 0\nkb = 0.0\ngap = 1e-3\n"
+        return _written(".toml", text.encode())
+
+    @functools.cached_property
+    def vehicle_file(self) -> Path:
+        from semitrack.model.vehiclefile import vehicle_example_path
+        return vehicle_example_path("bogie")
+
+    @functools.cached_property
+    def spectrum_file(self) -> Path:
+        return _written(".csv", b"wavelength_m, level_dB\n0.1, 5.0\n0.0125, -3.0\n")
+
+    @functools.cached_property
+    def profile_file(self) -> Path:
+        return _written(".csv", b"x_m, r_m\n0.0, 0.0\n0.1, 1e-5\n0.2, 0.0\n")
+
+    @functools.cached_property
     def pad_table(self) -> Path:
         return _written(".csv", b"f,re,im\n1,5.44e7,5.44e6\n1000,5.44e7,5.44e6\n5000,5.44e7,5.44e6\n")
 
@@ -496,6 +515,15 @@ add("ballasted_track", lambda **kw: st.ballasted_track(**kw),
     lambda t, a: check_receptance(st.point_receptance(t, F3, 0.0, origin="support")))
 add("example_track", lambda **kw: st.example_track(**kw), lambda: {"name": "slab"})
 add("load_track_toml", lambda **kw: st.load_track_toml(**kw), lambda: {"path": FX.track_file})
+add("load_track_file", lambda **kw: st.load_track_file(**kw), lambda: {"path": FX.track_with_changes})
+add("load_vehicle_toml", lambda **kw: st.load_vehicle_toml(**kw), lambda: {"path": FX.vehicle_file},
+    lambda v, a: finite("offsets", v.offsets))
+add("vehicle_to_toml", lambda **kw: st.vehicle_to_toml(**kw), lambda: {"vehicle": st.Bogie(), "name": "bogie"},
+    lambda r, a: st.load_vehicle_toml(_written(".toml", r.encode())))
+add("load_roughness_spectrum", lambda **kw: st.load_roughness_spectrum(**kw), lambda: {"path": FX.spectrum_file},
+    lambda r, a: [finite("spectrum", x) for x in r])
+add("load_rail_profile", lambda **kw: st.load_rail_profile(**kw), lambda: {"path": FX.profile_file},
+    lambda r, a: finite("profile", r.r))
 add("parameter_table", lambda **kw: st.parameter_table(**kw), lambda: {"track": FX.slab},
     lambda r, a: _frame_ok(r), weight=0.3)
 add("PeriodicCell", lambda **kw: st.PeriodicCell(**kw),
@@ -1063,11 +1091,18 @@ CLI_SURFACES: dict[str, CliSurface] = {
     "features": CliSurface("features", lambda: [
         (None, "features"), ("track", _track_path()), (None, "--fmin"), ("--fmin", "3"), (None, "--fmax"),
         ("--fmax", "300"), (None, "--df"), ("--df", "20"), (None, "--csv")], weight=0.5),
+    "run": CliSurface("run", lambda: [
+        (None, "run"), ("track", str(FX.track_with_changes)), ("vehicle", str(FX.vehicle_file)),
+        (None, "--speed"), ("--speed", "10"), (None, "--duration"), ("--duration", "0.025"), (None, "--dt"),
+        ("--dt", "1e-4"), (None, "--roughness"), ("--roughness", "iso3095"), (None, "--x"), ("--x", "0"),
+        (None, "--route"), ("--route", "window"), (None, "--watch"), ("--watch", "1"), (None, "-o"),
+        ("-o", str(fresh(".csv"))), (None, "--quiet")], output="-o", weight=0.3),
 }
 
 #: Names a refusal may give an option by, beside the option itself.
-CLI_WORDS = {"-o": ("--output",), "--band": ("band",), "--df": ("df",), "track": (), "system": (), "name": ("example",)}
-_FILE_KEYS = ("track", "system", "-o")
+CLI_WORDS = {"-o": ("--output",), "--band": ("band",), "--df": ("df",), "track": (), "system": (), "name": ("example",),
+             "vehicle": ()}
+_FILE_KEYS = ("track", "system", "vehicle", "-o")
 
 
 @hs.composite

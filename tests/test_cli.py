@@ -106,8 +106,10 @@ def test_example_prints_a_track_file_that_loads(tmp_path, name):
 
 def test_example_list_and_bad_names():
     listed = run("example", "--list")
-    assert listed.returncode == 0 and [line.split()[0] for line in listed.stdout.splitlines()] == list(EXAMPLES)
+    assert listed.returncode == 0 and [line.split()[0] for line in listed.stdout.splitlines()] == [*EXAMPLES, "bogie",
+                                                                                                   "wheel"]
     kinds = dict(line.split(maxsplit=1) for line in listed.stdout.splitlines())
+    assert kinds["bogie"] == "vehicle: Bogie with 2 wheel(s)"
     assert kinds["slab"].endswith("(rigid slab)") and kinds["ballasted"].endswith("(sleepers on ballast)")
     for name in ("mortar-slab", "floating-slab"):
         assert kinds[name].endswith("(flexible slab, 10 fasteners per 6.45 m slab, cut at a slab joint)")

@@ -1,4 +1,4 @@
-"""The ``semitrack`` command-line program: example, receptance, fit, export, features.
+"""The ``semitrack`` command-line program: example, receptance, decay, fit, export, features, run.
 
 Exit codes: 0 success, 2 bad input (a one-line message on stderr, no traceback), 1 unexpected
 failure (with a traceback, so that it can be reported), 130 interrupted (Ctrl-C, SIGINT), 143
@@ -378,8 +378,12 @@ def decay_csv(track: Track, tdr) -> str:
 
 def cmd_decay(args: argparse.Namespace) -> int:
     from .methods.decay import ISO3095_TDR_LIMIT, track_decay_rate
+    from .methods.infinite import InfiniteTrack
 
-    track = _track(args.track)
+    track, local = _track_with_changes(args.track)
+    if local.gaps:
+        raise InputError(f"{args.track}: a gap under a sleeper ([[changes]] gap =) is a contact of a run in time "
+                         "(semitrack run); the decay rate takes the hanging sleeper as kb = 0.0: remove the gap")
     band = None
     if args.band is not None:
         band = checked(check_band, args.band, "--band")
@@ -392,7 +396,8 @@ def cmd_decay(args: argparse.Namespace) -> int:
     if track.has_flexible_slab:
         raise InputError("semitrack decay takes a track without a flexible slab ([slab]): the decay rate's exact "
                          "transfer functions are InfiniteTrack's, which holds pads on a rigid foundation or sleepers")
-    tdr = track_decay_rate(track, band=band, df=args.df, frf=args.frf)
+    tdr = track_decay_rate(InfiniteTrack(track, local.changes) if local.changes else track, band=band, df=args.df,
+                           frf=args.frf)
     text = decay_csv(track, tdr)
     if out is None:
         stdout()
@@ -744,16 +749,24 @@ def cmd_features(args: argparse.Namespace) -> int:
 
 
 def cmd_example(args: argparse.Namespace) -> int:
-    names = ", ".join(EXAMPLES)
+    from .model.vehiclefile import VEHICLE_EXAMPLES, load_vehicle_toml, vehicle_example_path
+
+    names = ", ".join((*EXAMPLES, *VEHICLE_EXAMPLES))
     stdout()
     if args.list:
-        width = max(map(len, EXAMPLES))
+        width = max(map(len, (*EXAMPLES, *VEHICLE_EXAMPLES)))
         for name in EXAMPLES:
             track = load_track_toml(example_path(name))
-            print(f"{name:<{width}}  {track.name} ({track_kind(track)})")
+            print(f"{name:<{width}}  track: {track.name} ({track_kind(track)})")
+        for name in VEHICLE_EXAMPLES:
+            vehicle = load_vehicle_toml(vehicle_example_path(name))
+            print(f"{name:<{width}}  vehicle: {type(vehicle).__name__} with {len(vehicle.wheels)} wheel(s)")
         return 0
     if args.name is None:
         raise InputError(f"name an example: {names} (e.g. semitrack example slab > slab.toml)")
+    if args.name in VEHICLE_EXAMPLES:
+        emit(vehicle_example_path(args.name).read_text())
+        return 0
     if args.name not in EXAMPLES:
         raise InputError(f"unknown example {args.name!r}; the examples are: {names}")
     emit(example_path(args.name).read_text())
@@ -772,11 +785,11 @@ def _track_and_grid_arguments(p: argparse.ArgumentParser, step: str) -> None:
 def _example_parser(sub) -> None:
     """The ``example`` command and its arguments, on the subparsers ``sub``."""
     p = sub.add_parser("example", help="print a shipped example track file (the paper's two tracks, and its "
-                                       "rail on two flexible slabs)",
+                                       "rail on two flexible slabs) or vehicle file (a bogie, a wheel)",
                        formatter_class=argparse.RawDescriptionHelpFormatter,
                        epilog="examples:\n  semitrack example slab > slab.toml\n"
                               "  semitrack example floating-slab > floating_slab.toml\n  semitrack example --list")
-    p.add_argument("name", nargs="?", help=f"which example: {', '.join(EXAMPLES)}")
+    p.add_argument("name", nargs="?", help=f"which example: {', '.join(EXAMPLES)}, bogie, wheel")
     p.add_argument("--list", action="store_true", help="list the examples")
     p.set_defaults(func=cmd_example)
 
@@ -882,6 +895,230 @@ def _features_parser(sub) -> None:
     p.set_defaults(func=cmd_features)
 
 
+# --- semitrack run -------------------------------------------------------------------------------
+#: The routes ``semitrack run --route`` takes by name (``auto`` picks one, :func:`choose_route`).
+RUN_ROUTES = ("auto", "window", "fe", "convolution", "moving-green")
+
+
+def choose_route(track: Track, changes: dict, gaps: dict, speed: float, profile: bool) -> tuple[str, str]:
+    """The route ``--route auto`` runs, and why (a sentence for the progress line and the CSV header).
+
+    A flexible slab: the FE model that holds the path (no exact infinite track holds the slab).
+    Standing wheels (speed 0) without gaps or a profile: the exact infinite track by convolution,
+    which truncates nothing. Otherwise the window that travels with the vehicle: any changes,
+    gaps and profile, at the cost of a model of the window's size per step.
+    """
+    if track.has_flexible_slab:
+        return "fe", "a flexible slab: the FE model that holds the path"
+    if speed == 0 and not gaps and not profile:
+        return "convolution", "standing wheels: the exact infinite track by convolution, nothing truncated"
+    return "window", "rolling wheels: the FE window that travels with the vehicle over the exact infinite track"
+
+
+def _vehicle(path: str):
+    from .model.vehiclefile import load_vehicle_toml
+
+    checked(check_input_path, path, "vehicle")
+    try:
+        return load_vehicle_toml(path)
+    except TrackFileError as err:
+        raise InputError(str(err)) from None
+
+
+def _track_with_changes(path: str):
+    from .model.trackfile import load_track_file
+
+    checked(check_input_path, path, "track")
+    try:
+        return load_track_file(path)
+    except TrackFileError as err:
+        raise InputError(str(err)) from None
+
+
+def _run_inputs(args: argparse.Namespace):
+    """Roughness or profile from ``--roughness``, and the files it reads."""
+    from .model.roughness import ISO3095_ROUGHNESS_LIMIT, roughness_from_spectrum
+    from .model.seriesfile import load_rail_profile, load_roughness_spectrum, series_kind
+
+    if args.roughness is None:
+        return None, None, ()
+    if args.roughness == "iso3095":
+        spectrum = None
+    else:
+        checked(check_input_path, args.roughness, "--roughness")
+        kind = series_kind(args.roughness)
+        if kind == "profile":
+            return None, load_rail_profile(args.roughness), (("roughness file", args.roughness),)
+        spectrum = load_roughness_spectrum(args.roughness)
+    if args.speed == 0:
+        raise InputError("--roughness: a spectrum passes the wheels at a speed: give --speed > 0 (with --route "
+                         "convolution the wheels stand while it passes), or a rail profile file (x_m, r_m)")
+    wavelengths, levels = (None, None) if spectrum is None else spectrum
+    longest = max(ISO3095_ROUGHNESS_LIMIT) if wavelengths is None else float(np.max(wavelengths))
+    # lines 1 / period apart: at least two in the band of the longest wavelength (its width 0.23 f)
+    width = args.speed / longest * (10**0.05 - 10**-0.05) if longest > 0 else 1.0
+    period = max(args.duration, 0.1, 2.0 / width)
+    rough = roughness_from_spectrum(args.speed, wavelengths, levels, period=period, seed=args.seed, dt=args.dt)
+    files = () if spectrum is None else (("roughness file", args.roughness),)
+    return rough, None, files
+
+
+def _column(name: str) -> str:
+    return re.sub(r"[^a-z0-9]+", "_", name.lower()).strip("_")
+
+
+def run_csv(res, header: list[str]) -> str:
+    """The CSV of ``semitrack run``: ``#`` lines of conventions and summary, then a row per step."""
+    k = res.force.reshape(res.t.size, -1).shape[1]
+    names = [_column(n) for n in res.vehicle.wheel_names]
+    columns, data = ["t_s"], [res.t]
+    for j, name in enumerate(names):
+        for field, unit in (("x", "m"), ("force", "N"), ("w_wheel", "m"), ("w_rail", "m"), ("roughness", "m")):
+            columns.append(f"{name}_{field}_{unit}")
+            data.append(getattr(res, field).reshape(res.t.size, k)[:, j])
+    if res.track_forces is not None:
+        for j, s in enumerate(res.track_forces.supports):
+            columns.append(f"support_{s}_rail_seat_N")
+            data.append(res.track_forces.rail_seat[:, j])
+            if res.track_forces.ballast is not None:
+                columns.append(f"support_{s}_ballast_N")
+                data.append(res.track_forces.ballast[:, j])
+    if res.gaps is not None:
+        for j, s in enumerate(res.gaps.supports):
+            columns.append(f"hanging_sleeper_{s}_ballast_N")
+            data.append(res.gaps.force[:, j])
+    buf = io.StringIO()
+    buf.writelines(f"# {printable(line)}\n" for line in header)
+    buf.write(",".join(columns) + "\n")
+    np.savetxt(buf, np.column_stack(data) + 0.0, fmt="%.9g", delimiter=",")  # + 0.0: no "-0" in the file
+    return buf.getvalue()
+
+
+def _summary_lines(res) -> list[str]:
+    table = res.summary()
+    lines = []
+    for item in dict.fromkeys(table.index.get_level_values("item")):
+        rows = table.loc[item, "value"]
+        lines.append(f"{item}: " + "; ".join(f"{q} {v:.4g}" for q, v in rows.items()))
+    return lines
+
+
+def _run_route(route: str, args: argparse.Namespace, track: Track, local, vehicle, rough, profile, watch: list):
+    """The run by the route's entry, with the command's options."""
+    from .fe.window import WindowTrack
+    from .interaction.fe_model import wheel_rail_response
+    from .interaction.infinite_convolution import convolution_response
+    from .interaction.moving_green import moving_green_response
+    from .methods.infinite import InfiniteTrack
+
+    common = dict(x=args.x, speed=args.speed, dt=args.dt, duration=args.duration)
+    if route == "convolution":
+        return convolution_response(InfiniteTrack(track, local.changes), vehicle, rough, **common)
+    if route == "moving-green":
+        return moving_green_response(track, vehicle, rough, profile=profile, **common)
+    if route == "window":
+        model = WindowTrack(track, local.changes)
+    else:
+        reach = max(abs(args.x), abs(args.x + args.speed * args.duration)) + float(np.ptp(vehicle.offsets))
+        model = _fe_model(track, local.changes, reach)
+    return wheel_rail_response(model, vehicle, rough, profile=profile, watch_supports=watch,
+                               ballast_gaps=local.gaps or None, **common)
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    from .base.checks import check_nonnegative, check_time_step
+
+    track, local = _track_with_changes(args.track)
+    vehicle = _vehicle(args.vehicle)
+    checked(check_nonnegative, "--speed", args.speed)
+    checked(check_positive, "--duration", args.duration)
+    checked(check_time_step, "--dt", args.dt)
+    checked(check_int_at_least, "--seed", args.seed, 0)
+    watch = list(args.watch or ())
+    for k in watch:
+        checked(check_int_at_least, "--watch", k, -10**9)
+    rough, profile, rough_files = _run_inputs(args)
+    out, plot = output_paths(("-o", args.output), ("--plot", args.plot),
+                             inputs=input_files(args.track, track) + (("vehicle file", args.vehicle),) + rough_files)
+    if plot is not None:
+        plot_format(plot)
+    route, why = choose_route(track, local.changes, local.gaps, args.speed, profile is not None)
+    if args.route != "auto":
+        route, why = args.route, "asked for by --route"
+    refused = {"convolution": [("gaps", local.gaps), ("a rail profile", profile), ("--watch", watch)],
+               "moving-green": [("[[changes]]", local.changes), ("gaps", local.gaps), ("--watch", watch)]}
+    given = [name for name, value in refused.get(route, ()) if value]
+    if given:
+        raise InputError(f"--route {route} takes no {' and no '.join(given)}: give --route window (or auto)")
+    if route == "moving-green" and args.speed == 0:
+        raise InputError("--route moving-green rolls the wheels: give --speed > 0, or --route convolution")
+    progress = Progress("run", 2, quiet=args.quiet)
+    progress.update(0, f"route {route}: {why}")
+    res = _run_route(route, args, track, local, vehicle, rough, profile, watch)
+    progress.update(1)
+    progress.close()
+    header = [f"semitrack run: route {route} ({why}); {res.elapsed:.3g} s of time integration",
+              f"track {track.name!r} ({track_kind(track)}), {len(local.changes)} changed support(s), "
+              f"{len(local.gaps)} gap(s); vehicle {type(vehicle).__name__} with {len(vehicle.wheels)} wheel(s) from "
+              f"x = {args.x:g} m",
+              f"speed {args.speed:g} m/s, dt {args.dt:g} s, duration {args.duration:g} s, roughness "
+              f"{args.roughness or 'none'}",
+              "conventions: SI units; t in s; x along the track from the central mid-span (support k at "
+              "x = (k + 1/2) d); displacements downward positive (m); forces compression positive (N); roughness "
+              f"the rail surface's drop (m), faded in over the first {res.ramp:g} s",
+              "summary (from the end of the fade-in):", *_summary_lines(res)]
+    text = run_csv(res, header)
+    atomic_write(out, lambda fh: fh.write(text), binary=False)
+    if plot is not None:
+        from .plotting.contact import run_figure
+
+        fig, _ = run_figure(res, title=f"{track.name}, {route}, {args.speed:g} m/s")
+        atomic_write(plot, lambda fh: fig.savefig(fh, format=plot_format(plot), dpi=110), binary=True)
+    for line in _summary_lines(res):
+        print(line)
+    print(f"written to {out}" + (f" and {plot}" if plot is not None else ""))
+    return 0
+
+
+def _fe_model(track: Track, changes: dict, reach: float):
+    """The FE model that holds a path ``reach`` m either side of x = 0, with 10 bays beyond and broadband ends."""
+    from .boundary.fitting import fit_boundary
+    from .fe.models import TruncatedTrack
+
+    n = int(np.ceil(reach / track.spacing)) + 10
+    checked(check_work, n, 2000, f"the path asks {n} bays each side", "run the window (--route window)")
+    return TruncatedTrack(track, n, "boundary", system=fit_boundary(track), changes=changes)
+
+
+def _run_parser(sub) -> None:
+    """The ``run`` command and its arguments, on the subparsers ``sub``."""
+    p = sub.add_parser("run", help="run a vehicle along a track (with its changes) in time; forces to CSV",
+                       formatter_class=argparse.RawDescriptionHelpFormatter,
+                       epilog="example:\n  semitrack example bogie > bogie.toml\n"
+                              "  semitrack run ballasted.toml bogie.toml --roughness iso3095 --speed 20 "
+                              "--duration 0.1 -o run.csv --plot run.png")
+    p.add_argument("track", help="track file (TOML), with its [[changes]] if any")
+    p.add_argument("vehicle", help="vehicle file (TOML): a wheel, wheels or a bogie ('semitrack example bogie')")
+    p.add_argument("--roughness", default=None,
+                   help="iso3095 (the standard's limit spectrum), a spectrum file (wavelength_m, level_dB) or a rail "
+                        "profile file (x_m, r_m); default: a smooth rail")
+    p.add_argument("--speed", type=number, required=True, help="the vehicle's speed, m/s (0: standing wheels)")
+    p.add_argument("--duration", type=number, default=0.1, help="the run's length, s (default 0.1)")
+    p.add_argument("--dt", type=number, default=2e-5, help="time step, s (default 2e-5)")
+    p.add_argument("--x", type=number, default=0.0, help="where the first wheel starts, m (default 0, a mid-span)")
+    p.add_argument("--route", choices=RUN_ROUTES, default="auto",
+                   help="auto (default: the window for rolling wheels, the convolution for standing ones, the FE "
+                        "model on a flexible slab), or one by name")
+    p.add_argument("--watch", type=integer, nargs="+", metavar="K", help="supports whose rail-seat and ballast "
+                                                                          "forces to record (window and fe routes)")
+    p.add_argument("--seed", type=integer, default=0, help="seed of the roughness's random phases (default 0)")
+    p.add_argument("-o", "--output", required=True, help="CSV file to write")
+    p.add_argument("--plot", help="also write a plot; its suffix gives the format: "
+                                  f"{', '.join('.' + f for f in PLOT_FORMATS)}")
+    p.add_argument("--quiet", action="store_true", help="no progress line")
+    p.set_defaults(func=cmd_run)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="semitrack", description=(
         "Receptance of a semi-infinite periodic railway track and its equivalent multi-rigid-body "
@@ -890,7 +1127,8 @@ def build_parser() -> argparse.ArgumentParser:
                "'semitrack COMMAND --help' shows an example of each command.")
     parser.add_argument("--version", action="version", version=f"semitrack {__version__}")
     sub = parser.add_subparsers(dest="command", title="commands", metavar="COMMAND", parser_class=_Parser)
-    for add in (_example_parser, _receptance_parser, _decay_parser, _fit_parser, _export_parser, _features_parser):
+    for add in (_example_parser, _receptance_parser, _decay_parser, _fit_parser, _export_parser, _features_parser,
+                _run_parser):
         add(sub)
     return parser
 

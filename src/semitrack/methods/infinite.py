@@ -31,13 +31,12 @@ from ..base.errors import InputError, InputTypeError
 from ..base.notices import ImplausibleValueWarning, warn_user
 from ..model.curves import FrequencyCurve, as_curve, stiffness_values
 from ..model.timoshenko import segment_dynamic_stiffness
-from ..model.tracks import Track, require_track
+from ..model.tracks import SUPPORT_FIELDS, Track, require_track
 from .transfer import end_stiffness
 
 __all__ = ["SUPPORT_FIELDS", "InfiniteTrack", "support_dynamic_stiffness", "check_changes"]
 
 #: The fields of a support that ``changes`` may set.
-SUPPORT_FIELDS = ("kv", "kphi", "eta_pad", "sleeper_mass", "kb", "eta_ballast")
 #: Most response points of one call, and most (frequency, point) pairs: each point is a node of the
 #: band system, each pair four complex receptances held at once.
 MAX_RESPONSE_POINTS = 20_000

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..base.checks import as_real_array, check_in_range, check_positive, check_real
+from ..base.checks import as_real_array, check_in_range, check_positive, check_real, shown
 from ..base.errors import InputError
 
 __all__ = ["Irregularity", "DippedWeld", "RailProfile"]
@@ -123,7 +123,8 @@ class RailProfile(Irregularity):
         if not np.all(np.diff(x) > 0):
             raise InputError("x must be increasing positions (m)")
         if r[0] != 0 or r[-1] != 0:
-            raise InputError(f"r must be zero at both ends (the undisturbed rail), got {r[0]!r} and {r[-1]!r}")
+            raise InputError(f"r must be zero at both ends (the undisturbed rail), got {shown(r[0])} and "
+                             f"{shown(r[-1])} m")
         object.__setattr__(self, "x", x)
         object.__setattr__(self, "r", r)
 

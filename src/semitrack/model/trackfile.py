@@ -16,6 +16,18 @@ The format mirrors :class:`semitrack.Track` (examples ship in ``semitrack/exampl
               (type = "slab" only, and optional: a measured receptance under the pads, a
               sleeper's or a slab's, in place of the rigid ground; not with [slab])
 
+Local changes of the supports follow the track, one ``[[changes]]`` table each, read by
+:func:`load_track_file` (a :class:`~semitrack.Track` holds none, so :func:`load_track_toml`
+refuses a file that has them rather than drop them)::
+
+    [[changes]]
+    support = 0          # support k sits at x = (k + 1/2) d
+    kb = 0.0             # a hanging sleeper (any of kv, kphi, eta_pad, sleeper_mass, kb, eta_ballast)
+    gap = 1e-3           # ... over a gap of 1 mm (m): the FE routes' ballast_gaps
+    [[changes]]
+    support = 5
+    failed = true        # a failed fastener: the rail passes the support unheld (changes={5: None})
+
 A pad stiffness (``kv``, ``kphi``) that depends on frequency is an inline table instead of a
 number: ``kv = {table = "pad_kv.csv"}`` (a measured curve, :mod:`semitrack.model.tablefile`;
 optionally ``outside = "hold"``) or ``kv = {model = "standard-linear-solid", k_static = ...,
@@ -45,7 +57,7 @@ from ..base.files import check_input_path, read_text
 from .curves import OUTSIDE, FrequencyCurve, FrequencyFunction, FrequencyTable, StandardLinearSolid
 from .slab import Slab
 from .tablefile import load_frequency_table
-from .tracks import Track, check_track_field, require_track
+from .tracks import SUPPORT_FIELDS, Track, check_track_field, require_track
 
 #: The tables of Track fields, with their keys (all required).
 SECTIONS = {
@@ -139,6 +151,53 @@ def _line_of(text: str, section: str | None, key: str) -> int | None:
     return None
 
 
+def _read_toml(path: str | Path) -> tuple[dict, str, Path]:
+    """A track file's parsed document, its text and its path, or a located TrackFileError."""
+    path = check_input_path(path, "path")
+    try:
+        text = read_text(path, MAX_FILE_BYTES, "track file")
+    except OSError as err:
+        raise TrackFileError(f"{path}: cannot read the track file ({err.strerror})") from None
+    except ValueError as err:  # too large, not UTF-8
+        raise TrackFileError(str(err)) from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        raise TrackFileError(f"{path}: not a valid TOML file: {err}") from None
+    except RecursionError:
+        raise TrackFileError(f"{path}: not a track file: its tables or arrays are nested too deeply") from None
+    return data, text, path
+
+
+def load_track_file(path: str | Path) -> tuple[Track, LocalChanges]:
+    """Read a track file with its local changes (``[[changes]]``, module docstring).
+
+    Parameters
+    ----------
+    path : str or Path
+        The TOML file.
+
+    Returns
+    -------
+    track : Track
+    changes : LocalChanges
+        ``changes.changes`` as :class:`semitrack.InfiniteTrack` and the FE models take them,
+        ``changes.gaps`` as the FE routes' ``ballast_gaps``; both empty for a file without.
+
+    Raises
+    ------
+    TrackFileError
+        As :func:`load_track_toml`, and for a ``[[changes]]`` entry that names no support, an
+        unknown key, a support twice, a failed fastener with fields, or a gap without
+        ``kb = 0.0``. The values are checked by the models that take them.
+    """
+    data, text, path = _read_toml(path)
+    where = _Locator(str(path), text, path.parent)
+    changes = changes_from_dict(data, where)
+    return track_from_dict({k: v for k, v in data.items() if k != "changes"}, source=str(path), text=text,
+                           folder=path.parent), changes
+
+
 def load_track_toml(path: str | Path) -> Track:
     """Read a track description file.
 
@@ -159,19 +218,14 @@ def load_track_toml(path: str | Path) -> Track:
         UTF-8 text or larger than :data:`MAX_FILE_BYTES`. The message names the file, line,
         key, value and rule.
     """
-    path = check_input_path(path, "path")
-    try:
-        text = read_text(path, MAX_FILE_BYTES, "track file")
-    except OSError as err:
-        raise TrackFileError(f"{path}: cannot read the track file ({err.strerror})") from None
-    except ValueError as err:  # too large, not UTF-8
-        raise TrackFileError(str(err)) from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as err:
-        raise TrackFileError(f"{path}: not a valid TOML file: {err}") from None
-    except RecursionError:
-        raise TrackFileError(f"{path}: not a track file: its tables or arrays are nested too deeply") from None
+    data, text, path = _read_toml(path)
+    if "changes" in data:
+        rows = enumerate(text.splitlines(), start=1)
+        line = next((n for n, row in rows if row.strip().startswith("[[changes")), None)
+        place = f"{path}, line {line}" if line else str(path)
+        raise TrackFileError(f"{place}: the file holds local changes ([[changes]]), which a Track does not: read it "
+                             "with st.load_track_file(path) (the track and its changes; semitrack run and decay "
+                             "take them), or remove them")
     return track_from_dict(data, source=str(path), text=text, folder=path.parent)
 
 
@@ -437,3 +491,59 @@ def track_to_toml(track: Track) -> str:
     if track.foundation is not None:
         lines += ["[foundation]", *_foundation_to_toml(track.foundation), ""]
     return "\n".join(lines)
+
+
+# --- local changes ([[changes]]) -----------------------------------------------------------------
+#: The keys of a ``[[changes]]`` entry beside the support fields: the support, a failed fastener,
+#: the gap a hanging sleeper hangs over.
+CHANGE_KEYS = ("support", "failed", "gap")
+#: Most ``[[changes]]`` entries a file may hold.
+MAX_CHANGES = 100_000
+
+
+@dataclasses.dataclass(frozen=True)
+class LocalChanges:
+    """The local changes of a track file: ``changes`` as :class:`semitrack.InfiniteTrack` takes
+    them, and the hanging sleepers' gaps as the FE routes take them (``ballast_gaps``)."""
+
+    changes: dict
+    gaps: dict
+
+
+def changes_from_dict(data: dict, where: _Locator) -> LocalChanges:
+    """The ``[[changes]]`` of a parsed track file, checked in structure (their values by the models)."""
+    entries = data.get("changes", [])
+    if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):
+        where.fail(None, "changes", "changes must be an array of tables, [[changes]] with support = k and the "
+                   "support's fields (or failed = true)")
+    if len(entries) > MAX_CHANGES:
+        where.fail(None, "changes", f"a file holds at most {MAX_CHANGES} [[changes]], got {len(entries)}")
+    changes, gaps = {}, {}
+    for n, entry in enumerate(entries, start=1):
+        label = f"[[changes]] number {n}"
+        unknown = sorted(set(entry) - set(CHANGE_KEYS) - set(SUPPORT_FIELDS))
+        if unknown:
+            where.fail(None, "", f"{label}: unknown key {unknown[0]!r}; the keys are support, failed, gap and the "
+                       f"support's fields {', '.join(SUPPORT_FIELDS)}")
+        k = entry.get("support")
+        if isinstance(k, bool) or not isinstance(k, int):
+            where.fail(None, "", f"{label}: support must be the support's index k (an integer; support k sits at "
+                       f"x = (k + 1/2) d), got {k!r}")
+        if k in changes:
+            where.fail(None, "", f"{label}: support {k} is changed twice; give each support one [[changes]]")
+        fields = {key: entry[key] for key in SUPPORT_FIELDS if key in entry}
+        failed = entry.get("failed", False)
+        if not isinstance(failed, bool):
+            where.fail(None, "", f"{label}: failed must be true or false, got {failed!r}")
+        if failed and (fields or "gap" in entry):
+            where.fail(None, "", f"{label}: failed = true takes the support away (a failed fastener: the rail "
+                       "passes it unheld); it takes no fields or gap")
+        if "gap" in entry:
+            if fields.get("kb") != 0:
+                where.fail(None, "", f"{label}: a gap hangs support {k}'s sleeper over it: give kb = 0.0 too")
+            gaps[k] = entry["gap"]
+        if not failed and not fields:
+            where.fail(None, "", f"{label}: support {k} changes nothing; give its fields (e.g. kb = 0.0, a "
+                       "hanging sleeper) or failed = true")
+        changes[k] = None if failed else fields
+    return LocalChanges(changes, gaps)

@@ -115,6 +115,9 @@ FIELD_RULES: dict[str, Callable] = {
 }
 
 
+#: The fields of one support that a local change may set (:class:`semitrack.InfiniteTrack`'s
+#: ``changes``, a track file's ``[[changes]]``).
+SUPPORT_FIELDS = ("kv", "kphi", "eta_pad", "sleeper_mass", "kb", "eta_ballast")
 #: The only fields that may be None (together): a pad on a rigid foundation has no sleeper.
 OPTIONAL_FIELDS = ("sleeper_mass", "kb")
 
