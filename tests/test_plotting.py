@@ -382,3 +382,42 @@ def test_long_titles_are_broken_to_fit_the_figure():
     assert title.get_window_extent(fig.canvas.get_renderer()).width <= fig.get_figwidth() * fig.dpi
     fig, _ = plotting.receptance_figure(f, {"exact": np.ones((2, 2, 2))}, "Slab track")
     assert fig._suptitle.get_text() == "Slab track"
+
+
+def test_figure_text_is_at_least_10_px_at_the_page_s_width():
+    """A wide multi-panel figure (3 panels, 15.4 in) shown at the book's 690-px column: every text
+    artist, tick labels included, at least 10 px high once drawn; a narrow figure keeps its sizes."""
+    import matplotlib as mpl
+
+    from semitrack.plotting.style import MIN_TEXT_PX, PAGE_WIDTH_PX, house_figure, panels
+
+    @house_figure
+    def wide():
+        fig, axes = panels(3, figsize=(15.4, 3.6))
+        for ax in axes:
+            ax.plot([0, 1], [0, 1], label="a line")
+            ax.set_title("a title")
+            ax.set_xlabel("x (m)")
+        axes[0].legend()
+        return fig, axes
+
+    fig, _ = wide()
+    fig.canvas.draw()
+    scale = PAGE_WIDTH_PX / (fig.get_figwidth() * 72.0)  # px per pt at page width
+    sizes = [t.get_fontsize() for t in fig.findobj(mpl.text.Text) if t.get_text()]
+    assert sizes and min(sizes) * scale >= MIN_TEXT_PX - 1e-9
+    narrow, _ = plotting.force_history_figure({}, (0.0, 1.0))  # 9 in: 12 pt is 11.5 px, left as it is
+    narrow.canvas.draw()
+    assert {t.get_fontsize() for t in narrow.axes[0].get_xticklabels()} == {12.0}
+
+
+def test_the_shipped_fonts_are_found_whatever_the_font_cache_holds():
+    """STIX (mathematics) resolves to matplotlib's own file once the figures' module is imported."""
+    from pathlib import Path
+
+    import matplotlib as mpl
+    from matplotlib import font_manager
+
+    found = Path(font_manager.findfont("STIXGeneral", fallback_to_default=False))
+    assert found.name == "STIXGeneral.ttf" and found.is_file()
+    assert found.parent == Path(mpl.get_data_path()) / "fonts" / "ttf"

@@ -1011,7 +1011,7 @@ def _run_route(route: str, args: argparse.Namespace, track: Track, local, vehicl
     from .interaction.moving_green import moving_green_response
     from .methods.infinite import InfiniteTrack
 
-    common = dict(x=args.x, speed=args.speed, dt=args.dt, duration=args.duration)
+    common = dict(x=args.x, speed=args.speed, dt=args.dt, duration=args.duration, ramp=args.ramp)
     if route == "convolution":
         return convolution_response(InfiniteTrack(track, local.changes), vehicle, rough, **common)
     if route == "moving-green":
@@ -1032,6 +1032,10 @@ def cmd_run(args: argparse.Namespace) -> int:
     vehicle = _vehicle(args.vehicle)
     checked(check_nonnegative, "--speed", args.speed)
     checked(check_positive, "--duration", args.duration)
+    checked(check_positive, "--ramp", args.ramp)
+    if not args.duration > args.ramp:
+        raise InputError(f"--duration must exceed --ramp, the roughness's fade-in ({args.ramp!r} s), got "
+                         f"{args.duration!r} s")
     checked(check_time_step, "--dt", args.dt)
     checked(check_int_at_least, "--seed", args.seed, 0)
     watch = list(args.watch or ())
@@ -1083,11 +1087,12 @@ def cmd_run(args: argparse.Namespace) -> int:
 def _fe_model(track: Track, changes: dict, reach: float):
     """The FE model that holds a path ``reach`` m either side of x = 0, with 10 bays beyond and broadband ends."""
     from .boundary.fitting import fit_boundary
+    from .fe.ends import BoundaryEnd
     from .fe.models import TruncatedTrack
 
     n = int(np.ceil(reach / track.spacing)) + 10
     checked(check_work, n, 2000, f"the path asks {n} bays each side", "run the window (--route window)")
-    return TruncatedTrack(track, n, "boundary", system=fit_boundary(track), changes=changes)
+    return TruncatedTrack(track, n, BoundaryEnd(boundary=fit_boundary(track)), changes=changes)
 
 
 def _run_parser(sub) -> None:
@@ -1105,6 +1110,7 @@ def _run_parser(sub) -> None:
     p.add_argument("--speed", type=number, required=True, help="the vehicle's speed, m/s (0: standing wheels)")
     p.add_argument("--duration", type=number, default=0.1, help="the run's length, s (default 0.1)")
     p.add_argument("--dt", type=number, default=2e-5, help="time step, s (default 2e-5)")
+    p.add_argument("--ramp", type=number, default=0.02, help="the roughness's fade-in, s (default 0.02)")
     p.add_argument("--x", type=number, default=0.0, help="where the first wheel starts, m (default 0, a mid-span)")
     p.add_argument("--route", choices=RUN_ROUTES, default="auto",
                    help="auto (default: the window for rolling wheels, the convolution for standing ones, the FE "

@@ -192,7 +192,7 @@ def load_track_file(path: str | Path) -> tuple[Track, LocalChanges]:
         ``kb = 0.0``. The values are checked by the models that take them.
     """
     data, text, path = _read_toml(path)
-    where = _Locator(str(path), text, path.parent)
+    where = Locator(str(path), text, path.parent)
     changes = changes_from_dict(data, where)
     return track_from_dict({k: v for k, v in data.items() if k != "changes"}, source=str(path), text=text,
                            folder=path.parent), changes
@@ -258,11 +258,11 @@ def track_from_dict(data: dict, source: str = "track description", text: str = "
     TrackFileError
         Naming the source, line, key, value and rule.
     """
-    where = _Locator(source, text, Path(folder) if folder is not None else Path())
+    where = Locator(source, text, Path(folder) if folder is not None else Path())
     return _check_track_values(_parse_track_dict(data, where), where)
 
 
-class _Locator:
+class Locator:
     """Where a key sits in the file, for the messages of :class:`TrackFileError`."""
 
     def __init__(self, source: str, text: str, folder: Path = Path()):
@@ -275,7 +275,7 @@ class _Locator:
         raise TrackFileError(f"{place}: {message}")
 
 
-def _parse_track_dict(data: dict, where: _Locator) -> dict[str, tuple[str | None, object]]:
+def _parse_track_dict(data: dict, where: Locator) -> dict[str, tuple[str | None, object]]:
     """The structure of a track file: known sections and keys, none missing.
 
     Returns ``{key: (section, raw value)}`` for every Track field the file gives (``name``
@@ -313,7 +313,7 @@ def _parse_track_dict(data: dict, where: _Locator) -> dict[str, tuple[str | None
     return values
 
 
-def _section(data: dict, section: str, where: _Locator, required: tuple[str, ...] | None = None,
+def _section(data: dict, section: str, where: Locator, required: tuple[str, ...] | None = None,
              optional: tuple[str, ...] = ()) -> dict:
     """The table ``[section]`` of the file: all ``required`` keys (by default those of
     :data:`SECTIONS`), any of ``optional``, no other."""
@@ -333,7 +333,7 @@ def _section(data: dict, section: str, where: _Locator, required: tuple[str, ...
     return table
 
 
-def _check_track_values(values: dict[str, tuple[str | None, object]], where: _Locator) -> Track:
+def _check_track_values(values: dict[str, tuple[str | None, object]], where: Locator) -> Track:
     """Apply the Track's rules to each parsed value (located), then build the Track.
 
     A ``[slab]`` table becomes a :class:`Slab` by the Slab's own rules (:func:`_check_slab_values`);
@@ -367,7 +367,7 @@ def _check_track_values(values: dict[str, tuple[str | None, object]], where: _Lo
         where.fail("slab", "", f"[slab] {err}")
 
 
-def _curve(section: str, key: str, spec: dict, where: _Locator, kind: str) -> FrequencyCurve:
+def _curve(section: str, key: str, spec: dict, where: Locator, kind: str) -> FrequencyCurve:
     """A frequency-dependent field of the file: a CSV table beside it, or a named model.
 
     ``key`` is the field (``kv``, ``kphi``) in ``[section]``, or ``""`` for the ``[foundation]``
@@ -438,7 +438,7 @@ def _foundation_to_toml(curve: FrequencyCurve) -> list[str]:
     return _table_items(curve)
 
 
-def _check_slab_values(table: dict, where: _Locator) -> Slab:
+def _check_slab_values(table: dict, where: Locator) -> Slab:
     """The :class:`Slab` of a ``[slab]`` table (keys already checked), by the Slab's own rules.
 
     Each of the Slab's messages starts with the field it refuses (its checks name the parameter
@@ -510,7 +510,7 @@ class LocalChanges:
     gaps: dict
 
 
-def changes_from_dict(data: dict, where: _Locator) -> LocalChanges:
+def changes_from_dict(data: dict, where: Locator) -> LocalChanges:
     """The ``[[changes]]`` of a parsed track file, checked in structure (their values by the models)."""
     entries = data.get("changes", [])
     if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):

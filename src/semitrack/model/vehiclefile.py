@@ -28,7 +28,7 @@ from pathlib import Path
 
 from ..base.errors import BadInput
 from ..base.files import check_input_path, read_text
-from .trackfile import MAX_FILE_BYTES, TrackFileError, _Locator
+from .trackfile import MAX_FILE_BYTES, Locator, TrackFileError
 from .vehicle import Bogie, Vehicle, WheelGroup
 from .wheel import Wheel
 
@@ -87,7 +87,7 @@ def load_vehicle_toml(path: str | Path) -> Vehicle:
     return vehicle_from_dict(data, source=str(path), text=text)
 
 
-def _table(data: dict, section: str, keys: tuple[str, ...], where: _Locator) -> dict:
+def _table(data: dict, section: str, keys: tuple[str, ...], where: Locator) -> dict:
     table = data.get(section, {})
     if not isinstance(table, dict):
         where.fail(None, section, f"{section} must be a table [{section}], got {type(table).__name__}")
@@ -97,7 +97,7 @@ def _table(data: dict, section: str, keys: tuple[str, ...], where: _Locator) -> 
     return table
 
 
-def _build(cls, table: dict, section: str, where: _Locator, **extra):
+def _build(cls, table: dict, section: str, where: Locator, **extra):
     """``cls(**table, **extra)``, its refusal located at the key it names (else the section)."""
     try:
         return cls(**table, **extra)
@@ -122,7 +122,7 @@ def vehicle_from_dict(data: dict, source: str = "vehicle description", text: str
     -------
     Vehicle
     """
-    where = _Locator(source, text)
+    where = Locator(source, text)
     if not isinstance(data, dict):
         where.fail(None, "", f"a vehicle file is a table of keys, got {type(data).__name__}")
     kind = data.get("type")

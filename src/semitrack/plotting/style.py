@@ -14,9 +14,12 @@ from __future__ import annotations
 import functools
 import textwrap
 from contextlib import contextmanager
+from pathlib import Path
 
 import matplotlib as mpl
+import matplotlib.text  # noqa: F401 - mpl.text, for the figures' text artists
 import numpy as np
+from matplotlib import font_manager
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
@@ -47,6 +50,51 @@ RC = {
 }
 
 
+#: The book's text column on a 1280-px screen (px), where a figure is shown scaled to its width,
+#: and the least height of its text there (px): :func:`legible_text` keeps every figure above it.
+PAGE_WIDTH_PX, MIN_TEXT_PX = 690.0, 10.0
+
+
+def _register_shipped_fonts() -> None:
+    """Register matplotlib's own fonts (DejaVu, STIX, Computer Modern) if its font cache lacks them.
+
+    A cache written by another matplotlib of the same version (a virtual environment since
+    removed) lists fonts that are gone and none of this one's, and mathematics then logs a
+    "findfont ... not found" line per glyph family into every notebook's output.
+    """
+    folder = Path(mpl.get_data_path()) / "fonts" / "ttf"
+    known = {Path(font.fname).name for font in font_manager.fontManager.ttflist}
+    for path in sorted(folder.glob("*.ttf")):
+        if path.name not in known:
+            font_manager.fontManager.addfont(str(path))
+
+
+_register_shipped_fonts()
+
+
+def legible_text(fig) -> None:
+    """Raise a figure's text to at least :data:`MIN_TEXT_PX` when it is shown at the page's width.
+
+    A figure ``W`` inches wide is scaled to :data:`PAGE_WIDTH_PX`, so a font of ``s`` points shows
+    ``s / 72 * PAGE_WIDTH_PX / W`` px high: a wide multi-panel figure (13.8 in) would show its
+    12-pt text at 8 px. Text below the floor (ticks, labels, legends, titles) is raised to it.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure, changed in place.
+    """
+    floor = MIN_TEXT_PX * 72.0 * fig.get_figwidth() / PAGE_WIDTH_PX  # pt
+    for ax in fig.axes:
+        for key, axis in (("xtick.labelsize", "x"), ("ytick.labelsize", "y")):
+            size = font_manager.FontProperties(size=mpl.rcParams[key]).get_size_in_points()
+            if size < floor:
+                ax.tick_params(axis=axis, which="both", labelsize=floor)
+    for text in fig.findobj(mpl.text.Text):
+        if text.get_text() and text.get_fontsize() < floor:
+            text.set_fontsize(floor)
+
+
 @contextmanager
 def house_style():
     """Context manager applying the house rcParams (:data:`RC`) inside a ``with`` block."""
@@ -64,6 +112,7 @@ def house_figure(draw):
             result = draw(*args, **kwargs)
             fig = result[0] if isinstance(result, tuple) else getattr(result, "figure", None)
             if isinstance(fig, Figure):
+                legible_text(fig)
                 wrap_titles(fig)
             return result
 
