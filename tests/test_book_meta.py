@@ -100,3 +100,17 @@ def test_offline_math_check(tmp_path, script, ok):
     run = subprocess.run([sys.executable, str(ROOT / ".ci" / "check_offline_book.py"), str(tmp_path)],
                          capture_output=True, text=True, check=False)
     assert (run.returncode == 0) == ok, run.stdout + run.stderr
+
+
+def test_code_cells_fold_by_one_rule():
+    """Every code cell of a chapter is folded (``hide-input``: its output shows, the code behind a
+    click), except the how-to's, whose commands are what it teaches; citations show their labels."""
+    import json
+
+    for path in sorted((ROOT / "book").glob("*.ipynb")):
+        cells = json.loads(path.read_text(encoding="utf-8"))["cells"]
+        shown = [i for i, c in enumerate(cells) if c["cell_type"] == "code"
+                 and "hide-input" not in c.get("metadata", {}).get("tags", [])]
+        assert (shown == []) != (path.name == "howto.ipynb"), f"{path.name}: code cells {shown} not folded"
+    config = yaml.safe_load((ROOT / "_config.yml").read_text(encoding="utf-8"))
+    assert config["sphinx"]["config"]["bibtex_reference_style"] == "label"  # the paper has no author or year

@@ -6,6 +6,7 @@ import itertools
 from collections.abc import Mapping
 
 import numpy as np
+from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from .style import house_figure, legend_below, new_figure, panels
 
@@ -51,6 +52,11 @@ def decay_rate_figure(rates: Mapping[str, object], limit: Mapping[float, float] 
         ax.step(bands, [limit[b] for b in bands], where="mid", color="0.4", lw=1.4, ls="--", label="ISO 3095 limit")
     ax.set_xscale("log")
     ax.set_yscale("log")
+    # 1-2-5 in every decade, as plain numbers: the limit's 0.8, 2 and 6 dB/m and the bands read off the axes
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
+        axis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))
+        axis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("One-third-octave band (Hz)")
     ax.set_ylabel("Track decay rate (dB/m)")
     ax.set_title(title or "Track decay rate (open markers: bands the standard's checks reject)")
