@@ -31,7 +31,7 @@ from ..model.tracks import PARAMETER_INFO, Track, parameter_table, require_track
 from .convergence import alpha_relative_error
 from .systems import PAPER_FREQUENCIES, paper_table7, table4_consistency, table7_consistency
 
-__all__ = ["FIT_ERROR_TARGETS", "MISSING", "MirroredPair", "fit_error_table", "inversion_error_table",
+__all__ = ["FIT_ERROR_TARGETS", "MISSING", "MirroredPair", "fit_error_table", "inversion_error_table", "listed",
            "fixed", "mirrored_pair", "mirrored_pair_table", "parameter_comparison", "readable_number", "styled",
            "system_comparison", "table4_consistency_table", "table7_consistency_table"]
 
@@ -42,6 +42,35 @@ _SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
 
 # --- display ------------------------------------------------------------------------------------
+def listed(values: Mapping, fmt: str = "{:.3g}", unit: str = "") -> str:
+    """A mapping as a reader's line, ``"slab 0.228 dB; ballasted 0.201 dB"``: no reprs, no braces.
+
+    Parameters
+    ----------
+    values : mapping
+        Name to a number, or to a sequence of numbers (written with ", ").
+    fmt : str
+        Format of each number.
+    unit : str
+        Written after each value ("" for none).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> listed({"slab": 0.2281, "ballasted": [1.0, 2.5]}, "{:.2f}", "dB")
+    'slab 0.23 dB; ballasted 1.00, 2.50 dB'
+    """
+    def one(value) -> str:
+        if isinstance(value, (list, tuple, np.ndarray)):
+            return ", ".join(fmt.format(float(v)) for v in value)
+        return fmt.format(float(value))
+
+    return "; ".join(f"{name} {one(value)}{' ' + unit if unit else ''}" for name, value in values.items())
+
+
 def readable_number(x: float, digits: int = 4) -> str:
     """``x`` with ``digits`` significant digits, exact trailing zeros dropped, powers of ten written out.
 
