@@ -1106,8 +1106,10 @@ CLI_SURFACES: dict[str, CliSurface] = {
 }
 
 #: Names a refusal may give an option by, beside the option itself.
-CLI_WORDS = {"-o": ("--output",), "--band": ("band",), "--df": ("df",), "track": (), "system": (), "name": ("example",),
-             "vehicle": ()}
+CLI_WORDS = {"-o": ("--output",), "--band": ("band",), "--df": ("df",), "system": (), "name": ("example",),
+             "vehicle": (), "--x": ("x",), "--watch": ("watch_supports",)}  # the API's names, as it refuses them
+# argparse reads a hostile "-1e308" as an option, not as run's track: run then reports its second positional missing
+CLI_WORDS["track"] = ("vehicle",)
 _FILE_KEYS = ("track", "system", "vehicle", "-o")
 
 

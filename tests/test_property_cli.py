@@ -29,7 +29,7 @@ from test_property_api import CALL_SECONDS, REFUSAL_SECONDS, bounded
 from semitrack.cli import build_parser, main, printable
 
 #: The positional arguments that name a file: a refusal quoting the file names the argument.
-FILE_ARGUMENTS = ("track", "system")
+FILE_ARGUMENTS = ("track", "system", "vehicle")
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -94,7 +94,7 @@ def test_hostile_command_lines_end_in_success_or_a_named_refusal(name):
                 for k, v in replaced)
             # "--" where a file belongs is the end-of-options marker, which argparse takes before any value;
             # a blank file name is named where the error quotes it ("error:  : not a valid TOML file")
-            named = named or any((v == "--" or (v.isspace() and f"error: {v}: " in err)) and k in ("track", "system")
+            named = named or any((v == "--" or (v.isspace() and f"error: {v}: " in err)) and k in FILE_ARGUMENTS
                                  for k, v in replaced)
             assert named, f"{call}: the refusal does not name {' or '.join(k for k, _ in replaced)}: {err.strip()}"
             assert outcome.cpu < REFUSAL_SECONDS, f"{call} was refused only after {outcome.cpu:.2f} s of CPU"

@@ -900,7 +900,7 @@ def _features_parser(sub) -> None:
 RUN_ROUTES = ("auto", "window", "fe", "convolution", "moving-green")
 
 
-def choose_route(track: Track, changes: dict, gaps: dict, speed: float, profile: bool) -> tuple[str, str]:
+def choose_route(track: Track, gaps: dict, speed: float, profile: bool) -> tuple[str, str]:
     """The route ``--route auto`` runs, and why (a sentence for the progress line and the CSV header).
 
     A flexible slab: the FE model that holds the path (no exact infinite track holds the slab).
@@ -946,10 +946,17 @@ def _run_inputs(args: argparse.Namespace):
         spectrum = None
     else:
         checked(check_input_path, args.roughness, "--roughness")
-        kind = series_kind(args.roughness)
-        if kind == "profile":
-            return None, load_rail_profile(args.roughness), (("roughness file", args.roughness),)
-        spectrum = load_roughness_spectrum(args.roughness)
+        try:
+            kind = series_kind(args.roughness)
+            if kind == "profile":
+                return None, load_rail_profile(args.roughness), (("roughness file", args.roughness),)
+            spectrum = load_roughness_spectrum(args.roughness)
+        except OSError as err:
+            raise InputError(f"--roughness {args.roughness!r}: not iso3095, and the file cannot be read "
+                             f"({err.strerror or err}); give iso3095, a spectrum file (wavelength_m, level_dB) or a "
+                             "profile file (x_m, r_m)") from None
+        except BadInput as err:
+            raise InputError(f"--roughness: {err}") from None
     if args.speed == 0:
         raise InputError("--roughness: a spectrum passes the wheels at a speed: give --speed > 0 (with --route "
                          "convolution the wheels stand while it passes), or a rail profile file (x_m, r_m)")
@@ -958,7 +965,11 @@ def _run_inputs(args: argparse.Namespace):
     # lines 1 / period apart: at least two in the band of the longest wavelength (its width 0.23 f)
     width = args.speed / longest * (10**0.05 - 10**-0.05) if longest > 0 else 1.0
     period = max(args.duration, 0.1, 2.0 / width)
-    rough = roughness_from_spectrum(args.speed, wavelengths, levels, period=period, seed=args.seed, dt=args.dt)
+    try:
+        rough = roughness_from_spectrum(args.speed, wavelengths, levels, period=period, seed=args.seed, dt=args.dt)
+    except BadInput as err:  # its period is the run's length: the option that sets it is --duration
+        raise InputError(f"--roughness over --duration {args.duration!r} s at --speed {args.speed!r} m/s: {err}") \
+            from None
     files = () if spectrum is None else (("roughness file", args.roughness),)
     return rough, None, files
 
@@ -1026,13 +1037,17 @@ def _run_route(route: str, args: argparse.Namespace, track: Track, local, vehicl
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    from .base.checks import check_nonnegative, check_time_step
+    from .base.checks import check_nonnegative, check_rolling_speed, check_steps, check_time_step
 
     track, local = _track_with_changes(args.track)
     vehicle = _vehicle(args.vehicle)
     checked(check_nonnegative, "--speed", args.speed)
+    if args.speed != 0:
+        checked(check_rolling_speed, "--speed", args.speed)
     checked(check_positive, "--duration", args.duration)
     checked(check_positive, "--ramp", args.ramp)
+    # the steps counted (and bounded) before the roughness is sampled at dt (its aliasing warning)
+    checked(check_steps, args.dt, args.duration, ("--dt", "--duration"))
     if not args.duration > args.ramp:
         raise InputError(f"--duration must exceed --ramp, the roughness's fade-in ({args.ramp!r} s), got "
                          f"{args.duration!r} s")
@@ -1046,7 +1061,7 @@ def cmd_run(args: argparse.Namespace) -> int:
                              inputs=input_files(args.track, track) + (("vehicle file", args.vehicle),) + rough_files)
     if plot is not None:
         plot_format(plot)
-    route, why = choose_route(track, local.changes, local.gaps, args.speed, profile is not None)
+    route, why = choose_route(track, local.gaps, args.speed, profile is not None)
     if args.route != "auto":
         route, why = args.route, "asked for by --route"
     refused = {"convolution": [("gaps", local.gaps), ("a rail profile", profile), ("--watch", watch)],

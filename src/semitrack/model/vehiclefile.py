@@ -22,10 +22,12 @@ UTF-8 text of at most :data:`~semitrack.model.trackfile.MAX_FILE_BYTES`.
 from __future__ import annotations
 
 import dataclasses
+import json
 import tomllib
 from importlib import resources
 from pathlib import Path
 
+from ..base.checks import check_string
 from ..base.errors import BadInput
 from ..base.files import check_input_path, read_text
 from .trackfile import MAX_FILE_BYTES, Locator, TrackFileError
@@ -81,7 +83,7 @@ def load_vehicle_toml(path: str | Path) -> Vehicle:
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
-        raise TrackFileError(f"{path}: not a valid TOML file: {err}") from None
+        raise TrackFileError(f"{path}: not a vehicle file, not valid TOML: {err}") from None
     except RecursionError:
         raise TrackFileError(f"{path}: not a vehicle file: its tables or arrays are nested too deeply") from None
     return vehicle_from_dict(data, source=str(path), text=text)
@@ -168,9 +170,12 @@ def vehicle_to_toml(vehicle: Vehicle, name: str = "") -> str:
     def table(obj, keys):
         return [f"{k} = {float(getattr(obj, k))!r}" for k in keys]
 
+    name = check_string("name", name)
+    quoted = json.dumps(name)  # a TOML basic string: JSON's escapes are TOML's
+
     lines = []
     if isinstance(vehicle, Bogie):
-        lines += ['type = "bogie"'] + ([f"name = {name!r}"] if name else [])
+        lines += ['type = "bogie"'] + ([f"name = {quoted}"] if name else [])
         lines += ["", "[wheel]"] + table(vehicle.wheel, WHEEL_KEYS) + ["", "[bogie]"] + table(vehicle, BOGIE_KEYS)
     elif isinstance(vehicle, WheelGroup):
         wheels = vehicle.members
@@ -180,7 +185,7 @@ def vehicle_to_toml(vehicle: Vehicle, name: str = "") -> str:
             raise BadInput("vehicle_to_toml does not write a wheel's defects (flats, polygons) yet: a file would "
                            "drop them")
         kind = "wheel" if len(wheels) == 1 else "wheels"
-        lines += [f'type = "{kind}"'] + ([f"name = {name!r}"] if name else [])
+        lines += [f'type = "{kind}"'] + ([f"name = {quoted}"] if name else [])
         lines += ["", "[wheel]"] + table(wheels[0], WHEEL_KEYS)
         if kind == "wheels":
             lines += ["", "[wheels]", f"spacing = {[float(s) for s in vehicle.spacing]!r}"]
