@@ -93,8 +93,17 @@ def test_wheels_are_named_as_the_vehicle_names_them_and_bad_arguments_are_refuse
         res.summary(res.summary())
     with pytest.raises(st.BadInput, match="after=1 s leaves no sample"):
         res.summary(after=1.0)
+    with pytest.raises(st.BadInput, match="reference: after=0.04 s leaves no sample of its 0.01 s run"):
+        st.interaction.summary.run_summary(res, _shortened(res, 0.01), after=0.04)
     with pytest.raises(st.BadInput, match="response must be a ContactResponse"):
         st.interaction.summary.run_summary(None)
+
+
+def _shortened(res, duration):
+    """The run cut at ``duration`` (s): every history's first samples."""
+    n = int(np.count_nonzero(res.t <= duration + 1e-12))
+    cut = {name: getattr(res, name)[:n] for name in ("t", "force", "w_wheel", "w_rail", "roughness", "x")}
+    return res.__class__(**{**res.__dict__, **cut, "track_forces": None, "gaps": None})
 
 
 def test_the_run_figure_names_the_wheels_and_draws_the_track_s_forces(runs):

@@ -48,7 +48,7 @@ def _rows(response, after: float) -> list[tuple[str, str, float]]:
         for j, k in enumerate(gaps.supports):
             item = f"hanging sleeper {k} (gap {1e3 * gaps.gaps[j]:.3g} mm)"
             rows.append((item, "peak ballast force (kN)", float(gaps.force[late, j].max()) / 1e3))
-            rows.append((item, "time on the ballast (ms)", 1e3 * float(gaps.contact_time[j])))
+            rows.append((item, "time on the ballast (ms)", 1e3 * float(gaps.contact_time[j])))  # the whole run
     return rows
 
 
@@ -93,7 +93,10 @@ def run_summary(response, reference=None, after: float | None = None):
     if len(reference.wheels or (reference.wheel,)) != len(response.wheels or (response.wheel,)):
         raise InputError(f"reference must run the same number of wheels ({len(response.wheels)}), got "
                          f"{len(reference.wheels)}: its figures would be another vehicle's")
-    other = pd.DataFrame(_rows(reference, start if after is not None else reference.ramp),
+    theirs = start if after is not None else reference.ramp
+    if not np.count_nonzero(reference.t >= theirs) >= 1:
+        raise InputError(f"reference: after={theirs:.6g} s leaves no sample of its {reference.t[-1]:.6g} s run")
+    other = pd.DataFrame(_rows(reference, theirs),
                          columns=["item", "quantity", "reference"]).set_index(["item", "quantity"])
     table = table.join(other, how="left")
     with np.errstate(divide="ignore", invalid="ignore"):
