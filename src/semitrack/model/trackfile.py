@@ -151,21 +151,35 @@ def _line_of(text: str, section: str | None, key: str) -> int | None:
     return None
 
 
-def _read_toml(path: str | Path) -> tuple[dict, str, Path]:
-    """A track file's parsed document, its text and its path, or a located TrackFileError."""
+def read_toml(path: str | Path, what: str = "track file") -> tuple[dict, str, Path]:
+    """A description file's parsed document, its text and its path, or a located TrackFileError.
+
+    Parameters
+    ----------
+    path : str or Path
+        The TOML file, UTF-8 text of at most :data:`MAX_FILE_BYTES`.
+    what : str
+        What the file is, for the messages (``"track file"``, ``"vehicle file"``).
+
+    Returns
+    -------
+    data : dict
+    text : str
+    path : Path
+    """
     path = check_input_path(path, "path")
     try:
-        text = read_text(path, MAX_FILE_BYTES, "track file")
+        text = read_text(path, MAX_FILE_BYTES, what)
     except OSError as err:
-        raise TrackFileError(f"{path}: cannot read the track file ({err.strerror})") from None
+        raise TrackFileError(f"{path}: cannot read the {what} ({err.strerror})") from None
     except ValueError as err:  # too large, not UTF-8
         raise TrackFileError(str(err)) from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
-        raise TrackFileError(f"{path}: not a valid TOML file: {err}") from None
+        raise TrackFileError(f"{path}: not a valid TOML file ({what}): {err}") from None
     except RecursionError:
-        raise TrackFileError(f"{path}: not a track file: its tables or arrays are nested too deeply") from None
+        raise TrackFileError(f"{path}: not a {what}: its tables or arrays are nested too deeply") from None
     return data, text, path
 
 
@@ -191,7 +205,7 @@ def load_track_file(path: str | Path) -> tuple[Track, LocalChanges]:
         unknown key, a support twice, a failed fastener with fields, or a gap without
         ``kb = 0.0``. The values are checked by the models that take them.
     """
-    data, text, path = _read_toml(path)
+    data, text, path = read_toml(path)
     where = Locator(str(path), text, path.parent)
     changes = changes_from_dict(data, where)
     return track_from_dict({k: v for k, v in data.items() if k != "changes"}, source=str(path), text=text,
@@ -218,7 +232,7 @@ def load_track_toml(path: str | Path) -> Track:
         UTF-8 text or larger than :data:`MAX_FILE_BYTES`. The message names the file, line,
         key, value and rule.
     """
-    data, text, path = _read_toml(path)
+    data, text, path = read_toml(path)
     if "changes" in data:
         rows = enumerate(text.splitlines(), start=1)
         line = next((n for n, row in rows if row.strip().startswith("[[changes")), None)

@@ -16,21 +16,20 @@ The format mirrors :class:`semitrack.Wheel`, :class:`semitrack.WheelGroup` and
 Values in SI units (kg, N, N/m, N s/m, m, kg m^2; the Hertz constant in N/m^1.5). Every error is
 a :class:`~semitrack.model.trackfile.TrackFileError` naming the file, the line, the key and the
 rule (the classes' own rules, so that a file and a call refuse the same values); the file must be
-UTF-8 text of at most :data:`~semitrack.model.trackfile.MAX_FILE_BYTES`.
+UTF-8 text of at most :data:`~semitrack.model.trackfile.MAX_FILE_BYTES` (read as track files are,
+:func:`~semitrack.model.trackfile.read_toml`).
 """
 
 from __future__ import annotations
 
 import dataclasses
 import json
-import tomllib
 from importlib import resources
 from pathlib import Path
 
 from ..base.checks import check_string
 from ..base.errors import BadInput
-from ..base.files import check_input_path, read_text
-from .trackfile import MAX_FILE_BYTES, Locator, TrackFileError
+from .trackfile import Locator, read_toml
 from .vehicle import Bogie, Vehicle, WheelGroup
 from .wheel import Wheel
 
@@ -73,19 +72,7 @@ def load_vehicle_toml(path: str | Path) -> Vehicle:
         Missing, unreadable, too large or not TOML; unknown or missing keys; values the classes
         refuse. The message names the file, the line, the key and the rule.
     """
-    path = check_input_path(path, "path")
-    try:
-        text = read_text(path, MAX_FILE_BYTES, "vehicle file")
-    except OSError as err:
-        raise TrackFileError(f"{path}: cannot read the vehicle file ({err.strerror})") from None
-    except ValueError as err:
-        raise TrackFileError(str(err)) from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as err:
-        raise TrackFileError(f"{path}: not a vehicle file, not valid TOML: {err}") from None
-    except RecursionError:
-        raise TrackFileError(f"{path}: not a vehicle file: its tables or arrays are nested too deeply") from None
+    data, text, path = read_toml(path, "vehicle file")
     return vehicle_from_dict(data, source=str(path), text=text)
 
 
