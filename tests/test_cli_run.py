@@ -160,3 +160,21 @@ def test_the_fe_route_and_the_window_agree_on_the_same_files(files):
     assert np.sqrt(np.mean((fe - window) ** 2)) < 0.01 * fluctuation
     one_line(run("hanging.toml", "bogie.toml", "--speed", 20, "--duration", 0.02, "-o", "short.csv", cwd=files),
              "--duration must exceed --ramp")
+
+
+def test_decay_takes_a_track_file_s_changes(files):
+    """``semitrack decay`` on a file with a hanging sleeper: the exact infinite track with that change,
+    said in the header; a gap (a contact in time) is refused."""
+    path = files / "void.toml"
+    path.write_text(example_path("ballasted").read_text() + "\n[[changes]]\nsupport = 0\nkb = 0.0\n")
+    result = subprocess.run([sys.executable, "-m", "semitrack", "decay", "void.toml", "--band", "500", "1000", "--df",
+                             "10", "-o", "void.csv"], capture_output=True, text=True, cwd=files, env=ENV, timeout=300)
+    assert result.returncode == 0, result.stderr
+    table = pd.read_csv(files / "void.csv", comment="#")
+    expected = st.track_decay_rate(st.InfiniteTrack(st.ballasted_track(), {0: {"kb": 0.0}}), band=(500, 1000),
+                                   df=10.0)
+    np.testing.assert_allclose(table["decay_rate_dB_per_m"], expected.decay_rate, rtol=1e-5)
+    assert "1 changed support;" in (files / "void.csv").read_text()
+    refused = subprocess.run([sys.executable, "-m", "semitrack", "decay", "hanging.toml"], capture_output=True,
+                             text=True, cwd=files, env=ENV, timeout=300)
+    one_line(refused, "a gap under a sleeper")

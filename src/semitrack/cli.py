@@ -351,10 +351,14 @@ def cmd_receptance(args: argparse.Namespace) -> int:
     return 0
 
 
-def decay_csv(track: Track, tdr) -> str:
-    """The CSV of ``semitrack decay``: a row per band, with the standard's checks."""
+def decay_csv(track: Track, tdr, changed: int = 0) -> str:
+    """The CSV of ``semitrack decay``: a row per band, with the standard's checks (``changed``: the
+    number of supports the track file's ``[[changes]]`` change, said in the header)."""
     buf = io.StringIO()
-    buf.write(f"# track decay rate of {printable(track.name)!r} ({track_kind(track)}), EN 15461 grid and Formula 1, "
+    changes = (f", {changed} changed support{'s' * (changed != 1)}; the grid runs in +x from the accelerometer at "
+               "x = 0" if changed else "")
+    buf.write(f"# track decay rate of {printable(track.name)!r} ({track_kind(track)}{changes}), EN 15461 grid and "
+              "Formula 1, "
               f"{tdr.frf} averaged over lines {tdr.df:g} Hz apart; Formula 2 floor {tdr.floor:.4f} dB/m\n")
     buf.write("# band_Hz: the nominal one-third-octave band (IEC 61260), centre_Hz its exact centre; valid: suitable "
               "(floor <= rate / 2) and a far-point drop >= 10 dB; wave: the least attenuated Bloch wave at the "
@@ -398,7 +402,7 @@ def cmd_decay(args: argparse.Namespace) -> int:
                          "transfer functions are InfiniteTrack's, which holds pads on a rigid foundation or sleepers")
     tdr = track_decay_rate(InfiniteTrack(track, local.changes) if local.changes else track, band=band, df=args.df,
                            frf=args.frf)
-    text = decay_csv(track, tdr)
+    text = decay_csv(track, tdr, len(local.changes))
     if out is None:
         stdout()
         emit(text)
