@@ -82,7 +82,7 @@ def test_standing_wheels_take_the_convolution_and_a_profile_file_rolls(files):
     (files / "wheel.toml").write_text(vehicle_example_path("wheel").read_text())
     standing = run("hanging.toml", "wheel.toml", "--speed", 0, "--duration", 0.03, "-o", "gap.csv", cwd=files)
     assert standing.returncode == 0, standing.stderr  # standing over a gap: the window, which holds gaps
-    assert "route window" in (files / "gap.csv").read_text()
+    assert "route window (standing wheels over a gap or a profile" in (files / "gap.csv").read_text()
     forced = run("hanging.toml", "wheel.toml", "--speed", 0, "--duration", 0.03, "--route", "convolution",
                  "-o", "gap2.csv", cwd=files)
     one_line(forced, "--route convolution takes no gaps")
@@ -178,3 +178,15 @@ def test_decay_takes_a_track_file_s_changes(files):
     refused = subprocess.run([sys.executable, "-m", "semitrack", "decay", "hanging.toml"], capture_output=True,
                              text=True, cwd=files, env=ENV, timeout=300)
     one_line(refused, "a gap under a sleeper")
+
+
+def test_a_flexible_slab_runs_on_the_fe_model_of_whole_slabs(files):
+    """auto on a flexible slab: the FE model that holds the path, its bays a multiple of a slab's fasteners."""
+    (files / "floating.toml").write_text(example_path("floating-slab").read_text())
+    result = run("floating.toml", "bogie.toml", "--speed", 20, "--duration", 0.03, "--dt", 1e-4, "-o", "fs.csv",
+                 cwd=files)
+    assert result.returncode == 0, result.stderr
+    text = (files / "fs.csv").read_text()
+    assert "route fe (a flexible slab" in text
+    table = pd.read_csv(files / "fs.csv", comment="#")
+    assert table["leading_wheel_force_N"].min() > 0.8e5 and table["trailing_wheel_x_m"].iloc[-1] == pytest.approx(-1.9)

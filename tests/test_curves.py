@@ -349,7 +349,11 @@ def test_a_header_is_read_by_meaning(tmp_path, header):
     ("f (Hz), Re k (dB), Im k (dB)", "names decibels"),
     ("f_Hz, im, re", "column 2, 'im', does not name the real part second"),
     ("f_measured, re, im", "names no unit the package reads: the frequency in Hz"),
-    ("re, im, f", "does not name the frequency (Hz) first")])
+    ("re, im, f", "does not name the frequency (Hz) first"),
+    ("f_Hz, Re k (N/µm), Im k (N/µm)", "names 'µm', which the package does not read as a unit"),
+    ("f_Hz, Re k (N/μm), Im k (N/μm)", "names 'μm'"),  # the Greek mu, not the micro sign
+    ("f_Hz, re (GN/m), im (GN/m)", "names 'gn'"), ("f_Hz, re (N/in), im (N/in)", "names 'in'"),
+    ("f (Hz) measured, re, im", "names 'measured'")])
 def test_a_header_of_another_table_or_unit_is_refused_by_its_word(tmp_path, header, words):
     path = tmp_path / "t.csv"
     _write_table(path, [0.0, 50.0], [1e7 + 0j, 1e7 + 1e5j], header=header)

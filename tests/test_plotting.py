@@ -411,13 +411,23 @@ def test_figure_text_is_at_least_10_px_at_the_page_s_width():
     assert {t.get_fontsize() for t in narrow.axes[0].get_xticklabels()} == {12.0}
 
 
-def test_the_shipped_fonts_are_found_whatever_the_font_cache_holds():
-    """STIX (mathematics) resolves to matplotlib's own file once the figures' module is imported."""
+def test_the_shipped_fonts_are_found_whatever_the_font_cache_holds(monkeypatch):
+    """A font cache another install wrote (no STIX in its list, as on a machine whose venv was removed):
+    the figures' module registers matplotlib's own fonts, and STIX resolves to its file."""
+    import copy
     from pathlib import Path
 
     import matplotlib as mpl
     from matplotlib import font_manager
 
+    from semitrack.plotting import style
+
+    stale = copy.copy(font_manager.fontManager)
+    stale.ttflist = [f for f in font_manager.fontManager.ttflist if "STIX" not in Path(f.fname).name]
+    monkeypatch.setattr(font_manager, "fontManager", stale)
+    assert not any("STIX" in f.name for f in stale.ttflist)
+    style._register_shipped_fonts()
+    assert any(Path(f.fname).name == "STIXGeneral.ttf" for f in font_manager.fontManager.ttflist)
     found = Path(font_manager.findfont("STIXGeneral", fallback_to_default=False))
     assert found.name == "STIXGeneral.ttf" and found.is_file()
     assert found.parent == Path(mpl.get_data_path()) / "fonts" / "ttf"

@@ -81,9 +81,14 @@ def test_spectrum_and_profile_files_read_as_their_arrays(tmp_path):
     np.testing.assert_array_equal(read.r, [0.0, 1e-5, 0.0])
     for text, words in [("x_mm, r_mm\n0, 0\n", "names mm"), ("f, re\n1, 2\n", "cannot tell a spectrum from a profile"),
                         ("x_m, r_m\n0.0, 0.0\n0.1, abc\n", "line 3: r is not a number"),
-                        ("x_m, r_m\n0.0, 1e-5\n0.1, 0.0\n", "zero at both ends")]:
+                        ("x_m, r_m\n0.0, 1e-5\n0.1, 0.0\n", "zero at both ends"),
+                        ("x (in), r (in)\n0, 0\n", "names 'in'"), ("x (μm), r (μm)\n0, 0\n", "micrometres"),
+                        ("x (ft), r (m)\n0, 0\n", "names 'ft'")]:
         profile.write_text(text)
         with pytest.raises(st.BadInput, match=words):
             st.load_rail_profile(profile)
     with pytest.raises(st.BadInput, match="a roughness spectrum"):
         st.load_rail_profile(spectrum)
+    spectrum.write_text("wavelength (ft), level (dB re 1 um)\n1, 2\n")
+    with pytest.raises(st.BadInput, match="names 'ft'"):
+        st.load_roughness_spectrum(spectrum)

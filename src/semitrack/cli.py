@@ -916,7 +916,8 @@ def choose_route(track: Track, gaps: dict, speed: float, profile: bool) -> tuple
         return "fe", "a flexible slab: the FE model that holds the path"
     if speed == 0 and not gaps and not profile:
         return "convolution", "standing wheels: the exact infinite track by convolution, nothing truncated"
-    return "window", "rolling wheels: the FE window that travels with the vehicle over the exact infinite track"
+    held = "rolling wheels" if speed > 0 else "standing wheels over a gap or a profile"
+    return "window", f"{held}: the FE window that travels with the vehicle over the exact infinite track"
 
 
 def _vehicle(path: str):
@@ -1082,7 +1083,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     progress.close()
     header = [f"semitrack run: route {route} ({why}); {res.elapsed:.3g} s of time integration",
               f"track {track.name!r} ({track_kind(track)}), {len(local.changes)} changed support(s), "
-              f"{len(local.gaps)} gap(s); vehicle {type(vehicle).__name__} with {len(vehicle.wheels)} wheel(s) from "
+              f"{len(local.gaps)} gap(s); vehicle file {Path(args.vehicle).name!r} ({type(vehicle).__name__}, "
+              f"{len(vehicle.wheels)} wheel(s)) from "
               f"x = {args.x:g} m",
               f"speed {args.speed:g} m/s, dt {args.dt:g} s, duration {args.duration:g} s, roughness "
               f"{args.roughness or 'none'}",
@@ -1110,6 +1112,8 @@ def _fe_model(track: Track, changes: dict, reach: float):
     from .fe.models import TruncatedTrack
 
     n = int(np.ceil(reach / track.spacing)) + 10
+    if track.has_flexible_slab:  # whole slabs: the bays each side a multiple of a slab's fasteners
+        n = int(np.ceil(n / track.slab.fasteners)) * track.slab.fasteners
     checked(check_work, n, 2000, f"the path asks {n} bays each side", "run the window (--route window)")
     return TruncatedTrack(track, n, BoundaryEnd(boundary=fit_boundary(track)), changes=changes)
 

@@ -24,7 +24,7 @@ BAND_RANGE = (1e-300, 1e300)
 #: (IEC 61260, ISO 266), by which the standards tabulate their limits (1250 Hz names 1258.9 Hz).
 R10 = (1.0, 1.25, 1.6, 2.0, 2.5, 3.15, 4.0, 5.0, 6.3, 8.0)
 #: How far (in tenths of a decade) a value may lie from a band centre and still name it: the
-#: nominal names sit within 0.012 of their centres (800 against 794.3), the next band 1 away.
+#: nominal names sit within 0.041 of their centres (1600 against 1584.9), the next band 1 away.
 _NAME_TOLERANCE = 0.1
 
 

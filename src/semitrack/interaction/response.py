@@ -181,9 +181,9 @@ class ContactResponse:
         pandas.DataFrame
             Indexed by ``(item, quantity)``: per wheel (as the vehicle names them) the peak,
             minimum, rms and static contact force (kN), peak over static and time out of
-            contact (ms); per watched support the peak rail-seat and ballast force (kN); the
+            contact (ms), from ``after``; per watched support the peak rail-seat and ballast force (kN); the
             rail's peak sagging moment; per hanging sleeper its peak ballast force and time on
-            the ballast. Columns ``value`` (and ``reference``, ``ratio``).
+            the ballast (that time over the whole run). Columns ``value`` (and ``reference``, ``ratio``).
 
         Examples
         --------

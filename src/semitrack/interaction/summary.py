@@ -91,8 +91,8 @@ def run_summary(response, reference=None, after: float | None = None):
         raise InputTypeError(f"reference must be a ContactResponse (the run to compare with), got "
                              f"{type(reference).__name__}")
     if len(reference.wheels or (reference.wheel,)) != len(response.wheels or (response.wheel,)):
-        raise InputError(f"reference must run the same number of wheels ({len(response.wheels)}), got "
-                         f"{len(reference.wheels)}: its figures would be another vehicle's")
+        raise InputError(f"reference must run the same number of wheels ({len(response.wheels or (response.wheel,))}), "
+                         f"got {len(reference.wheels or (reference.wheel,))}: its figures would be another vehicle's")
     theirs = start if after is not None else reference.ramp
     if not np.count_nonzero(reference.t >= theirs) >= 1:
         raise InputError(f"reference: after={theirs:.6g} s leaves no sample of its {reference.t[-1]:.6g} s run")

@@ -17,7 +17,7 @@ The formats (what a measurement trolley's software or a spreadsheet exports)::
 The header is read by meaning, word by word, as the frequency tables' (:mod:`.tablefile`): a
 spectrum's first column has the word ``wavelength`` (in m) and its second ``level`` or ``l`` (in
 dB re 1 um); a profile's first ``x`` (in m) and its second ``r``, ``roughness`` or ``profile`` (in
-m). A unit other than these (mm, um, cm) is refused by name, never converted. Lines starting
+m). Any other word (mm, um, in, ft) is refused by name, never converted. Lines starting
 with ``#`` and blank lines are skipped; numbers must be finite; at most :data:`MAX_ROWS` rows
 and :data:`MAX_FILE_BYTES` bytes. Every error names the file, the line and the rule.
 """
@@ -39,15 +39,17 @@ __all__ = ["SERIES_KINDS", "series_kind", "load_roughness_spectrum", "load_rail_
 #: Largest file read (bytes) and most rows: a profile sampled every millimetre over 5 km.
 MAX_FILE_BYTES = 200_000_000
 MAX_ROWS = 5_000_000
-#: The kinds of file, by the words of their header's columns: (first column, second column, units).
-SERIES_KINDS = {"spectrum": (("wavelength", "lambda"), ("level", "l"), ("m", ("db",))),
-                "profile": (("x",), ("r", "roughness", "profile", "z"), ("m", ("m",)))}
+#: The kinds of file, by the words of their header's columns: (first column's names, second
+#: column's names, the other words each column may hold: its unit). Any other word is refused.
+SERIES_KINDS = {"spectrum": (("wavelength", "lambda"), ("level", "l"), ({"m"}, {"db", "re", "1", "um", "µm", "μm"})),
+                "profile": (("x",), ("r", "roughness", "profile", "z"), ({"m"}, {"m"}))}
 #: Units refused by name (the package reads SI: m, and dB re 1 um for a level).
-_FOREIGN_UNITS = {"mm": "mm", "um": "micrometres", "µm": "micrometres", "cm": "cm", "km": "km", "nm": "nm"}
+_FOREIGN_UNITS = {"mm": "mm", "um": "micrometres", "µm": "micrometres", "μm": "micrometres", "cm": "cm",
+                  "km": "km", "nm": "nm"}
 
 
 def _words(name: str) -> list[str]:
-    return re.findall(r"[a-zµ]+|[0-9]+", name.lower())
+    return re.findall(r"[^\W\d_]+|\d+", name.lower())
 
 
 def _rows(path: Path) -> tuple[list[str], list[tuple[int, list[str]]]]:
@@ -95,8 +97,13 @@ def _kind(path: Path, header: list[str]) -> str:
         if foreign:
             raise InputError(f"{path}: the column {column!r} names {_FOREIGN_UNITS[foreign[0]]}, which is not read: "
                              "give metres (and a level in dB re 1 um)")
-    for kind, (names, values, _) in SERIES_KINDS.items():
+    for kind, (names, values, (unit_1, unit_2)) in SERIES_KINDS.items():
         if first and first[0] in names and set(second) & set(values):
+            for column, words, allowed in ((header[0], first[1:], unit_1), (header[1], second, set(values) | unit_2)):
+                other = [w for w in words if w not in allowed]
+                if other:
+                    raise InputError(f"{path}: the column {column!r} names {other[0]!r}, which is not read as a "
+                                     f"unit: {hint}, in metres (a level in dB re 1 um)")
             return kind
     raise InputError(f"{path}: cannot tell a spectrum from a profile by its header {', '.join(header)[:80]!r}: "
                      f"{hint}")

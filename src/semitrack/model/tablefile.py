@@ -134,9 +134,18 @@ FOREIGN_WORDS = {"khz": "a frequency in kHz", "mhz": "a frequency in MHz", "omeg
                  "um": "micrometres", "cm": "cm", "km": "km"}
 
 
+#: Every other word a value column may hold: the symbol of a quantity and the SI units of the
+#: quantities (N/m, N m/rad, m/N, m/(s N), m/(s^2 N)). A word outside these is refused, so that a
+#: unit nobody listed (N/um, GN/m, N/in) is never read as the package's.
+SYMBOL_WORDS = {"k", "kv", "kphi", "r", "y", "a", "g", "h", "z", "alpha", "value", "stiffness", "receptance",
+                "mobility", "accelerance", "part", "of"}
+SI_UNIT_WORDS = {"n", "m", "rad", "s", "per", "2"}
+
+
 def _words(name: str) -> list[str]:
-    """The words of a column's name: runs of letters or of digits, lower case (``f (Hz)``: f, hz)."""
-    return re.findall(r"[a-zµ]+|[0-9]+", name.lower())
+    """The words of a column's name: runs of letters (any alphabet: ``µ`` and ``μ`` too) or of digits,
+    lower case (``f (Hz)``: f, hz)."""
+    return re.findall(r"[^\W\d_]+|\d+", name.lower())
 
 
 def _check_header(source: str, number: int, names: list[str]) -> None:
@@ -161,6 +170,12 @@ def _check_header(source: str, number: int, names: list[str]) -> None:
         if position == 0 and len(words) > 1 and "hz" not in words:
             raise InputError(f"{source}, line {number}: column 1, {name.strip()[:40]!r}, names no unit the package "
                              f"reads: the frequency in Hz ('f_Hz' or 'f (Hz)'; 'f' alone is Hz)")
+        allowed = {"hz"} if position == 0 else set(part) | SYMBOL_WORDS | SI_UNIT_WORDS
+        other = [w for w in words[1:] if w not in allowed] if position == 0 else [w for w in words if w not in allowed]
+        if other:
+            raise InputError(f"{source}, line {number}: column {position + 1}, {name.strip()[:40]!r}, names "
+                             f"{other[0]!r}, which the package does not read as a unit: the frequency in Hz, the "
+                             "values in the quantity's SI unit (N/m, N m/rad, m/N, m/(s N), m/(s^2 N))")
 
 
 def _separator_hint(cells: list[str]) -> str:

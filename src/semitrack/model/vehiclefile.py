@@ -5,7 +5,7 @@ The format mirrors :class:`semitrack.Wheel`, :class:`semitrack.WheelGroup` and
 :class:`semitrack.Bogie` (examples ship in ``semitrack/examples``: ``bogie``, ``wheel``)::
 
     type = "bogie"           # or "wheel" (one wheel), "wheels" (several, each on its suspension)
-    name = "my bogie"        # optional
+    name = "my bogie"        # optional: a label for the reader (checked as text; the vehicle holds none)
     [wheel]   mass, preload, hertz_constant, primary_stiffness, primary_damping, radius
               (each optional: the Wheel's defaults; a bogie's wheel needs primary_stiffness > 0)
     [bogie]   wheelbase, frame_mass, frame_inertia, body_mass, secondary_stiffness,

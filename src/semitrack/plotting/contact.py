@@ -177,7 +177,9 @@ def run_figure(response, reference=None, title: str = ""):
     n = 1 + (forces is not None) + ballast
     fig, axes = panels(n, figsize=(4.8 * n + 1.0, 3.6))
     colours = ("k", "tab:blue", "tab:red", "tab:green", "tab:purple", "tab:brown")
-    names = response.vehicle.wheel_names
+    width = response.force.reshape(response.t.size, -1).shape[1]
+    names = response.vehicle.wheel_names if response.vehicle is not None else tuple(
+        f"wheel {i}" for i in range(1, width + 1))
     for run, style in ((response, "-"), (reference, "--")):
         if run is None:
             continue

@@ -52,7 +52,7 @@ def decay_rate_figure(rates: Mapping[str, object], limit: Mapping[float, float] 
         ax.step(bands, [limit[b] for b in bands], where="mid", color="0.4", lw=1.4, ls="--", label="ISO 3095 limit")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    # 1-2-5 in every decade, as plain numbers: the limit's 0.8, 2 and 6 dB/m and the bands read off the axes
+    # 1-2-5 in every decade, as plain numbers (not only the powers of ten), on both axes
     for axis in (ax.xaxis, ax.yaxis):
         axis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
         axis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))

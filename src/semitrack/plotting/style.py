@@ -86,10 +86,12 @@ def legible_text(fig) -> None:
     """
     floor = MIN_TEXT_PX * 72.0 * fig.get_figwidth() / PAGE_WIDTH_PX  # pt
     for ax in fig.axes:
-        for key, axis in (("xtick.labelsize", "x"), ("ytick.labelsize", "y")):
-            size = font_manager.FontProperties(size=mpl.rcParams[key]).get_size_in_points()
-            if size < floor:
-                ax.tick_params(axis=axis, which="both", labelsize=floor)
+        for name, axis in (("x", ax.xaxis), ("y", ax.yaxis)):
+            labels = axis.get_ticklabels(which="both")  # the sizes the axis draws at (set by the figure or rc)
+            sizes = [t.get_fontsize() for t in labels] or [font_manager.FontProperties(
+                size=mpl.rcParams[f"{name}tick.labelsize"]).get_size_in_points()]
+            if min(sizes) < floor:  # raised only: a figure's larger tick labels stay as they are
+                ax.tick_params(axis=name, which="both", labelsize=floor)
     for text in fig.findobj(mpl.text.Text):
         if text.get_text() and text.get_fontsize() < floor:
             text.set_fontsize(floor)
