@@ -215,7 +215,7 @@ class TrackDecayRate:
         Examples
         --------
         >>> import semitrack as st
-        >>> st.track_decay_rate(st.ballasted_track(), band=(800, 1250), df=10.0).meets()
+        >>> st.track_decay_rate(st.ballasted_track(), band=(800, 1250)).meets()  # 1 kHz: 0.796 against 0.8 dB/m
         {800.0: False, 1000.0: False, 1250.0: True}
         """
         bound = self.limits(limit)
