@@ -141,12 +141,17 @@ def frequency_grid(fmin: float, fmax: float, df: float) -> np.ndarray:
     return fmin + df * np.arange(int(n))
 
 
-def _track(path: str) -> Track:
-    checked(check_input_path, path, "track")
+def _description(load: Callable, path: str, name: str):
+    """``load(path)`` of a TOML description file (track or vehicle); its located error is bad input."""
+    checked(check_input_path, path, name)
     try:
-        return load_track_toml(path)
+        return load(path)
     except TrackFileError as err:
         raise InputError(str(err)) from None
+
+
+def _track(path: str) -> Track:
+    return _description(load_track_toml, path, "track")
 
 
 def track_kind(track: Track) -> str:
@@ -923,21 +928,13 @@ def choose_route(track: Track, gaps: dict, speed: float, profile: bool) -> tuple
 def _vehicle(path: str):
     from .model.vehiclefile import load_vehicle_toml
 
-    checked(check_input_path, path, "vehicle")
-    try:
-        return load_vehicle_toml(path)
-    except TrackFileError as err:
-        raise InputError(str(err)) from None
+    return _description(load_vehicle_toml, path, "vehicle")
 
 
 def _track_with_changes(path: str):
     from .model.trackfile import load_track_file
 
-    checked(check_input_path, path, "track")
-    try:
-        return load_track_file(path)
-    except TrackFileError as err:
-        raise InputError(str(err)) from None
+    return _description(load_track_file, path, "track")
 
 
 def _run_inputs(args: argparse.Namespace):
