@@ -66,6 +66,21 @@ def test_a_notebook_runs_in_its_own_folder_with_its_outputs_handed_over(executio
     assert cells[1]["outputs"][0]["data"]["text/plain"] == "'1'"
 
 
+def test_a_notebook_shows_progress_bars_and_the_books_build_does_not(execution, tmp_path):
+    """In a Jupyter kernel (stderr an ipykernel stream) a bar is drawn; in the book's kernels
+    (SEMITRACK_PROGRESS=0 from this extension) it is not, so no page shows one."""
+    path = _notebook(tmp_path / "bar.ipynb", "from semitrack.base.progress import Progress\n"
+                     "with Progress('study', 3) as p:\n    p.update(3, 'done')")
+    env = {k: v for k, v in os.environ.items() if k not in ("CI", "SEMITRACK_PROGRESS")}
+    text, _, error = execution.execute(path, 60, "python3", env)
+    assert error is None
+    shown = "".join(o.get("text", "") for o in nbformat.reads(text, as_version=4).cells[0]["outputs"])
+    assert "3/3" in shown and "done" in shown
+    assert execution.kernel_environment(2)["SEMITRACK_PROGRESS"] == "0"
+    text, _, error = execution.execute(path, 60, "python3", execution.kernel_environment(1))
+    assert error is None and not nbformat.reads(text, as_version=4).cells[0]["outputs"]
+
+
 def test_a_failing_cell_is_reported_and_shown_where_it_failed(execution, tmp_path):
     path = _notebook(tmp_path / "bad.ipynb", "x = 1", "raise ValueError('the claim does not hold')", "y = 2")
     text, _, error = execution.execute(path, 60, "python3", execution.kernel_environment(1))

@@ -1,8 +1,17 @@
-"""The progress line: written to a terminal only, never when quiet or redirected."""
+"""Progress bars (tqdm): drawn on a terminal and in a Jupyter kernel, never when quiet, redirected,
+in CI or in the book's build; the package's own long work shows one, short work none."""
 
 import io
+import sys
+import time
+import warnings
+from pathlib import Path
 
-from semitrack.base.progress import Progress
+import pytest
+
+import semitrack as st
+from semitrack.base import progress
+from semitrack.base.progress import Progress, progress_shown
 
 
 class FakeTerminal(io.StringIO):
@@ -10,20 +19,124 @@ class FakeTerminal(io.StringIO):
         return True
 
 
-def test_progress_writes_to_a_terminal():
+@pytest.fixture
+def clean_environment(monkeypatch):
+    """No CI and no SEMITRACK_PROGRESS, whatever the machine running the tests sets."""
+    monkeypatch.delenv("CI", raising=False)
+    monkeypatch.delenv("SEMITRACK_PROGRESS", raising=False)
+    return monkeypatch
+
+
+def test_a_bar_is_drawn_on_a_terminal_with_its_count_and_note(clean_environment):
     term = FakeTerminal()
-    p = Progress("fit", 4, stream=term)
-    p.update(2, "start 2")
-    p.close()
+    with Progress("fit", 4, stream=term, unit="start") as p:
+        p.update(2, "start 2")
     out = term.getvalue()
-    assert "fit: 2/4" in out and "50 %" in out and "start 2" in out and out.endswith("\n")
+    assert "fit:" in out and "2/4" in out and "50%" in out and "start 2" in out and "start/s" in out
+    assert out.endswith("\n")
 
 
-def test_progress_silent_when_quiet_or_redirected():
+def test_a_new_stage_note_shows_at_once_without_a_step(clean_environment):
     term = FakeTerminal()
-    Progress("fit", 4, quiet=True, stream=term).update(1)
-    pipe = io.StringIO()  # not a terminal, like a file or a pipe
-    p = Progress("fit", 4, stream=pipe)
-    p.update(1)
+    p = Progress("run", 2, stream=term)
+    p.update(0, "route window: the track is imperfect")
+    assert "route window: the track is imperfect" in term.getvalue()
     p.close()
+
+
+def test_advance_counts_on_and_never_passes_the_total(clean_environment):
+    term = FakeTerminal()
+    with Progress("kernels", 3, stream=term) as p:
+        for _ in range(5):
+            p.advance()
+    assert "3/3" in term.getvalue() and "4/3" not in term.getvalue() and "5/3" not in term.getvalue()
+
+
+def test_silent_when_quiet_redirected_in_ci_or_turned_off(clean_environment):
+    term, pipe = FakeTerminal(), io.StringIO()  # a StringIO is not a terminal, like a file or a pipe
+    Progress("fit", 4, quiet=True, stream=term).update(1)
+    with Progress("fit", 4, stream=pipe) as p:
+        p.update(1)
     assert term.getvalue() == "" and pipe.getvalue() == ""
+    for name, value in (("CI", "true"), ("SEMITRACK_PROGRESS", "0"), ("SEMITRACK_PROGRESS", "off")):
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setenv(name, value)
+            with Progress("fit", 4, stream=term) as p:
+                p.update(1)
+            assert term.getvalue() == "", (name, value)
+
+
+def test_forced_on_where_the_stream_is_not_a_terminal(clean_environment):
+    clean_environment.setenv("SEMITRACK_PROGRESS", "1")
+    pipe = io.StringIO()
+    with Progress("fit", 2, stream=pipe) as p:
+        p.update(2)
+    assert "2/2" in pipe.getvalue()
+    assert not progress_shown(pipe, quiet=True)  # --quiet wins over the variable
+    clean_environment.setenv("CI", "1")
+    assert progress_shown(pipe)  # an explicit request wins over CI
+
+
+def test_an_unknown_setting_warns_once_and_follows_the_terminal(clean_environment):
+    clean_environment.setenv("SEMITRACK_PROGRESS", "sometimes")
+    progress._warned_values.discard("sometimes")
+    with pytest.warns(UserWarning, match="SEMITRACK_PROGRESS='sometimes'"):
+        assert progress_shown(FakeTerminal())
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert not progress_shown(io.StringIO())
+
+
+def test_a_jupyter_kernel_stream_counts_as_watched(clean_environment):
+    kernel_stream = type("OutStream", (io.StringIO,), {"__module__": "ipykernel.iostream"})()
+    assert progress_shown(kernel_stream)
+
+
+def test_library_bars_wait_a_second_so_short_work_draws_nothing(clean_environment):
+    term = FakeTerminal()
+    with Progress("moving kernels", 10, stream=term, delay=progress.LIBRARY_DELAY) as p:
+        p.update(5)
+    assert term.getvalue() == ""
+    with Progress("moving kernels", 10, stream=term, delay=0.05) as p:
+        time.sleep(0.1)
+        p.update(5)
+    assert "5/10" in term.getvalue()
+
+
+def test_the_kernel_set_up_reports_its_frequency_blocks(clean_environment, monkeypatch):
+    """The moving Green's functions' set-up, the long work a user waits for, draws a bar of blocks."""
+    from semitrack.fe import kernels
+
+    term = FakeTerminal()
+    monkeypatch.setattr(sys, "stderr", term)
+    monkeypatch.setattr(kernels, "LIBRARY_DELAY", 0.0)
+    track = st.ballasted_track(damping="viscous")
+    grid = kernels.grid_of(track, 40.0, 1e-4)
+    kernels.moving_kernels(track, 4, grid, 200)
+    out = term.getvalue()
+    blocks = -(-kernels.ALIAS_FACTOR * 100 // kernels.FREQUENCY_BLOCK)  # A L / 2 frequencies
+    assert "moving kernels" in out and f"{blocks}/{blocks}" in out and "block" in out
+
+
+def test_fits_and_a_window_run_report_their_starts_and_steps(clean_environment, monkeypatch):
+    """The other long work: a broadband end's fit by start, an equivalent system's by run, a window by step."""
+    import semitrack.boundary.fitting as boundary_fitting
+    import semitrack.equivalent.multistart as multistart
+    import semitrack.interaction.window_model as window_model
+
+    for module in (boundary_fitting, multistart, window_model):
+        monkeypatch.setattr(module, "LIBRARY_DELAY", 0.0)
+    term = FakeTerminal()
+    monkeypatch.setattr(sys, "stderr", term)
+    st.fit_boundary(st.slab_track(damping="viscous"), band=(3, 300), n_poles=4, n_starts=1)
+    assert "boundary fit" in term.getvalue() and "1/1" in term.getvalue() and "4 poles" in term.getvalue()
+    term.seek(0), term.truncate()
+    st.fit_equivalent(st.slab_track(), n_bars=2, band=(3, 300), n_starts=2)
+    assert "equivalent fit" in term.getvalue() and "4/4" in term.getvalue()  # 2 screened, 2 refined
+    term.seek(0), term.truncate()
+    track = st.ballasted_track(damping="viscous")
+    boundary = st.load_boundary(Path(__file__).parent / "data" / "boundary_ballasted_viscous_24.json")
+    window = st.WindowTrack(track, behind=2, ahead=3, elements_per_bay=4, system=boundary)
+    run = st.wheel_rail_response(window, st.Wheel(), None, x=0.0, speed=50.0, dt=1e-4, duration=0.04, ramp=0.01)
+    n = run.t.size - 1
+    assert "window run" in term.getvalue() and f"{n}/{n}" in term.getvalue()

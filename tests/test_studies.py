@@ -255,7 +255,7 @@ def test_the_progress_line_shows_done_running_failed_and_the_time_left(monkeypat
     term = FakeTerminal()
     monkeypatch.setattr(sys, "stderr", term)
     st.run_study(sf.failing, [{"x": i} for i in range(4)])
-    assert "study: 4/4 (100 %)" in term.text and "2 failed" in term.text and "s left" in term.text
+    assert "study: 100%" in term.text and "4/4" in term.text and "2 failed" in term.text and "s left" in term.text
     assert "1 running" in term.text and term.text.endswith("\n")
     quiet = FakeTerminal()
     monkeypatch.setattr(sys, "stderr", quiet)

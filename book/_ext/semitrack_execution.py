@@ -40,8 +40,9 @@ THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"
 
 
 def kernel_environment(workers: int) -> dict[str, str]:
-    """The environment of each kernel: this process's, with one BLAS thread when ``workers`` > 1."""
-    env = dict(os.environ)
+    """The environment of each kernel: this process's, with one BLAS thread when ``workers`` > 1,
+    and no progress bars (a Jupyter kernel's output would otherwise show them in the rendered page)."""
+    env = dict(os.environ, SEMITRACK_PROGRESS="0")
     if workers > 1:
         env.update(dict.fromkeys(THREAD_VARIABLES, "1"))
     return env

@@ -35,6 +35,7 @@ from ..base.checks import check_band, check_int_at_least, check_positive, check_
 from ..base.deprecation import deprecated_alias
 from ..base.errors import InputError
 from ..base.fields import check_fields
+from ..base.progress import LIBRARY_DELAY, Progress
 from ..base.threads import serial_blas
 from ..equivalent.mechanical import MatrixSystem
 from ..equivalent.metrics import ErrorSummary, error_band_grid, error_summary
@@ -399,6 +400,9 @@ def fit_boundary(track: Track, band: tuple[float, float] = DEFAULT_BOUNDARY_BAND
     K0, D = track_end_limits(track)
     on_grid = np.isin(f, grid)
 
+    # at most every order's every start: the search stops at the first order within tol
+    bar = Progress("boundary fit", len(orders) * n_starts, unit="start", delay=LIBRARY_DELAY)
+
     def fit_order(order: int):
         """Best of the starts at one order: (model, errors, enforcement rounds)."""
         results = []
@@ -406,10 +410,11 @@ def fit_boundary(track: Track, band: tuple[float, float] = DEFAULT_BOUNDARY_BAND
             rng = np.random.default_rng([seed, order, k]) if k else None
             model, rounds = _one_order(order, f, alpha, guard, K0, D, band, rng, n_iter)
             results.append((model, error_summary(model.receptance(grid), alpha[on_grid]), rounds))
+            bar.advance(note=f"{order} poles")
         return min(results, key=lambda r: (not passivity_report(r[0]), r[1].max))
 
     # Many small dense solves: threaded BLAS only adds contention (as in fit_equivalent).
-    with serial_blas():
+    with serial_blas(), bar:
         results = _search_orders(orders, fit_order, tol)
     best = _choose(results)
     model, err, rounds, _ = results[best]

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import OptimizeResult, least_squares
 
+from ..base.progress import LIBRARY_DELAY, Progress
 from ..base.threads import serial_blas
 from .parametrisation import FitParametrisation
 from .residuals import Residuals
@@ -157,15 +158,18 @@ def run_multistart(problem: Residuals, starts: list[np.ndarray], max_nfev: int) 
     model = problem.model
     kw = dict(jac=problem.jac, bounds=(model.lower, model.upper), method="trf", x_scale="jac")
     screen_nfev = min(_SCREEN_NFEV, max_nfev)
-    with serial_blas():
+    n_refine = min(_N_REFINE, len(starts))
+    with serial_blas(), Progress("equivalent fit", len(starts) + n_refine, unit="run", delay=LIBRARY_DELAY) as bar:
         screened = []
         for s in starts:  # a run stops early once it cannot reach the best _N_REFINE so far
             to_beat = np.sort([r.cost for r in screened])[_N_REFINE - 1] if len(screened) >= _N_REFINE else None
             screened.append(_run(problem.fun, s, to_beat, screen_nfev, kw)[0])
+            bar.advance(note=f"screening start {len(screened)} of {len(starts)}")
         start_costs = np.array([r.cost for r in screened])
         best, best_i = None, -1
         for i in np.argsort(start_costs, kind="stable")[:_N_REFINE]:
             r = _refine(problem, screened[i], max_nfev, kw, None if best is None else best.cost)
             if r is not None and (best is None or r.cost < best.cost):
                 best, best_i = r, int(i)
+            bar.advance(note="refining the best starts")
     return MultiStartOutcome(best=best, best_start=best_i, start_costs=start_costs)

@@ -46,6 +46,7 @@ import numpy as np
 from ..base.checks import as_real_array, check_choice, check_work, shown
 from ..base.errors import InputError
 from ..base.fields import check_fields
+from ..base.progress import LIBRARY_DELAY, Progress
 from ..equivalent.cache import canonical, package_source_digest
 from ..model.tracks import Track
 from .bloch import BlochCell, CellWaves, warped_s
@@ -468,12 +469,14 @@ def moving_kernels(track: Track, elements_per_bay: int | None, grid: KernelGrid,
                  {j: np.zeros((len(lags), P, P)) for j in sorted(set().union(*(_cells(P, g, L) for g in lags)))},
                  {j: np.zeros((len(starts), P)) for j in sorted(set().union(*(_cells(P, g + p, L)
                                                                                for g, p in starts)))})
-    for lo in range(0, omega.size, FREQUENCY_BLOCK):
-        part = slice(lo, lo + FREQUENCY_BLOCK)
-        w = cell.waves(warped_s(omega[part], dt))
-        block_weights = {kind: value[part] for kind, value in weights.items()}
-        _near(cell, w, omega[part], dt, sums, block_weights)
-        _far(cell, w, omega[part], dt, sums, block_weights)
+    with Progress("moving kernels", -(-omega.size // FREQUENCY_BLOCK), unit="block", delay=LIBRARY_DELAY) as bar:
+        for lo in range(0, omega.size, FREQUENCY_BLOCK):
+            part = slice(lo, lo + FREQUENCY_BLOCK)
+            w = cell.waves(warped_s(omega[part], dt))
+            block_weights = {kind: value[part] for kind, value in weights.items()}
+            _near(cell, w, omega[part], dt, sums, block_weights)
+            _far(cell, w, omega[part], dt, sums, block_weights)
+            bar.advance()
     w0 = cell.waves(np.zeros(1))
     loop = np.empty((len(lags), P, L))
     h0 = None

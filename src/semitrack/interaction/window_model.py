@@ -29,6 +29,7 @@ import numpy as np
 
 from ..base.checks import check_gap, check_int_at_least, check_work
 from ..base.errors import InputError, InputTypeError
+from ..base.progress import LIBRARY_DELAY, Progress
 from ..dynamics.newmark import Newmark
 from ..dynamics.points import PointSet
 from ..dynamics.simulate import MAX_RECORDED, check_limits, continue_run, stepping_of
@@ -179,10 +180,12 @@ def window_response(track: WindowTrack, wheel: Wheel | Vehicle | Sequence[Wheel]
                "nodes", "use a larger speed or dt, or a larger move")
     r = rail_input(roughness, path, run.dt, run.ramp, profile, run.vehicle.wheels)
     steps = _Steps(track, model, system, stepping, run, path, offsets, element_flexibility, reach, watched, r[0])
-    for i, (offset, first, last) in enumerate(stretches):
-        if i:
-            steps.jump(offset, windows.at(offset))
-        steps.stretch(first, last, r, compiled)
+    with Progress("window run", run.n_steps, unit="step", delay=LIBRARY_DELAY) as bar:
+        for i, (offset, first, last) in enumerate(stretches):
+            if i:
+                steps.jump(offset, windows.at(offset))
+            steps.stretch(first, last, r, compiled)
+            bar.update(last, f"window at support {offset}")
     return contact_response(route="window", t=run.t, force=steps.force, w_wheel=steps.w_wheel, w_rail=steps.w_rail,
                             roughness=r, x=path, track=track.track, vehicle=run.vehicle, speed=run.speed,
                             ramp=run.ramp, period=None if roughness is None else roughness.period,

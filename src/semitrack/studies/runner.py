@@ -105,7 +105,7 @@ class _Tally:
     def __init__(self, total: int, cached: int, failed: int, show: bool, slots: int):
         self.total, self.done, self.failed, self.slots = total, cached, failed, slots
         self.computed, self.start = 0, time.perf_counter()
-        self.line = Progress("study", total, quiet=not show)
+        self.line = Progress("study", total, quiet=not show, unit="case", every=True)
         self.line.update(self.done, self._note())
 
     def _note(self) -> str:
