@@ -752,7 +752,7 @@ add("load_boundary", lambda **kw: st.load_boundary(**kw), lambda: {"path": FX.bo
     lambda b, a: check_receptance(b.receptance(F3)))
 add("export_system", lambda **kw: st.export_system(**kw),
     lambda: {"system": st.paper_table4(), "path": fresh(".json"), "format": None, "track": "slab",
-             "band": (3.0, 300.0)},
+             "band": (3.0, 300.0), "track_damping": "viscous"},
     kinds={"format": _FORMATS})
 for _s, _loader in (("json", "load_system_json"), ("csv", "load_system_csv"), ("mat", "load_system_mat")):
     add(_loader, functools.partial(lambda n, **kw: getattr(st, n)(**kw), _loader),

@@ -190,6 +190,13 @@ def test_fit_then_export_in_every_format(tmp_path):
                        if len(row) == 2}
     assert json.loads(csv_conventions["track"]) == st.slab_track().name
     assert json.loads(csv_conventions["band_hz"]) == [3.0, 300.0]
+    # ... and the damping of that (hysteretic) track: the csv and mat carry it on, a .bdf warns on stderr
+    assert json.loads(csv_conventions["track_damping"]) == "hysteretic"
+    assert json.loads(system_file.read_text())["conventions"]["track_damping"] == "hysteretic"
+    bdf = run("export", tmp_path / "export.mat", "-o", tmp_path / "end.bdf")
+    assert bdf.returncode == 0 and "fitted to the hysteretic track" in bdf.stderr
+    assert '"track_damping":"hysteretic"' in "".join(
+        line[2:] for line in (tmp_path / "end.bdf").read_text().splitlines() if line.startswith("$|")).replace(" ", "")
     # The .mat matrices themselves, as a MATLAB user sees them, reproduce the receptance.
     mat = scipy.io.loadmat(tmp_path / "export.mat")
     m, c, k = (np.asarray(mat[n], dtype=float) for n in ("M", "C", "K"))

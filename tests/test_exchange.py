@@ -379,6 +379,38 @@ def test_every_end_file_records_the_track_s_damping_and_a_hysteretic_end_warns_f
     assert "damping is viscous (causal)" in _words((tmp_path / "v.inp").read_text(), "**")
 
 
+def test_an_equivalent_system_s_files_record_the_track_s_damping_and_a_hysteretic_one_warns(tmp_path):
+    """The paper-style system has no record of its own: ``track_damping`` writes it in each format,
+    the loaders check it, and a .bdf or .inp of a hysteretic track's system warns at the user's line."""
+    import warnings
+
+    system = st.paper_table4()  # fitted to the paper's (hysteretic) slab track
+    for suffix, load in (("json", st.load_system_json), ("csv", st.load_system_csv), ("mat", st.load_system_mat)):
+        path = st.export_system(system, tmp_path / f"s.{suffix}", track="slab", track_damping="hysteretic")
+        assert load(path) == system
+    assert json.loads((tmp_path / "s.json").read_text())["conventions"]["track_damping"] == "hysteretic"
+    assert json.loads(scipy.io.loadmat(tmp_path / "s.mat")["conventions_json"][0])["track_damping"] == "hysteretic"
+    for suffix in ("bdf", "inp"):
+        with pytest.warns(UserWarning, match="fitted to the hysteretic track 'slab'") as caught:
+            text = st.export_system(system, tmp_path / f"s.{suffix}", track="slab",
+                                    track_damping="hysteretic").read_text()
+        assert len(caught) == 1 and caught[0].filename == __file__
+        assert "damping is hysteretic (loss factors, not causal)" in _words(text, "$" if suffix == "bdf" else "**")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        st.export_system(system, tmp_path / "v.bdf", track_damping="viscous")
+        st.export_system(system, tmp_path / "u.inp")  # not recorded: no warning, no claim in the file
+    assert "damping is viscous (causal)" in _words((tmp_path / "v.bdf").read_text(), "$")
+    assert "damping is" not in _words((tmp_path / "u.inp").read_text(), "**")
+    with pytest.raises(st.BadInput, match="track_damping must be one of"):
+        st.export_system(system, tmp_path / "x.json", track_damping="Hysteretic")
+    data = json.loads((tmp_path / "s.json").read_text())
+    data["conventions"]["track_damping"] = "coulomb"
+    (tmp_path / "bad.json").write_text(json.dumps(data))
+    with pytest.raises(st.BadInput, match=r"bad.json: conventions\['track_damping'\] must be one of"):
+        st.load_system_json(tmp_path / "bad.json")
+
+
 def test_a_file_recording_an_unknown_damping_model_is_refused(tmp_path):
     data = json.loads((DATA / "boundary_slab_viscous_24.json").read_text())
     data.setdefault("conventions", {})["track_damping"] = "coulomb"

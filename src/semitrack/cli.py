@@ -451,7 +451,7 @@ def cmd_fit(args: argparse.Namespace) -> int:
                          constrained=not args.unconstrained)
     progress.update(1)
     progress.close()
-    save_system_json(fit.system, out, track=track.name, band=(fmin, fmax))
+    save_system_json(fit.system, out, track=track.name, band=(fmin, fmax), track_damping=track.damping)
     bars = f"{args.bars} bar" + "s" * (args.bars != 1)
     print(f"fitted a {layout} equivalent system with {bars} to '{printable(track.name)}' ({track_kind(track)}) "
           f"over {fmin:g}-{fmax:g} Hz")
@@ -660,10 +660,11 @@ def cmd_export(args: argparse.Namespace) -> int:
     else:
         if args.mck:
             raise InputError("--mck applies to a boundary file; a system file is written as M, C, K already")
-        conventions = _file_header(args.system)[1]  # the track and band it was fitted on, carried on
+        conventions = _file_header(args.system)[1]  # the track, band and damping it was fitted on, carried on
         band = conventions.get("band_hz")
         export_system(source, out, format=fmt, track=conventions.get("track") or None,
-                      band=band if isinstance(band, list) and len(band) == 2 else None, **labels)
+                      band=band if isinstance(band, list) and len(band) == 2 else None,
+                      track_damping=conventions.get("track_damping") or None, **labels)
         what = f"a {source.kind} system with {source.n_dof} DOFs"
     print(f"{fmt} export of {what} written to {out}")
     return 0

@@ -214,16 +214,19 @@ def _check_system(system) -> MechanicalSystem:
     return system
 
 
-def _info(system: MechanicalSystem, track: str | None, band) -> tuple[str, object, str]:
+def _info(system: MechanicalSystem, track: str | None, band, damping: str | None = None) -> tuple[str, object, str]:
     """The track, band and track's damping model of a system: given, or from a MatrixSystem's info."""
     info = system.info if isinstance(system, MatrixSystem) else {}
-    damping = info.get("track_damping", "")
+    if damping is None:
+        damping = info.get("track_damping", "")
+        damping = damping if damping in TRACK_DAMPING else ""
     return (track if track is not None else str(info.get("track", ""))), \
-        (band if band is not None else info.get("band_hz")), (damping if damping in TRACK_DAMPING else "")
+        (band if band is not None else info.get("band_hz")), check_track_damping(damping)
 
 
 # --- JSON, CSV, MAT of a MatrixSystem --------------------------------------------------------------
-def matrix_system_to_dict(system: MechanicalSystem, track: str | None = None, band=None) -> dict:
+def matrix_system_to_dict(system: MechanicalSystem, track: str | None = None, band=None,
+                          track_damping: str | None = None) -> dict:
     """Plain data of any end system's matrices, with its conventions (format :data:`MATRIX_FORMAT`).
 
     Parameters
@@ -234,9 +237,11 @@ def matrix_system_to_dict(system: MechanicalSystem, track: str | None = None, ba
         The track it models (default: the system's ``info``).
     band : sequence of two floats, optional
         The band it was fitted on (Hz; default: the system's ``info``).
+    track_damping : {"", "hysteretic", "viscous"}, optional
+        The damping model of the track it was fitted on (default: the system's ``info``).
     """
     system = _check_system(system)
-    track, band, damping = _info(system, track, band)
+    track, band, damping = _info(system, track, band, track_damping)
     M, C, K = system.matrices()
     info = dict(system.info) if isinstance(system, MatrixSystem) else {"origin": f"{system.kind} equivalent system"}
     return {"format": MATRIX_FORMAT, "version": MATRIX_VERSION, "conventions": end_conventions(track, band, damping),
@@ -328,7 +333,7 @@ def _csv_data(text: str, source: str) -> dict:
 
 def save_matrix_system(system: MechanicalSystem, path: str | os.PathLike, track: str | None = None,
                        band=None, format: str | None = None, *, node: int | None = None,
-                       first_label: int | None = None) -> Path:
+                       first_label: int | None = None, track_damping: str | None = None) -> Path:
     """Write any end system's M, C, K with its conventions: ``.json``, ``.csv``, ``.mat``, ``.bdf``, ``.inp``.
 
     Parameters
@@ -349,6 +354,8 @@ def save_matrix_system(system: MechanicalSystem, path: str | os.PathLike, track:
     first_label : int, optional
         ``.bdf`` and ``.inp`` only: the label of the first internal DOF's scalar point or node
         (default :data:`FIRST_INTERNAL_LABEL`); the internal DOFs take the labels after it.
+    track_damping : {"", "hysteretic", "viscous"}, optional
+        The damping model of the track it was fitted on (default: the system's ``info``).
 
     Returns
     -------
@@ -362,9 +369,9 @@ def save_matrix_system(system: MechanicalSystem, path: str | os.PathLike, track:
     suffix = file_suffix(path, format)
     if suffix in (".bdf", ".inp"):
         write = save_nastran_dmig if suffix == ".bdf" else save_abaqus_matrix
-        return write(system, path, track, band, node=node, first_label=first_label)
+        return write(system, path, track, band, node=node, first_label=first_label, track_damping=track_damping)
     refuse_labels(suffix, node, first_label)
-    data = matrix_system_to_dict(system, track, band)
+    data = matrix_system_to_dict(system, track, band, track_damping)
     if suffix == ".json":
         return atomic_write(path, lambda fh: json.dump(data, fh, indent=1), binary=False)
     if suffix == ".csv":
@@ -501,12 +508,12 @@ def _labels(system: MechanicalSystem, node: int, first: int) -> list[tuple[int, 
     return ports + [(first + j, 0) for j in range(system.n_internal)]
 
 
-def _header(system: MechanicalSystem, comment: str, track, band, node: int, first: int,
+def _header(system: MechanicalSystem, comment: str, fitted_on: tuple, node: int, first: int,
             static: str) -> list[str]:
     """Comment lines of at most 72 characters (Nastran reads 80 columns, Abaqus 256): the conventions
     in words, the node mapping and limits, then the conventions as JSON split over lines ``<comment>|``
     (a reader joins them)."""
-    conv = end_conventions(*_info(system, track, band))
+    conv = end_conventions(*fitted_on)
     last = first + system.n_internal - 1
     words = (f"semitrack end system: {system.n_dof} DOFs ({system.n_internal} internal), SI units. "
              + conv["text"] + f" Ports on node {node}: {CODE_AXES['w']['note']} (DOF 2), "
@@ -537,9 +544,9 @@ def _static_lines(system: MechanicalSystem, comment: str, labels: list[tuple[int
     return lines + [f"{comment} {labels[2 + j][0]}, {float(T[j, 0])!r}, {float(T[j, 1])!r}" for j in range(T.shape[0])]
 
 
-def _hysteretic_warning(system: MechanicalSystem, track, band, suffix: str) -> None:
+def _hysteretic_warning(fitted_on: tuple, suffix: str) -> None:
     """Warn when a time-domain file is written for an end fitted to a hysteretic track."""
-    name, _, damping = _info(system, track, band)
+    name, _, damping = fitted_on
     if damping == "hysteretic":
         warn_user(f"export {suffix}: the end was fitted to the hysteretic track {name!r} (loss factors, not "
                   "causal); a time-domain code gets its causal fit, which follows that track less closely than "
@@ -576,7 +583,8 @@ def _dmig_lines(name: str, X: np.ndarray, labels: list[tuple[int, int]]) -> list
 
 
 def save_nastran_dmig(system: MechanicalSystem, path: str | os.PathLike, track: str | None = None,
-                      band=None, *, node: int | None = None, first_label: int | None = None) -> Path:
+                      band=None, *, node: int | None = None, first_label: int | None = None,
+                      track_damping: str | None = None) -> Path:
     """Write M, C, K as Nastran ``DMIG`` bulk data for ``K2GG``, ``B2GG``, ``M2GG`` (module docstring).
 
     Parameters
@@ -593,6 +601,8 @@ def save_nastran_dmig(system: MechanicalSystem, path: str | os.PathLike, track: 
         The grid of the user's end node that carries the ports (default 1).
     first_label : int, optional
         The first internal DOF's scalar point (default :data:`FIRST_INTERNAL_LABEL`).
+    track_damping : {"", "hysteretic", "viscous"}, optional
+        The damping model of the track it was fitted on (default: the system's ``info``).
 
     Returns
     -------
@@ -600,9 +610,10 @@ def save_nastran_dmig(system: MechanicalSystem, path: str | os.PathLike, track: 
     """
     system = _check_system(system)
     node, first = check_labels(system, node, first_label)
-    _hysteretic_warning(system, track, band, ".bdf")
+    fitted_on = _info(system, track, band, track_damping)
+    _hysteretic_warning(fitted_on, ".bdf")
     labels = _labels(system, node, first)
-    lines = _header(system, "$", track, band, node, first, "KSTAT")
+    lines = _header(system, "$", fitted_on, node, first, "KSTAT")
     lines += ["$ Case Control: K2GG = KEND, KENDR   B2GG = BEND, BENDR   M2GG = MEND, MENDR",
               "$ (each matrix is a leading part and its remainder: their sum is the double)",
               "$ A static or preload run: K2GG = KSTAT, KSTATR (the 2x2 static stiffness on",
@@ -631,7 +642,8 @@ def _code_static(system: MechanicalSystem) -> np.ndarray:
 
 
 def save_abaqus_matrix(system: MechanicalSystem, path: str | os.PathLike, track: str | None = None,
-                       band=None, *, node: int | None = None, first_label: int | None = None) -> Path:
+                       band=None, *, node: int | None = None, first_label: int | None = None,
+                       track_damping: str | None = None) -> Path:
     """Write M, C, K as Abaqus ``*MATRIX INPUT`` keywords for ``*MATRIX ASSEMBLE`` (module docstring).
 
     Parameters
@@ -648,6 +660,8 @@ def save_abaqus_matrix(system: MechanicalSystem, path: str | os.PathLike, track:
         The label of the user's end node that carries the ports (default 1).
     first_label : int, optional
         The node of the first internal DOF (default :data:`FIRST_INTERNAL_LABEL`).
+    track_damping : {"", "hysteretic", "viscous"}, optional
+        The damping model of the track it was fitted on (default: the system's ``info``).
 
     Returns
     -------
@@ -655,9 +669,10 @@ def save_abaqus_matrix(system: MechanicalSystem, path: str | os.PathLike, track:
     """
     system = _check_system(system)
     node, first = check_labels(system, node, first_label)
-    _hysteretic_warning(system, track, band, ".inp")
+    fitted_on = _info(system, track, band, track_damping)
+    _hysteretic_warning(fitted_on, ".inp")
     labels = [(label, max(dof, 1)) for label, dof in _labels(system, node, first)]  # internal: DOF 1 of a node
-    lines = _header(system, "**", track, band, node, first, "END_K_STATIC")
+    lines = _header(system, "**", fitted_on, node, first, "END_K_STATIC")
     lines[0:0] = ["** For Abaqus (*MATRIX INPUT, *MATRIX ASSEMBLE). Not for CalculiX: it has no matrix",
                   "** keyword for rotations or damping and skips these cards, running without the end."]
     lines += ["** END_K_STATIC: the 2x2 static stiffness, for a static or preload analysis:",

@@ -76,6 +76,7 @@ from ..base.files import atomic_write, check_input_path, file_suffix, read_json,
 from .exchange import (
     MATRIX_SUFFIXES,
     check_conventions,
+    check_track_damping,
     end_conventions,
     mat_conventions,
     refuse_labels,
@@ -173,7 +174,7 @@ def time_step_metadata(system: EquivalentSystem) -> dict[str, dict[str, Any]]:
 
 
 # --- dict / JSON ----------------------------------------------------------------------------------
-def system_to_dict(system: EquivalentSystem, *, track: str = "", band=None) -> dict[str, Any]:
+def system_to_dict(system: EquivalentSystem, *, track: str = "", band=None, track_damping: str = "") -> dict[str, Any]:
     """Plain-Python description of a system (the JSON layout above), with its conventions.
 
     Parameters
@@ -184,6 +185,8 @@ def system_to_dict(system: EquivalentSystem, *, track: str = "", band=None) -> d
         The track it was fitted on (recorded in the conventions; "" if not known).
     band : sequence of two floats, optional
         The band it was fitted on (Hz).
+    track_damping : {"", "hysteretic", "viscous"}
+        The damping model of the track it was fitted on (recorded in the conventions; "" if not known).
     """
     system = _check_system(system)
     names = system.dof_names()
@@ -204,7 +207,7 @@ def system_to_dict(system: EquivalentSystem, *, track: str = "", band=None) -> d
             "K": {"values": K.tolist(), "entry_units": _entry_units(names, "")},
         },
         "metadata": time_step_metadata(system),
-        "conventions": end_conventions(track, band),
+        "conventions": end_conventions(track, band, track_damping),
     }
 
 
@@ -254,6 +257,8 @@ def system_from_dict(data: dict[str, Any], source: str = "data") -> EquivalentSy
         if key not in data:
             raise InputError(f"{source}: missing key {key!r}")
     check_conventions(data.get("conventions"), source)
+    conventions = data.get("conventions") or {}
+    check_track_damping(conventions.get("track_damping", ""), f"{source}: conventions['track_damping']")
     params = {name: _numbers(values, source, f"parameters[{name!r}]")
               for name, values in _entries(data, "parameters", source).items()}
     params["layout"] = data["layout"]
@@ -266,7 +271,8 @@ def system_from_dict(data: dict[str, Any], source: str = "data") -> EquivalentSy
     return system
 
 
-def save_system_json(system: EquivalentSystem, path: str | os.PathLike, *, track: str = "", band=None) -> Path:
+def save_system_json(system: EquivalentSystem, path: str | os.PathLike, *, track: str = "", band=None,
+                     track_damping: str = "") -> Path:
     """Write ``system`` to a JSON file (atomically).
 
     Parameters
@@ -279,12 +285,14 @@ def save_system_json(system: EquivalentSystem, path: str | os.PathLike, *, track
         The track it was fitted on (recorded in the conventions).
     band : sequence of two floats, optional
         The band it was fitted on (Hz).
+    track_damping : {"", "hysteretic", "viscous"}
+        The damping model of the track it was fitted on (recorded in the conventions; "" if not known).
 
     Returns
     -------
     Path
     """
-    data = system_to_dict(system, track=track, band=band)
+    data = system_to_dict(system, track=track, band=band, track_damping=track_damping)
     return atomic_write(path, lambda fh: json.dump(data, fh, indent=1), binary=False)
 
 
@@ -322,7 +330,8 @@ def _fmt(x: float) -> str:
     return repr(float(x))
 
 
-def save_system_csv(system: EquivalentSystem, path: str | os.PathLike, *, track: str = "", band=None) -> Path:
+def save_system_csv(system: EquivalentSystem, path: str | os.PathLike, *, track: str = "", band=None,
+                    track_damping: str = "") -> Path:
     """Write ``system`` to one sectioned CSV file (format in the module docstring), atomically.
 
     Parameters
@@ -335,6 +344,8 @@ def save_system_csv(system: EquivalentSystem, path: str | os.PathLike, *, track:
         The track it was fitted on (recorded in the conventions).
     band : sequence of two floats, optional
         The band it was fitted on (Hz).
+    track_damping : {"", "hysteretic", "viscous"}
+        The damping model of the track it was fitted on (recorded in the conventions; "" if not known).
 
     Returns
     -------
@@ -359,7 +370,7 @@ def save_system_csv(system: EquivalentSystem, path: str | os.PathLike, *, track:
         w.writerow([name, PARAMETER_UNITS[name]] + cells + [""] * (N - len(cells)))
     w.writerow(["[conventions]"])
     w.writerow(["key", "value"])
-    w.writerows([key, json.dumps(value)] for key, value in end_conventions(track, band).items())
+    w.writerows([key, json.dumps(value)] for key, value in end_conventions(track, band, track_damping).items())
     for label, X in zip("MCK", system.matrices()):
         w.writerow([f"[{label}]"])
         w.writerow(["dof"] + names)
@@ -451,7 +462,8 @@ def _csv_number(cell: str, path: Path, where: str) -> float | int:
 
 
 # --- MAT --------------------------------------------------------------------------------------------
-def save_system_mat(system: EquivalentSystem, path: str | os.PathLike, *, track: str = "", band=None) -> Path:
+def save_system_mat(system: EquivalentSystem, path: str | os.PathLike, *, track: str = "", band=None,
+                    track_damping: str = "") -> Path:
     """Write ``system`` to a MATLAB .mat file (format 5) with :func:`scipy.io.savemat`, atomically.
 
     Parameters
@@ -464,6 +476,8 @@ def save_system_mat(system: EquivalentSystem, path: str | os.PathLike, *, track:
         The track it was fitted on (recorded in the conventions).
     band : sequence of two floats, optional
         The band it was fitted on (Hz).
+    track_damping : {"", "hysteretic", "viscous"}
+        The damping model of the track it was fitted on (recorded in the conventions; "" if not known).
 
     Returns
     -------
@@ -471,7 +485,7 @@ def save_system_mat(system: EquivalentSystem, path: str | os.PathLike, *, track:
     """
     system = _check_system(system)
     M, C, K = system.matrices()
-    conventions = end_conventions(track, band)
+    conventions = end_conventions(track, band, track_damping)
     content = {
         "format": FORMAT_NAME,
         "version": FORMAT_VERSION,
@@ -541,7 +555,8 @@ _WRITERS = {".json": save_system_json, ".csv": save_system_csv, ".mat": save_sys
 @renamed_keywords({"band_hz": "band"})
 def export_system(system: MechanicalSystem, path: str | os.PathLike,
                   format: Literal["json", "csv", "mat", "bdf", "inp"] | None = None, *, track: str | None = None,
-                  band=None, node: int | None = None, first_label: int | None = None) -> Path:
+                  band=None, node: int | None = None, first_label: int | None = None,
+                  track_damping: str | None = None) -> Path:
     """Write an end system as JSON, CSV, MAT, Nastran ``.bdf`` or Abaqus ``.inp``, atomically.
 
     A paper-style system (:class:`~.systems.EquivalentSystem`) is written with its parameters
@@ -568,6 +583,9 @@ def export_system(system: MechanicalSystem, path: str | os.PathLike,
     first_label : int, optional
         ``.bdf`` and ``.inp``: the scalar point or node of the first internal DOF (default
         9000001); the others follow it, clear of ``node``, at most 99999999.
+    track_damping : {"", "hysteretic", "viscous"}, optional
+        The damping model of the track it was fitted on, recorded in the file (default: the
+        system's own record, if any; a paper-style system has none, so give ``track.damping``).
 
     Returns
     -------
@@ -576,7 +594,8 @@ def export_system(system: MechanicalSystem, path: str | os.PathLike,
     Warns
     -----
     UserWarning
-        A ``.bdf`` or ``.inp`` file of an end fitted to a hysteretic track (its record says so).
+        A ``.bdf`` or ``.inp`` file of an end fitted to a hysteretic track (``track_damping`` or
+        its record says so).
 
     Raises
     ------
@@ -601,10 +620,13 @@ def export_system(system: MechanicalSystem, path: str | os.PathLike,
     if track is not None:
         check_string("track", track)
     band = None if band is None else check_band(band)
+    if track_damping is not None:
+        check_track_damping(track_damping)
     if not isinstance(system, MechanicalSystem):
         raise InputTypeError(f"system must be a MechanicalSystem (an EquivalentSystem or "
                              f"BroadbandBoundary.matrix_system()), got {type(system).__name__}")
     if isinstance(system, EquivalentSystem) and key in _WRITERS:
         refuse_labels(key, node, first_label)
-        return _WRITERS[key](system, path, track=track or "", band=band)
-    return save_matrix_system(system, path, track, band, format=key, node=node, first_label=first_label)
+        return _WRITERS[key](system, path, track=track or "", band=band, track_damping=track_damping or "")
+    return save_matrix_system(system, path, track, band, format=key, node=node, first_label=first_label,
+                              track_damping=track_damping)
