@@ -10,7 +10,9 @@ with execution ``off``, renders those outputs as they are. Nothing is kept betwe
 A cell that raises, or a notebook that passes its cell limit, is a warning with the notebook's
 name and the cell's traceback (``nbclient``'s error), and the notebook is rendered as far as it
 ran: with ``-W`` (CI) the build fails on it, as MyST-NB's ``force`` mode with ``allow_errors:
-false`` does; a reader's build without ``-W`` still gives the rest of the book. Each notebook's
+false`` does; a reader's build without ``-W`` still gives the rest of the book. So is an output
+that shows a reader a raw repr (``np.float64(2.5)``, ``array([...])``, a printed dict):
+:func:`raw_reprs`. Each notebook's
 wall time is logged as MyST-NB logs it ("Executed notebook in ... seconds"), so the build's log
 reads the same.
 """
@@ -18,6 +20,7 @@ reads the same.
 from __future__ import annotations
 
 import os
+import re
 import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
@@ -46,6 +49,29 @@ def kernel_environment(workers: int) -> dict[str, str]:
     if workers > 1:
         env.update(dict.fromkeys(THREAD_VARIABLES, "1"))
     return env
+
+
+#: What a reader should not see in a text output: numpy's scalar and array reprs, a printed dict.
+RAW_REPR = re.compile(r"\bnp\.(?:float|int|uint|bool|complex|str)\w*\(|\barray\(\[|^\{['\"]", re.MULTILINE)
+
+#: Outputs that MyST-NB renders from a richer form than their text (a table, a figure).
+RICH = ("text/html", "image/png", "image/svg+xml", "image/jpeg", "text/markdown", "text/latex")
+
+
+def raw_reprs(notebook) -> list[str]:
+    """Each text output of ``notebook`` (an nbformat node) that shows a raw repr, as ``cell N: line``.
+
+    Printed text and results shown as text only are read; a table or figure (HTML, an image) is
+    rendered from its rich form, so its text/plain fallback is not.
+    """
+    found = []
+    for number, cell in enumerate(notebook.cells, start=1):
+        for output in cell.get("outputs", ()):
+            data = output.get("data", {})
+            text = output.get("text", "") if output.get("output_type") == "stream" else (
+                "" if any(kind in data for kind in RICH) else data.get("text/plain", ""))
+            found += [f"cell {number}: {line.strip()[:120]}" for line in text.splitlines() if RAW_REPR.search(line)]
+    return found
 
 
 def toc_notebooks(root: Path, toc: Path) -> list[Path]:
@@ -113,6 +139,9 @@ def _execute_all(app) -> None:
             else:
                 logger.warning(f"{path.relative_to(root)} failed after {seconds:.1f} s: {error}",
                                type="semitrack", subtype="execution")
+            for line in raw_reprs(nbformat.reads(text, as_version=4)):
+                logger.warning(f"{path.relative_to(root)}: an output shows a raw repr ({line}): format it for a "
+                               "reader", type="semitrack", subtype="output")
     logger.info(f"all notebooks executed in {time.perf_counter() - began:.1f} s [semitrack]")
 
 

@@ -481,7 +481,7 @@ def weld_table(runs: Mapping[tuple[float, str], WeldRun], weld: DippedWeld, trac
         forces = p.response.track_forces
         rows[kmh] = {"P1 (kN)": p1 / 1e3, "P2 (kN)": p2 / 1e3,
                      "Jenkins P2 (kN)": jenkins_p2(wheel, weld.angle, kmh / 3.6, lumped) / 1e3,
-                     "peak, broadband vs pinned (%)": 100 * abs(fb.max() - fp.max()) / fp.max(),
+                     "peak, broadband vs pinned (% of peak)": 100 * abs(fb.max() - fp.max()) / fp.max(),
                      "history, largest difference (% of range)": 100 * np.abs(fb - fp).max() / (fp.max() - fp.min()),
                      "largest rail-seat force (kN)": forces.rail_seat.max() / 1e3,
                      "largest ballast force (kN)": (forces.ballast.max() / 1e3 if forces.ballast is not None
@@ -609,7 +609,7 @@ def change_rolling_table(cases: Mapping[str, tuple], boundaries: Mapping[str, Br
                 for label, model in models.items()}
         fs, fl = runs["short"].force, runs["long"].force
         rows[name] = {"largest force (kN)": fl.max() / 1e3,
-                      "peak, broadband vs pinned (%)": 100 * abs(fs.max() - fl.max()) / fl.max(),
+                      "peak, broadband vs pinned (% of peak)": 100 * abs(fs.max() - fl.max()) / fl.max(),
                       "history, largest difference (% of range)": 100 * np.abs(fs - fl).max() / (fl.max() - fl.min()),
                       "largest rail-seat force (kN)": runs["long"].track_forces.rail_seat.max() / 1e3,
                       "DOFs broadband / pinned": f"{models['short'].n_dof} / {models['long'].n_dof}"}

@@ -207,6 +207,7 @@ def parameter_comparison(track: Track) -> pd.DataFrame:
     table = parameter_table(track)
     table[label] = [paper[key_of[symbol]] for symbol in table["symbol"]]
     table["deviation (%)"] = 100 * (table["value"] / table[label] - 1)
+    table.attrs["formats"] = {"deviation (%)": readable_number}  # an exact 0 reads "0", not a rounded "0.00"
     return table
 
 

@@ -248,7 +248,7 @@ def lengths_table(track: Track, changes: Mapping, boundary: BroadbandBoundary, v
         agreement = first.agreement if bays is None else [
             force_agreement(run.window, first.path, wheel=i, after=after) for i in range(len(vehicle.wheels))]
         row = {"bays behind = ahead": f"{first.ahead} (default)" if bays is None else str(bays)}
-        row.update({f"rms wheel {i + 1} (%)": 100 * a["rms"] for i, a in enumerate(agreement)})
+        row.update({f"rms, {name} (%)": 100 * a["rms"] for name, a in zip(vehicle.wheel_names, agreement)})
         row.update({"worst band (dB)": max(a["worst_level_difference"] for a in agreement),
                     "window DOFs": run.window_dofs, "window (s)": run.window_time})
         rows.append(row)

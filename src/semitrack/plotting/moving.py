@@ -65,9 +65,11 @@ def force_comparison_figure(run, reference, agreements: Sequence[dict], labels: 
     axes[0].set_xlabel("Time (ms)")
     axes[0].set_ylabel("Contact force, first wheel (kN)")
     markers = ("o", "s", "^", "v")
+    names = run.vehicle.wheel_names if run.vehicle is not None else tuple(
+        f"wheel {i + 1}" for i in range(len(agreements)))  # as the vehicle names them: "leading wheel", ...
     for i, a in enumerate(agreements):
         axes[1].semilogx(a["centres"], a["error_level"], marker=markers[i % len(markers)], lw=1.0,
-                         label=f"wheel {i + 1}" if len(agreements) > 1 else "the wheel")
+                         label=names[i] if len(agreements) > 1 else "the wheel")
     axes[1].axhline(-45.0, color="k", lw=0.8, ls=":", label="-45 dB")
     axes[1].set_xlabel("One-third-octave band centre (Hz)")
     axes[1].set_ylabel("Difference under the force (dB)")
