@@ -410,6 +410,20 @@ def test_figure_text_is_at_least_10_px_at_the_page_s_width():
     narrow.canvas.draw()
     assert {t.get_fontsize() for t in narrow.axes[0].get_xticklabels()} == {12.0}
 
+    @house_figure
+    def small():  # 4 in at 110 dpi: 440 px, shown at its own size, not scaled up to the column
+        fig, (ax,) = panels(1, figsize=(4.0, 3.0))
+        ax.plot([0, 1], [0, 1], label="a line")
+        ax.legend(fontsize=5.0)
+        ax.tick_params(labelsize=5.0)
+        return fig, ax
+
+    fig, _ = small()
+    fig.canvas.draw()
+    assert fig.dpi * fig.get_figwidth() < PAGE_WIDTH_PX
+    sizes = [t.get_fontsize() for t in fig.findobj(mpl.text.Text) if t.get_text()]
+    assert sizes and min(sizes) * fig.dpi / 72.0 >= MIN_TEXT_PX - 1e-9  # px at its own size
+
 
 def test_the_shipped_fonts_are_found_whatever_the_font_cache_holds(monkeypatch):
     """A font cache another install wrote (no STIX in its list, as on a machine whose venv was removed):

@@ -40,18 +40,18 @@ def decay_table(rates: Mapping[str, TrackDecayRate]) -> pd.DataFrame:
     Returns
     -------
     pandas.DataFrame
-        Indexed by band (Hz): per track the rate (dB/m), the least attenuated wave (dB/m),
-        whether the band is valid, and whether the rate meets the limit; the limit (dB/m).
+        Indexed by band (Hz), with two column levels (track, quantity) so that each track's name
+        heads its columns once: ``("", "ISO 3095 limit (dB/m)")``, then per track its
+        ``"decay rate (dB/m)"``, ``"least attenuated wave (dB/m)"``, ``"valid"`` (the band passes
+        the standard's checks) and ``"meets the limit"`` (NaN where the standard sets none).
     """
     first = next(iter(rates.values()))
-    table = pd.DataFrame(index=pd.Index(first.nominal, name="band (Hz)"))
-    table["ISO 3095 limit (dB/m)"] = first.limits()
+    columns = {("", "ISO 3095 limit (dB/m)"): first.limits()}
     for name, tdr in rates.items():
-        table[f"{name}: decay rate (dB/m)"] = tdr.decay_rate
-        table[f"{name}: least attenuated wave (dB/m)"] = tdr.wave_attenuation
-        table[f"{name}: valid"] = tdr.valid
-        table[f"{name}: meets the limit"] = tdr.table()["meets ISO 3095"].to_numpy()
-    return table
+        columns |= {(name, "decay rate (dB/m)"): tdr.decay_rate,
+                    (name, "least attenuated wave (dB/m)"): tdr.wave_attenuation, (name, "valid"): tdr.valid,
+                    (name, "meets the limit"): tdr.table()["meets ISO 3095"].to_numpy()}
+    return pd.DataFrame(columns, index=pd.Index(first.nominal, name="band (Hz)"))
 
 
 def pinned_length_table(rates: Mapping[str, TrackDecayRate], spacings: Mapping[str, float], drop_db: float = 20.0,

@@ -75,16 +75,17 @@ _register_shipped_fonts()
 def legible_text(fig) -> None:
     """Raise a figure's text to at least :data:`MIN_TEXT_PX` when it is shown at the page's width.
 
-    A figure ``W`` inches wide is scaled to :data:`PAGE_WIDTH_PX`, so a font of ``s`` points shows
-    ``s / 72 * PAGE_WIDTH_PX / W`` px high: a wide multi-panel figure (13.8 in) would show its
-    12-pt text at 8 px. Text below the floor (ticks, labels, legends, titles) is raised to it.
+    A figure ``W`` inches wide at ``dpi`` wider than :data:`PAGE_WIDTH_PX` is scaled down to it,
+    so a font of ``s`` points shows ``s / 72 * PAGE_WIDTH_PX / W`` px high: a wide multi-panel
+    figure (13.8 in) would show its 12-pt text at 8 px. A narrower one is shown at its own size,
+    ``s / 72 * dpi`` px. Text below the floor (ticks, labels, legends, titles) is raised to it.
 
     Parameters
     ----------
     fig : matplotlib.figure.Figure
         The figure, changed in place.
     """
-    floor = MIN_TEXT_PX * 72.0 * fig.get_figwidth() / PAGE_WIDTH_PX  # pt
+    floor = MIN_TEXT_PX * 72.0 * max(fig.get_figwidth() / PAGE_WIDTH_PX, 1.0 / fig.dpi)  # pt: scaled down, or not
     for ax in fig.axes:
         for name, axis in (("x", ax.xaxis), ("y", ax.yaxis)):
             labels = axis.get_ticklabels(which="both")  # the sizes the axis draws at (set by the figure or rc)
