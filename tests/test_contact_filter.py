@@ -59,6 +59,9 @@ def test_a_filtered_roughness_scales_each_line_and_turns_the_negative_ones():
     (lambda: st.contact_filter([0.01], 1.0), "semi_length"),
     (lambda: st.contact_semi_length(st.Wheel(), poisson=0.5), "poisson"),
     (lambda: st.contact_semi_length(st.Wheel(), E=-1.0), "E"),
+    (lambda: st.contact_filtered(st.roughness_from_spectrum(30.0, [0.1, 0.01], [0.0, 0.0], period=0.2), st.Wheel(),
+                                 poisson=-0.0, E=1e6),
+     r"E=1e\+06 N/m\^2 and poisson=-0 give"),  # the radius these imply is refused by them, not by semi_length
 ])
 def test_bad_input_is_refused_by_name(call, name):
     with pytest.raises(st.BadInput, match=name):

@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.special import j1
 
-from ..base.checks import as_real_array, check_in_range, check_nonnegative, check_positive
+from ..base.checks import as_real_array, check_in_range, check_nonnegative, check_positive, shown
 from ..base.errors import InputError, InputTypeError
 from .roughness import Roughness
 from .wheel import Wheel
@@ -81,7 +81,13 @@ def contact_semi_length(wheel: Wheel, *, E: float = STEEL_E, poisson: float = ST
         raise InputError(f"poisson must be in [0, 0.5), got {poisson!r}")
     e_star = e / (2 * (1 - nu**2))
     radius = (0.75 * wheel.hertz_constant / e_star) ** 2
-    return float(np.sqrt(radius * wheel.static_approach))
+    a = float(np.sqrt(radius * wheel.static_approach))
+    lo, hi = SEMI_LENGTH_RANGE
+    if not lo <= a <= hi:  # the wheel's Hertz constant and these constants do not belong together
+        raise InputError(f"E={shown(e)} N/m^2 and poisson={shown(nu)} give the wheel (hertz_constant="
+                         f"{shown(wheel.hertz_constant)} N/m^1.5) a contact of radius {shown(a)} m, outside "
+                         f"{lo:g}-{hi:g} m: give the elastic constants its Hertz constant was computed with")
+    return a
 
 
 #: Roughness wavelengths the filter takes (m): from 1 nm (the filter is zero long before) to 1000 km.
