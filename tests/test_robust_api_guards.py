@@ -309,6 +309,11 @@ def test_a_receptance_beyond_the_meshs_probe_is_computed_and_said_to_be_unchecke
     (lambda: st.RandomTrack(BALLASTED, 0, 3, seed=2**64), ("seed must be below 2**64",)),
     (lambda: st.WavenumberSettings(j_max=2**64), ("j_max must be at most",)),  # held as an object
     (lambda: st.WavenumberSettings(dx=0.25), ("dx must be from",)),  # a receptance that is not passive
+    (lambda: st.WavenumberSettings(dx=1e-308), ("dx must be from 0.0001",)),  # a NaN receptance
+    (lambda: st.semi_infinite_receptance(SLAB, [100.0], method="wavenumber", dx=1e-6),
+     ("dx must be from 0.0001",)),  # a slope that lost its digits: 25 % off the exact receptance
+    (lambda: st.export_system(st.paper_table4(), "unused.json", track_damping=np.array([])),
+     ("track_damping must be one of",)),  # numpy's truth-value error
     (lambda: st.WheelFlat(1e308, shape="rounded"), ("length must be from",)),  # an OverflowError when used
     (lambda: st.cached_fit(SLAB, "slab", n_bars=1 + 1j), ("n_bars",)),  # named "an argument of type complex"
     (lambda: st.corrugation(1e-308, 0.05, 1e-6), ("speed must be from",)),  # named wavelength

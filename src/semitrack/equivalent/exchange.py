@@ -120,7 +120,7 @@ TRACK_DAMPING = ("", "hysteretic", "viscous")
 
 def check_track_damping(value, source: str = "track_damping") -> str:
     """A recorded damping model of the track: one of :data:`TRACK_DAMPING`, or the package's refusal."""
-    if value not in TRACK_DAMPING or not isinstance(value, str):
+    if not isinstance(value, str) or value not in TRACK_DAMPING:  # the type first: `array in tuple` raises
         raise InputError(f"{source} must be one of {', '.join(map(repr, TRACK_DAMPING))} (the track's damping "
                          f"model, '' if not recorded), got {str(value)[:40]!r}")
     return value
