@@ -152,3 +152,11 @@ settings.register_profile("ci", max_examples=25, deadline=None, derandomize=True
 settings.register_profile("long", max_examples=1000, deadline=None, database=None, suppress_health_check=_HEALTH,
                           print_blob=True)
 settings.load_profile("ci")
+
+
+@pytest.fixture
+def clean_environment(monkeypatch):
+    """No CI and no SEMITRACK_PROGRESS, whatever the machine running the tests sets (tests of progress bars)."""
+    monkeypatch.delenv("CI", raising=False)
+    monkeypatch.delenv("SEMITRACK_PROGRESS", raising=False)
+    return monkeypatch

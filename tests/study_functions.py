@@ -49,3 +49,12 @@ def spawns(x: int) -> dict:
 def echo(x: float, y: float = 0.0) -> dict:
     """Returns ``y`` as a result when it is not an input of the case."""
     return {"y": 10.0} if y == 0 else {"z": x + y}
+
+
+def with_a_bar(x: float) -> dict:
+    """A case whose work draws a progress bar of its own (the study silences it)."""
+    from semitrack.base.progress import Progress
+
+    with Progress("inner work", 2) as bar:
+        bar.update(2)
+    return {"y": 2 * x}

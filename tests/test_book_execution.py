@@ -85,13 +85,15 @@ def test_an_output_that_shows_a_raw_repr_is_found_and_a_formatted_one_is_not(exe
     """The build warns (and CI fails) on a printed numpy scalar, array or dict, not on formatted text,
     a string result, or a table whose text fallback is a repr."""
     path = _notebook(tmp_path / "reprs.ipynb", "import numpy as np\nprint([np.float64(2.5) * 3])",
-                     "print(f'{np.float64(2.5):.2f} m, {2:d} wheels')", "np.arange(3.0)",
-                     "print({'M': (6, 6)})", "'a string'", "import pandas as pd\npd.DataFrame({'a': [np.int64(1)]})")
+                     "print(f'{np.float64(2.5):.2f} m, {2:d} wheels; np.interp(x) and $G_{11}$ in words')",
+                     "np.arange(3.0)", "print({'M': (6, 6)})", "'a string'",
+                     "import pandas as pd\npd.DataFrame({'a': [np.int64(1)]})",
+                     "print('P1 (kN)', pd.Series([25.0, 31.0], index=[10, 20]).to_dict())", "print([np.True_])")
     text, _, error = execution.execute(path, 60, "python3", execution.kernel_environment(1))
     assert error is None
     found = execution.raw_reprs(nbformat.reads(text, as_version=4))
-    assert [line.split(":")[0] for line in found] == ["cell 1", "cell 3", "cell 4"]
-    assert "np.float64(7.5)" in found[0] and "array([0., 1., 2.])" in found[1]
+    assert [line.split(":")[0] for line in found] == ["cell 1", "cell 3", "cell 4", "cell 7", "cell 8"]
+    assert "np.float64(7.5)" in found[0] and "array([0., 1., 2.])" in found[1] and "{10: 25.0" in found[3]
 
 
 def test_a_failing_cell_is_reported_and_shown_where_it_failed(execution, tmp_path):

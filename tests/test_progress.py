@@ -8,23 +8,11 @@ import warnings
 from pathlib import Path
 
 import pytest
+from terminal import FakeTerminal
 
 import semitrack as st
 from semitrack.base import progress
-from semitrack.base.progress import Progress, progress_shown
-
-
-class FakeTerminal(io.StringIO):
-    def isatty(self):
-        return True
-
-
-@pytest.fixture
-def clean_environment(monkeypatch):
-    """No CI and no SEMITRACK_PROGRESS, whatever the machine running the tests sets."""
-    monkeypatch.delenv("CI", raising=False)
-    monkeypatch.delenv("SEMITRACK_PROGRESS", raising=False)
-    return monkeypatch
+from semitrack.base.progress import Progress, progress_shown, silenced
 
 
 def test_a_bar_is_drawn_on_a_terminal_with_its_count_and_note(clean_environment):
@@ -140,3 +128,56 @@ def test_fits_and_a_window_run_report_their_starts_and_steps(clean_environment, 
     run = st.wheel_rail_response(window, st.Wheel(), None, x=0.0, speed=50.0, dt=1e-4, duration=0.04, ramp=0.01)
     n = run.t.size - 1
     assert "window run" in term.getvalue() and f"{n}/{n}" in term.getvalue()
+
+
+def test_silenced_blocks_open_no_bar_and_a_study_silences_its_cases_work(clean_environment):
+    """Inside ``silenced()`` no bar opens (the CLI's --quiet, a study's cases); a study's own line stays."""
+    import study_functions as sf
+
+    term = FakeTerminal()
+    with silenced():
+        with Progress("hushed", 3, stream=term) as bar:
+            bar.update(3)
+    assert term.getvalue() == ""
+    with Progress("heard", 3, stream=term) as bar:
+        bar.update(3)
+    assert "heard" in term.getvalue()
+    term = FakeTerminal()
+    clean_environment.setattr(sys, "stderr", term)
+    st.run_study(sf.with_a_bar, [{"x": 1.0}, {"x": 2.0}])
+    assert "study: 100%" in term.getvalue() and "inner work" not in term.getvalue()
+    with Progress("inner work", 2, stream=term) as bar:  # outside a study the same work shows its bar
+        bar.update(2)
+    assert "inner work" in term.getvalue()
+    from semitrack.studies.runner import WORKER_ENVIRONMENT
+
+    assert WORKER_ENVIRONMENT["SEMITRACK_PROGRESS"] == "0"  # a dask worker's bars would garble the study's line
+
+
+def test_quiet_on_the_command_line_silences_the_package_s_bars_too(clean_environment, tmp_path):
+    """``semitrack fit --quiet``: neither the stage bar nor the fit's own bar (by start) is drawn."""
+    import semitrack.equivalent.multistart as multistart
+    from semitrack.cli import main
+    from semitrack.model.trackfile import track_to_toml
+
+    clean_environment.setattr(multistart, "LIBRARY_DELAY", 0.0)
+    track = tmp_path / "slab.toml"
+    track.write_text(track_to_toml(st.slab_track()))
+    for quiet, shown in ((False, True), (True, False)):
+        term = FakeTerminal()
+        clean_environment.setattr(sys, "stderr", term)
+        args = ["fit", str(track), "--bars", "1", "--band", "3", "300", "-o", str(tmp_path / f"s{quiet}.json")]
+        assert main(args + ["--quiet"] * quiet) == 0
+        assert ("equivalent fit" in term.getvalue()) is shown, term.getvalue()
+
+
+def test_a_finished_search_shows_what_it_did_as_the_whole_and_no_work_draws_no_bar(clean_environment):
+    term = FakeTerminal()
+    with Progress("search", 24, stream=term, unit="start") as bar:
+        bar.advance(9)
+        bar.finish()  # the search stopped at an early order
+    assert "9/9" in term.getvalue() and "100%" in term.getvalue()
+    empty = FakeTerminal()
+    with Progress("nothing", 0, stream=empty) as bar:
+        bar.update(0, "a note")
+    assert empty.getvalue() == ""

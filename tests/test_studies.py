@@ -25,6 +25,7 @@ import numpy as np
 import pandas as pd
 import pytest
 import study_functions as sf
+from terminal import FakeTerminal
 
 import semitrack as st
 from semitrack.studies.cases import _digest
@@ -237,30 +238,18 @@ def test_a_cache_folder_that_is_a_file_is_refused_before_any_case_runs(tmp_path)
     assert sf.ran(log) == []
 
 
-class FakeTerminal:
-    def __init__(self):
-        self.text = ""
-
-    def isatty(self):
-        return True
-
-    def write(self, s):
-        self.text += s
-
-    def flush(self):
-        pass
-
-
-def test_the_progress_line_shows_done_running_failed_and_the_time_left(monkeypatch):
+def test_the_progress_line_shows_done_running_failed_and_the_time_left(clean_environment):
     term = FakeTerminal()
-    monkeypatch.setattr(sys, "stderr", term)
+    clean_environment.setattr(sys, "stderr", term)
     st.run_study(sf.failing, [{"x": i} for i in range(4)])
-    assert "study: 100%" in term.text and "4/4" in term.text and "2 failed" in term.text and "s left" in term.text
-    assert "1 running" in term.text and term.text.endswith("\n")
+    text = term.getvalue()
+    assert "study: 100%" in text and "4/4" in text and "2 failed" in text and "s left" in text
+    assert "1 running" in text and text.endswith("\n")
     quiet = FakeTerminal()
-    monkeypatch.setattr(sys, "stderr", quiet)
+    clean_environment.setattr(sys, "stderr", quiet)
     st.run_study(sf.failing, [{"x": 0}], progress=False)
-    assert quiet.text == ""
+    assert quiet.getvalue() == ""
+    assert st.run_study(sf.failing, [], progress=True).empty and term.getvalue() == text  # no cases: no bar
 
 
 def test_blas_runs_on_one_thread_inside_each_case():

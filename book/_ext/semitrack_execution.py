@@ -52,7 +52,8 @@ def kernel_environment(workers: int) -> dict[str, str]:
 
 
 #: What a reader should not see in a text output: numpy's scalar and array reprs, a printed dict.
-RAW_REPR = re.compile(r"\bnp\.(?:float|int|uint|bool|complex|str)\w*\(|\barray\(\[|^\{['\"]", re.MULTILINE)
+RAW_REPR = re.compile(r"\bnp\.(?:float|u?int|complex)\d*\(|\bnp\.(?:bool|str|bytes)_\(|\bnp\.(?:True|False)_"
+                      r"|\b\w*array\(\[|\{\s*(?:'[^']*'|\"[^\"]*\"|-?\d[\w.+-]*|\()\s*[:,]")
 
 #: Outputs that MyST-NB renders from a richer form than their text (a table, a figure).
 RICH = ("text/html", "image/png", "image/svg+xml", "image/jpeg", "text/markdown", "text/latex")

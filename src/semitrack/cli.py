@@ -42,7 +42,7 @@ from .base.errors import BadInput, caused_by_interrupt
 from .base.errors import InputError as PackageInputError
 from .base.files import atomic_write, check_input_path, check_output_path, read_text
 from .base.paper_values import FIT_BANDS, PAPER_GRID_BAND, PAPER_GRID_STEP
-from .base.progress import Progress
+from .base.progress import Progress, silenced
 from .equivalent.io import export_system, load_system_json, save_system_json
 from .model.trackfile import EXAMPLES, TrackFileError, example_path, load_track_toml
 from .model.tracks import Track, ballasted_track, slab_track
@@ -1192,7 +1192,8 @@ def run(args: argparse.Namespace) -> int:
     with warnings.catch_warnings():
         warnings.showwarning = functools.partial(_warning, command)
         try:
-            code = args.func(args)
+            with silenced() if getattr(args, "quiet", False) else contextlib.nullcontext():  # the package's bars too
+                code = args.func(args)
             if sys.stdout is not None:
                 emit("")  # flushes what print() left in the buffer: a full disk is reported now, not at exit
             return code

@@ -4,29 +4,37 @@ A bar is drawn only where someone watches:
 
 - on a terminal (the stream's ``isatty()``), or in a Jupyter kernel's output stream, so output
   redirected to a file or a pipe, and CSV written to stdout, never holds progress text;
-- never when the caller asks for quiet (the command line's ``--quiet``), when the environment
-  variable ``CI`` is set (as CI services set it), or when ``SEMITRACK_PROGRESS=0``. The book's
-  build sets ``SEMITRACK_PROGRESS=0`` in its kernels, so the rendered pages hold no bars.
+- never when the caller asks for quiet (the command line's ``--quiet``), inside :func:`silenced`
+  (the command line's ``--quiet`` for the package's own bars; a study's cases, whose study draws
+  one bar for them all), when the environment variable ``CI`` is set (as CI services set it), or
+  when ``SEMITRACK_PROGRESS=0``. The book's build sets ``SEMITRACK_PROGRESS=0`` in its kernels,
+  and a study's dask workers in theirs, so the rendered pages hold no bars.
   ``SEMITRACK_PROGRESS=1`` draws bars even where the stream is not a terminal.
 
 Work inside the package opens its bars with a :data:`LIBRARY_DELAY` of a second: a call that ends
-sooner draws nothing, so short calls and tests stay silent and only long work reports.
+sooner draws nothing, so short calls and tests stay silent and only long work reports. Its bars
+are kept on the screen when they finish only when no other bar is open (a bar inside the command
+line's stage bar goes when it is done).
 """
 
 from __future__ import annotations
 
 import os
 import sys
-import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
 from typing import TextIO
 
 from tqdm import tqdm
+
+from .notices import warn_user
 
 #: Seconds before a bar of the package's own long work first shows: shorter work draws nothing.
 LIBRARY_DELAY = 1.0
 
 _ON, _OFF = ("1", "on", "true", "yes"), ("0", "off", "false", "no")
 _warned_values: set[str] = set()
+_silenced = 0  # depth of the open silenced() blocks
 
 
 class _Bar(tqdm):
@@ -48,13 +56,24 @@ def _forced() -> bool | None:
         return False
     if value not in _warned_values:  # said once, not at every bar
         _warned_values.add(value)
-        warnings.warn(f"SEMITRACK_PROGRESS={value!r} is not one of 0/off/false/no or 1/on/true/yes: progress "
-                      "bars follow the terminal", UserWarning, stacklevel=3)
+        warn_user(f"SEMITRACK_PROGRESS={value!r} is not one of 0/off/false/no or 1/on/true/yes: progress bars "
+                  "follow the terminal")
     return None
 
 
 def _in_ci() -> bool:
-    return os.environ.get("CI", "").strip().lower() not in ("", "0", "false", "no")
+    return os.environ.get("CI", "").strip().lower() not in ("", *_OFF)
+
+
+@contextmanager
+def silenced() -> Iterator[None]:
+    """No progress bar opens inside this block (bars already open go on)."""
+    global _silenced
+    _silenced += 1
+    try:
+        yield
+    finally:
+        _silenced -= 1
 
 
 def _watched(stream) -> bool:
@@ -81,7 +100,7 @@ def progress_shown(stream: TextIO | None = None, quiet: bool = False) -> bool:
     -------
     bool
     """
-    if quiet:
+    if quiet or _silenced:
         return False
     forced = _forced()
     if forced is not None:
@@ -99,7 +118,7 @@ class Progress:
     label : str
         What is being done, e.g. ``"receptance"``.
     total : int
-        Number of steps.
+        Number of steps (none: no bar).
     quiet : bool
         Never draw.
     stream : file, optional
@@ -120,11 +139,12 @@ class Progress:
     def __init__(self, label: str, total: int, quiet: bool = False, stream: TextIO | None = None,
                  unit: str = "step", delay: float = 0.0, every: bool = False):
         self.stream = sys.stderr if stream is None else stream
-        self.enabled = progress_shown(self.stream, quiet)
-        self.label, self.total = label, max(int(total), 1)
+        self.label, self.total = label, max(int(total), 0)
+        self.enabled = self.total > 0 and progress_shown(self.stream, quiet)
         redraw = {"mininterval": 0, "miniters": 1} if every else {}
+        # leave=None: a finished bar stays only when it was the outermost (not inside a stage bar)
         self._bar = (_Bar(total=self.total, desc=label, unit=unit, file=self.stream, delay=float(delay),
-                          leave=True, dynamic_ncols=True, **redraw) if self.enabled else None)
+                          leave=None, dynamic_ncols=True, **redraw) if self.enabled else None)
 
     def update(self, done: int, note: str = "") -> None:
         """Show that ``done`` of ``total`` steps are finished, with an optional note after the bar."""
@@ -139,9 +159,23 @@ class Progress:
             self._bar.refresh()
 
     def advance(self, steps: int = 1, note: str = "") -> None:
-        """Show that ``steps`` more steps are finished."""
+        """Show that ``steps`` more steps are finished.
+
+        Parameters
+        ----------
+        steps : int
+            Steps finished since the last update.
+        note : str
+            Shown after the bar.
+        """
         if self._bar is not None:
             self.update(self._bar.n + int(steps), note)
+
+    def finish(self) -> None:
+        """The work ended, maybe before ``total`` (a search that stopped early): what was done is the whole."""
+        if self._bar is not None:
+            self._bar.total = max(self._bar.n, 1)
+            self._bar.refresh()
 
     def close(self) -> None:
         """End the bar's line."""

@@ -416,6 +416,7 @@ def fit_boundary(track: Track, band: tuple[float, float] = DEFAULT_BOUNDARY_BAND
     # Many small dense solves: threaded BLAS only adds contention (as in fit_equivalent).
     with serial_blas(), bar:
         results = _search_orders(orders, fit_order, tol)
+        bar.finish()  # the search may stop at an early order
     best = _choose(results)
     model, err, rounds, _ = results[best]
     report = passivity_report(model)

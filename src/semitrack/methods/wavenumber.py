@@ -75,7 +75,8 @@ class WavenumberSettings:
     j_max : int
         The sum over j runs from -j_max to j_max.
     dx : float
-        Step of the finite-difference slope (8 y1 - y2) / (6 dx) (m).
+        Step of the finite-difference slope (8 y1 - y2) / (6 dx) (m), from :data:`MIN_DX` (0.1 mm)
+        to :data:`MAX_DX` (0.08 m).
     """
 
     beta_max: float = PAPER_BETA_MAX

@@ -67,6 +67,12 @@ def contact_semi_length(wheel: Wheel, *, E: float = STEEL_E, poisson: float = ST
     float
         The contact's radius (m), 6.2 mm for the default wheel under 100 kN.
 
+    Raises
+    ------
+    InputError
+        Naming ``E`` or ``poisson``: out of range, or giving the wheel's Hertz constant a contact
+        radius outside :data:`SEMI_LENGTH_RANGE` (constants its constant was not computed with).
+
     Examples
     --------
     >>> import semitrack as st

@@ -43,7 +43,7 @@ def decay_table(rates: Mapping[str, TrackDecayRate]) -> pd.DataFrame:
         Indexed by band (Hz), with two column levels (track, quantity) so that each track's name
         heads its columns once: ``("", "ISO 3095 limit (dB/m)")``, then per track its
         ``"decay rate (dB/m)"``, ``"least attenuated wave (dB/m)"``, ``"valid"`` (the band passes
-        the standard's checks) and ``"meets the limit"`` (NaN where the standard sets none).
+        the standard's checks) and ``"meets the limit"`` (``pd.NA`` where the standard sets none).
     """
     first = next(iter(rates.values()))
     columns = {("", "ISO 3095 limit (dB/m)"): first.limits()}

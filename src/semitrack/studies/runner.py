@@ -34,7 +34,7 @@ import numpy as np
 from ..base.checks import brief, check_flag, check_int_at_least
 from ..base.errors import InputError, InputTypeError
 from ..base.files import check_cache_folder
-from ..base.progress import Progress
+from ..base.progress import Progress, silenced
 from ..base.threads import serial_blas
 from .cases import ERROR, case_key, check_cases, error_text, read_record, result_error, study_name, write_record
 
@@ -43,7 +43,8 @@ __all__ = ["run_study", "run_case", "MAX_LOCAL_WORKERS"]
 #: Most worker processes of a local cluster (``client=n``).
 MAX_LOCAL_WORKERS = 256
 #: The workers' environment: BLAS on one thread each, and no ``MALLOC_TRIM_THRESHOLD_`` (module docstring).
-WORKER_ENVIRONMENT = {"OMP_NUM_THREADS": 1, "MKL_NUM_THREADS": 1, "OPENBLAS_NUM_THREADS": 1}
+WORKER_ENVIRONMENT = {"OMP_NUM_THREADS": 1, "MKL_NUM_THREADS": 1, "OPENBLAS_NUM_THREADS": 1,
+                      "SEMITRACK_PROGRESS": "0"}  # a worker's bars would write over the study's line
 
 
 def run_case(func: Callable, case: dict, inputs: frozenset = frozenset()) -> tuple[dict | None, str, float]:
@@ -55,7 +56,7 @@ def run_case(func: Callable, case: dict, inputs: frozenset = frozenset()) -> tup
     """
     start = time.perf_counter()
     try:
-        with serial_blas():
+        with serial_blas(), silenced():  # the study's own bar counts the cases
             out = func(**case)
         result, error = result_error(out, inputs | set(case))
     except Exception as err:  # noqa: BLE001 - a failing case is recorded, and the study goes on
