@@ -444,6 +444,24 @@ def test_check_output_path_returns_the_target_of_a_link(tmp_path):
         check_output_path(3)
 
 
+def test_a_name_too_long_for_its_folder_is_refused_before_any_write(tmp_path, capsys):
+    """A file name that fits only without the temporary file's 14 characters, a folder name past the
+    system's 255 bytes and a path past 4096 are refused by name (they raised OSError ENAMETOOLONG)."""
+    boundary = st.load_boundary(Path(__file__).parent / "data" / "boundary_slab_viscous_24.json")
+    fits = tmp_path / ("x" * 236 + ".json")  # 241 bytes: with ".", ".<8 hex>.tmp" the 255 its folder holds
+    st.save_boundary(boundary, fits)
+    for path, words in ((tmp_path / ("x" * 237 + ".json"), "name a shorter file"),
+                        (tmp_path / ("y" * 300) / "b.json", "name a shorter path"),
+                        (tmp_path.joinpath(*["z" * 200] * 25, "b.json"), "name a shorter path")):
+        with pytest.raises(st.BadInput, match=words):
+            st.save_boundary(boundary, path)
+        with pytest.raises(st.BadInput, match=words):
+            check_output_path(path, "-o")
+    assert sorted(p.name for p in tmp_path.iterdir()) == [fits.name]  # nothing else written
+    code, _, err = cli(capsys, "receptance", example_path("slab"), "-o", tmp_path / ("x" * 300 + ".csv"))
+    assert_refused(code, err, "name a shorter file")
+
+
 # --- subprocesses: concurrency, pipes, closed stdout, signals -----------------------------------------
 def _interruptible() -> None:
     """In the child: Ctrl-C as a terminal delivers it. A shell that starts a job in the background

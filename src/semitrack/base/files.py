@@ -123,6 +123,7 @@ def check_output_path(path: str | os.PathLike, name: str = "path", follow_links:
     semitrack.base.errors.InputError: -o '/dev/null' is a character device: name a regular file to write
     """
     given = _as_path(path, name)
+    _check_name_length(given, given, name)  # before any stat: a name past the limit raises there
     if not follow_links:
         target = given
         mode = None if not os.path.lexists(given) or given.is_symlink() else given.stat().st_mode
@@ -133,6 +134,7 @@ def check_output_path(path: str | os.PathLike, name: str = "path", follow_links:
             raise InputError(f"{name} {str(given)!r}: the folder {str(given.parent)!r} does not exist")
         if not os.access(given.parent, os.W_OK | os.X_OK):
             raise InputError(f"{name} {str(given)!r}: the folder {str(given.parent)!r} is not writable")
+        _check_name_length(given, target, name)
         return target
     target = Path(os.path.realpath(given)) if given.is_symlink() else given
     if target.is_symlink():  # realpath stops at a loop
@@ -153,11 +155,35 @@ def check_output_path(path: str | os.PathLike, name: str = "path", follow_links:
         raise InputError(f"{name} {str(given)!r}: the folder {str(folder)!r} is not writable")
     if mode is not None and not os.access(target, os.W_OK):
         raise InputError(f"{name} {str(given)!r} is read-only: make it writable or name another file")
+    _check_name_length(given, target, name)
     return target
 
 
+#: What :func:`_temporary_name` adds to a file's name: ``.`` before it, ``.<8 hex>.tmp`` after it.
+_TEMPORARY_EXTRA = 14
+
+
+def _check_name_length(given: Path, target: Path, name: str) -> None:
+    """Refuse a file name its folder cannot hold with the temporary file's extra characters, and a
+    path the system cannot name (a folder's name or the whole path too long): the stat would raise."""
+    try:
+        limit = os.pathconf(target.parent, "PC_NAME_MAX")
+    except (OSError, ValueError):  # the folder does not exist (said next), or no such query: the common limit
+        limit = 255
+    whole = len(os.fsencode(str(target))) + _TEMPORARY_EXTRA
+    longest = max((len(os.fsencode(part)) for part in target.parts[:-1]), default=0)
+    if whole > 4096 or longest > limit:  # Linux's PATH_MAX; a folder's name as long as no folder holds
+        raise InputError(f"{name} {str(given)[:60]!r}...: the path is {whole - _TEMPORARY_EXTRA} bytes with a "
+                         f"folder name of {longest}, more than the system names (4096, {limit}): name a shorter path")
+    size = len(os.fsencode(target.name))
+    if size + _TEMPORARY_EXTRA > limit:
+        raise InputError(f"{name} {str(given)[:60]!r}...: its file name is {size} bytes, more than the "
+                         f"{limit - _TEMPORARY_EXTRA} its folder holds (with the temporary file's "
+                         f"{_TEMPORARY_EXTRA}): name a shorter file")
+
+
 def _temporary_name(target: Path) -> Path:
-    """A hidden name next to ``target`` for its temporary file."""
+    """A hidden name next to ``target`` for its temporary file (:data:`_TEMPORARY_EXTRA` characters more)."""
     return target.with_name(f".{target.name}.{secrets.token_hex(4)}.tmp")
 
 
