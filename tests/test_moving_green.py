@@ -87,6 +87,44 @@ def test_the_kernels_are_newmark_on_the_infinite_fe_track(slab_kernels):
         assert np.abs(kernels.release[lag, p0][:n] - ref).max() <= 1e-6 * np.abs(ref).max()
 
 
+def test_a_memory_shorter_than_a_spacing_sums_only_the_loads_that_reach_it():
+    """A bogie whose memory (40 steps) is far shorter than a support spacing (325 steps): the set-up
+    sums only the loads within the memory of each point, and every kernel value equals the plain sum over
+    frequencies of the cell's receptance, evaluated here point by point in cells 0 and +-1."""
+    from semitrack.fe.bloch import warped_s
+    from semitrack.fe.kernels import ALIAS_FACTOR, _frequencies
+
+    dt, L = 1e-4, 40
+    grid = grid_of(SLAB, 20.0, dt, st.Bogie().offsets)
+    kernels = moving_kernels(SLAB, NE, grid, L)
+    P = grid.positions
+    n_fft = 2 * ALIAS_FACTOR * (L // 2)
+    omega = _frequencies(n_fft, dt)
+    cell = BlochCell(SLAB, NE, grid.step * np.arange(P))
+    w = cell.waves(warped_s(omega, dt))
+    near = cell.observe(w.field)  # (n_f, q, p)
+
+    def plain(p, lag, k):
+        j, q = divmod(p + lag + k, P)
+        if j == 0:
+            G = near[:, q, p]
+        else:
+            shows, step, out = ((w.shows_right, w.step_right, w.out_right) if j > 0 else
+                                (w.shows_left, w.step_left, w.out_left))
+            G = np.array([shows[f, q] @ np.linalg.matrix_power(step[f], abs(j) - 1) @ out[f, :, p]
+                          for f in range(omega.size)])
+        return float(np.real(np.sum(2.0 / n_fft * G * np.exp(1j * omega * dt * k))))
+
+    peak = np.abs(kernels.impulse[0]).max()
+    checked = 0
+    for lag in grid.lags:
+        for p in (0, 7, P // 2, P - 3, P - 1):
+            for k in (0, 1, 17, L - 1):
+                assert abs(kernels.impulse[lag][p, k] - plain(p, lag, k)) <= 1e-12 * peak, (lag, p, k)
+                checked += 1
+    assert checked == 3 * 5 * 4 and P > 8 * L and len(grid.lags) == 3
+
+
 def test_the_grid_rounds_the_speed_and_the_offsets():
     grid = grid_of(BALLAST, 300 / 3.6, 2e-5, (0.0, -2.5))
     assert grid.positions == 360 and grid.offsets == (0, -1500)

@@ -29,7 +29,9 @@ The receptance from grid point p of cell 0 to grid point q of cell j is
 ``shows[q] @ T^(|j| - 1) @ out[:, p]`` (:class:`semitrack.fe.bloch.CellWaves`): for each cell the
 sum over frequencies and the cut's two DOFs is the real part of one matrix product
 (P x 2 n_f) (2 n_f x P), the work of the set-up; within cell 0 it is one product per element over
-its grid points.
+its grid points. Only the loads that reach a point within the memory enter its products
+(:func:`_sources`): cell 0's later loads and a short memory's far ones never do, which halves
+cell 0's work and makes a memory shorter than a spacing cost P L instead of P^2.
 """
 
 from __future__ import annotations
@@ -338,8 +340,18 @@ class _Sums:
     release: dict
 
 
-def _near(cell: BlochCell, w: CellWaves, omega: np.ndarray, dt: float, sums: _Sums, weights: dict) -> None:
-    """Cell 0's share: one product per element over its grid points, every kernel at once."""
+def _sources(P: int, j: int, q_lo: int, q_hi: int, lags: Sequence[int], L: int) -> slice:
+    """The load phases p of cell 0 whose kernels reach grid points ``q_lo..q_hi`` of cell j within the memory.
+
+    ``h[p, k]`` is read at ``k = j P + q - p - lag`` for ``0 <= k < L``: a short memory (L < P, a slow
+    wheel or a long step) needs only a band of the P x P pairs, and the set-up then costs P L, not P^2.
+    """
+    return slice(max(0, j * P + q_lo - max(lags) - L + 1), min(P, j * P + q_hi - min(lags) + 1))
+
+
+def _near(cell: BlochCell, w: CellWaves, omega: np.ndarray, dt: float, sums: _Sums, weights: dict,
+          L: int) -> None:
+    """Cell 0's share: one product per element over its grid points and the loads reaching them, all kernels."""
     P = cell.grid.size
     at_p = np.exp(-1j * dt * omega[:, None] * np.arange(P)[None, :])  # (n_f, P): the load at p
     field = w.field * at_p[:, None, :]
@@ -351,17 +363,20 @@ def _near(cell: BlochCell, w: CellWaves, omega: np.ndarray, dt: float, sums: _Su
     for points, dofs in cell.by_element:
         at_q = np.exp(1j * dt * omega[None, :] * points[:, None])  # (|Q|, n_f)
         sub = field[:, dofs, :]  # (n_f, 4, P)
-        if 0 in sums.impulse:
-            E = (at_q[None] * to_lag[:, None, :]).reshape(-1, omega.size)
-            Z = (E @ sub.reshape(omega.size, -1)).reshape(len(sums.lags), points.size, 4, P)
-            sums.impulse[0][:, :, points] += np.einsum("qa,rqap->rpq", cell.grid_weights[points], Z).real
+        for r, lag in enumerate(sums.lags if 0 in sums.impulse else ()):  # by lag: each reaches its own loads
+            src = _sources(P, 0, int(points.min()), int(points.max()), [lag], L)
+            if src.start >= src.stop:
+                continue  # a wheel ahead of these points by more than the cell: it reaches them from cell 1 on
+            Z = ((at_q * to_lag[r]) @ sub[:, :, src].reshape(omega.size, -1)).reshape(points.size, 4, -1)
+            sums.impulse[0][r][src, points] += np.einsum("qa,qap->pq", cell.grid_weights[points], Z).real
         if 0 in sums.release:
             Z = np.einsum("ql,rl,lar->rqa", at_q, to_start, sub[:, :, p0])
             sums.release[0][:, points] += np.einsum("qa,rqa->rq", cell.grid_weights[points], Z).real
 
 
-def _far(cell: BlochCell, w: CellWaves, omega: np.ndarray, dt: float, sums: _Sums, weights: dict) -> None:
-    """The other cells' share: per cell one real matrix product over (frequency, wave) for every kernel."""
+def _far(cell: BlochCell, w: CellWaves, omega: np.ndarray, dt: float, sums: _Sums, weights: dict, L: int) -> None:
+    """The other cells' share: per cell one real matrix product over (frequency, wave) for every kernel,
+    over the loads that reach the cell within the memory."""
     P = cell.grid.size
     q = np.arange(P)
     at_p = np.exp(-1j * dt * omega[:, None] * q[None, :])
@@ -388,9 +403,10 @@ def _far(cell: BlochCell, w: CellWaves, omega: np.ndarray, dt: float, sums: _Sum
             power = j
             B = (V * np.exp(1j * dt * omega * side * j * P)[:, None, None]).transpose(0, 2, 1)  # (n_f, 2, P)
             if side * j in sums.impulse:
+                src = _sources(P, side * j, 0, P - 1, sums.lags, L)
                 Bl = (B[None] * to_lag[:, :, None, None]).transpose(1, 2, 0, 3).reshape(omega.size * 2, -1)
-                sums.impulse[side * j] += (A_re @ Bl.real - A_im @ Bl.imag).reshape(P, len(sums.lags), P
-                                                                                     ).transpose(1, 0, 2)
+                sums.impulse[side * j][:, src] += (A_re[src] @ Bl.real - A_im[src] @ Bl.imag).reshape(
+                    -1, len(sums.lags), P).transpose(1, 0, 2)
             if side * j in sums.release:
                 sums.release[side * j] += (A0 @ B.reshape(omega.size * 2, P)).real
 
@@ -474,8 +490,8 @@ def moving_kernels(track: Track, elements_per_bay: int | None, grid: KernelGrid,
             part = slice(lo, lo + FREQUENCY_BLOCK)
             w = cell.waves(warped_s(omega[part], dt))
             block_weights = {kind: value[part] for kind, value in weights.items()}
-            _near(cell, w, omega[part], dt, sums, block_weights)
-            _far(cell, w, omega[part], dt, sums, block_weights)
+            _near(cell, w, omega[part], dt, sums, block_weights, L)
+            _far(cell, w, omega[part], dt, sums, block_weights, L)
             bar.advance()
     w0 = cell.waves(np.zeros(1))
     loop = np.empty((len(lags), P, L))
