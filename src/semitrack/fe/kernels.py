@@ -319,11 +319,12 @@ def _scatter(block: np.ndarray, j: int, lag: int, out: np.ndarray, p0: int | Non
         keep = (k >= 0) & (k < L)
         out[k[keep]] += block[keep]
         return
-    p = np.arange(P)[:, None]
+    src = _sources(P, j, 0, P - 1, [lag], L)  # the rows with a value in the memory: a band when L < P
+    p = np.arange(src.start, src.stop)[:, None]
     k = j * P + np.arange(P)[None, :] - p - lag
     keep = (k >= 0) & (k < L)
     rows = np.broadcast_to(p, k.shape)[keep]
-    out[rows, k[keep]] += block[keep]
+    out[rows, k[keep]] += block[src][keep]
 
 
 @dataclass
@@ -413,8 +414,8 @@ def _far(cell: BlochCell, w: CellWaves, omega: np.ndarray, dt: float, sums: _Sum
 
 def _static_release(cell: BlochCell, w0: CellWaves, p0: int, j: int) -> np.ndarray:
     """The static receptance from cell 0's grid point p0 to the grid points of cell j (P,), from one zero frequency."""
-    if j == 0:
-        return cell.observe(w0.field)[0, :, p0].real
+    if j == 0:  # the loaded column alone: the whole P x P matrix of a slow wheel's grid was gigabytes
+        return cell.observe(w0.field[:, :, p0:p0 + 1])[0, :, 0].real
     out, step, shows = ((w0.out_right, w0.step_right, w0.shows_right) if j > 0 else
                         (w0.out_left, w0.step_left, w0.shows_left))
     return (shows[0] @ np.linalg.matrix_power(step[0], abs(j) - 1) @ out[0][:, p0]).real
