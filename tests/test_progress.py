@@ -177,6 +177,11 @@ def test_a_finished_search_shows_what_it_did_as_the_whole_and_no_work_draws_no_b
         bar.advance(9)
         bar.finish()  # the search stopped at an early order
     assert "9/9" in term.getvalue() and "100%" in term.getvalue()
+    quick = FakeTerminal()
+    with Progress("quick search", 24, stream=quick, delay=60.0) as bar:  # done before its delay: silent
+        bar.advance(3)
+        bar.finish()
+    assert quick.getvalue() == ""
     empty = FakeTerminal()
     with Progress("nothing", 0, stream=empty) as bar:
         bar.update(0, "a note")

@@ -175,7 +175,8 @@ class Progress:
         """The work ended, maybe before ``total`` (a search that stopped early): what was done is the whole."""
         if self._bar is not None:
             self._bar.total = max(self._bar.n, 1)
-            self._bar.refresh()
+            if self._bar.format_dict["elapsed"] >= self._bar.delay:  # short work stays silent
+                self._bar.refresh()
 
     def close(self) -> None:
         """End the bar's line."""
