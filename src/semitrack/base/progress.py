@@ -19,6 +19,7 @@ line's stage bar goes when it is done).
 
 from __future__ import annotations
 
+import contextvars
 import os
 import sys
 from collections.abc import Iterator
@@ -34,7 +35,8 @@ LIBRARY_DELAY = 1.0
 
 _ON, _OFF = ("1", "on", "true", "yes"), ("0", "off", "false", "no")
 _warned_values: set[str] = set()
-_silenced = 0  # depth of the open silenced() blocks
+#: Depth of the open :func:`silenced` blocks, per thread (a context variable: a worker's threads run cases apart).
+_SILENCED = contextvars.ContextVar("semitrack_progress_silenced", default=0)
 
 
 class _Bar(tqdm):
@@ -68,12 +70,11 @@ def _in_ci() -> bool:
 @contextmanager
 def silenced() -> Iterator[None]:
     """No progress bar opens inside this block (bars already open go on)."""
-    global _silenced
-    _silenced += 1
+    token = _SILENCED.set(_SILENCED.get() + 1)
     try:
         yield
     finally:
-        _silenced -= 1
+        _SILENCED.reset(token)
 
 
 def _watched(stream) -> bool:
@@ -100,7 +101,7 @@ def progress_shown(stream: TextIO | None = None, quiet: bool = False) -> bool:
     -------
     bool
     """
-    if quiet or _silenced:
+    if quiet or _SILENCED.get():
         return False
     forced = _forced()
     if forced is not None:
