@@ -189,8 +189,8 @@ def check_conventions(conventions, source: str) -> None:
     Raises
     ------
     InputError
-        If the record is not a mapping, or a field of :data:`CHECKED_CONVENTIONS` differs from
-        :func:`end_conventions`.
+        If the record is not a mapping, a field of :data:`CHECKED_CONVENTIONS` differs from
+        :func:`end_conventions`, or the recorded ``track_damping`` is not one of :data:`TRACK_DAMPING`.
     """
     if conventions is None:
         return
@@ -205,6 +205,7 @@ def check_conventions(conventions, source: str) -> None:
         if field in conventions and _plain(conventions[field]) != _plain(ours[field]):
             raise InputError(f"{source}: conventions[{field!r}] is {_plain(conventions[field])!r:.80}, not the "
                              f"package's {ours[field]!r}: convert the file to the package's conventions first")
+    check_track_damping(conventions.get("track_damping", ""), f"{source}: conventions['track_damping']")
 
 
 def _check_system(system) -> MechanicalSystem:

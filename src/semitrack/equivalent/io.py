@@ -257,8 +257,6 @@ def system_from_dict(data: dict[str, Any], source: str = "data") -> EquivalentSy
         if key not in data:
             raise InputError(f"{source}: missing key {key!r}")
     check_conventions(data.get("conventions"), source)
-    conventions = data.get("conventions") or {}
-    check_track_damping(conventions.get("track_damping", ""), f"{source}: conventions['track_damping']")
     params = {name: _numbers(values, source, f"parameters[{name!r}]")
               for name, values in _entries(data, "parameters", source).items()}
     params["layout"] = data["layout"]
