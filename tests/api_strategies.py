@@ -167,6 +167,16 @@ hostile_path = hs.one_of(_pick(HOSTILE_PATHS), _pick(HOSTILE_PATHS), hostile)
 hostile_callable = hs.one_of(_pick(HOSTILE_CALLABLES), hostile)
 
 
+def hostile_but(dear: Callable[[Any], bool]) -> hs.SearchStrategy:
+    """Hostile values without those ``dear(value)``: valid, bounded by their work guard, and dearer than
+    the suite's :data:`CALL_SECONDS` (each use says what they cost and where a test covers them)."""
+    return hostile.filter(lambda value: not dear(value))
+
+
+def _number_in(low: float, high: float) -> Callable[[Any], bool]:
+    return lambda v: isinstance(v, (int, float, np.number)) and not isinstance(v, (bool, np.bool_)) and low <= v <= high
+
+
 # --- the models the base calls use (built once per process, when first asked for) -----------------------
 class Fixtures:
     """The base calls' models, results and files, each built on first use and then shared (never mutated)."""
@@ -611,7 +621,10 @@ add("nominal_bands", lambda **kw: st.nominal_bands(**kw), lambda: {"centres": [1
 record("CentralResponse", lambda: st.central_response(FX.slab, F3))
 add("paper_frequency_table", lambda **kw: st.paper_frequency_table(**kw),
     lambda: {"track": FX.slab, "with_wavenumber": False, "rel_window": 0.1, "wavenumber_response": None},
-    lambda r, a: _frame_ok(r), weight=0.15, nan_ok=True)  # NaN: no extremum within rel_window (documented)
+    lambda r, a: _frame_ok(r), weight=0.15, nan_ok=True,  # NaN: no extremum within rel_window (documented)
+    # True: the wavenumber method over 500 frequencies, 12 s (measured); the slab and ballasted chapters run
+    # that sweep once and pass it as wavenumber_response
+    kinds={"with_wavenumber": hostile_but(lambda v: isinstance(v, (bool, np.bool_)) and bool(v))})
 add("find_extrema", lambda **kw: st.find_extrema(**kw),
     lambda: {"f": [1.0, 2.0, 3.0, 4.0, 5.0], "curves": {"a": np.array([1.0, 3.0, 1.0, 3.0, 1.0])}, "evaluate": None},
     lambda r, a: _frame_ok(r), kinds={"evaluate": hostile_callable})
@@ -871,7 +884,10 @@ add("moving_green_response", _quiet(lambda **kw: st.moving_green_response(**kw))
 add("moving_green_kernels", _quiet(lambda **kw: st.moving_green_kernels(**kw)),
     lambda: {"track": FX.viscous, "speed": 20.0, "dt": 1e-4, "offsets": (0.0,), "x": 0.0, "memory": 0.005,
              "elements_per_bay": 4, "cache": None},
-    lambda k, a: finite("kernel rows", k.rows(0)), weight=0.5)
+    lambda k, a: finite("kernel rows", k.rows(0)), weight=0.5,
+    # 0.1-4 s at 20 m/s and 0.1 ms: 300 x 1000-40 000 steps, up to MAX_KERNEL_WORK (0.5 s took 3.9 s, measured);
+    # longer memories are refused (the sizes below), the book's and test_moving_green.py's run
+    kinds={"memory": hostile_but(_number_in(0.1, 5.0))})
 record("MovingKernels", lambda: FX.kernels, then=lambda k: finite("kernel rows", k.rows(0)))
 add("MovingKernels.rows", method(lambda: FX.kernels, "rows"), lambda: {"lag": 0}, lambda r, a: finite("rows", r))
 record("ContactResponse", lambda: FX.response, then=lambda r: [finite("spectrum", s) for s in r.force_spectrum()])

@@ -48,6 +48,19 @@ def test_a_near_change_still_solves():
     assert h.shape == (1, 2, 2, 2) and np.all(np.isfinite(h))
 
 
+def test_a_perfect_track_s_core_encloses_the_points_alone_wherever_they_are():
+    """A perfect track's receptance 2 km from the origin is its receptance at the origin (one period
+    shifted 3334 times) and costs as little: the core once ran from support 0 to the points (3.5 s for a
+    run at x = 3 km, found by the property suite), and 600 km away it was refused."""
+    f, d = np.geomspace(10.0, 3000.0, 20), SLAB.spacing
+    near = st.InfiniteTrack(SLAB).receptance(f, 0.13, [0.13, 0.5])
+    for shift in (3334 * d, 10**6 * d):
+        far = st.InfiniteTrack(SLAB).receptance(f, 0.13 + shift, [0.13 + shift, 0.5 + shift])
+        assert np.abs(far - near).max() < 1e-9 * np.abs(near).max()
+    xs, _, x_left, x_right = st.InfiniteTrack(SLAB)._nodes(np.array([0.13 + 3334 * d]))
+    assert x_right - x_left < 3.5 * d and xs.size < 10  # a bay either side of the point's bay
+
+
 @pytest.mark.parametrize(("call", "words"), [
     (lambda: st.moving_green_kernels(BALLASTED, 1e-308, dt=1e-4), ("speed must be from",)),
     (lambda: st.roughness_from_spectrum(20.0).sampled(1e-4, 10**10), ("n=10000000000",)),

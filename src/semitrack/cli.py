@@ -79,7 +79,9 @@ class _Parser(argparse.ArgumentParser):
     """argparse with a one-line error message (exit code 2 as usual)."""
 
     def error(self, message):
-        self.exit(2, f"{self.prog}: error: {message}\n")
+        # argparse quotes the arguments it did not recognise as typed: a newline in one would split the line
+        one_line = message.replace("\r", "\\r").replace("\n", "\\n")
+        self.exit(2, f"{self.prog}: error: {one_line}\n")
 
 
 # ------------------------------------------------------------------------------------------

@@ -1018,8 +1018,13 @@ def fe_semi_infinite_receptance(track: Track, f: ArrayLike, n_bays: int = 200, e
 
 
 def _highest(f: ArrayLike) -> float:
-    """The highest of the frequencies asked (Hz), for the default mesh."""
-    return float(np.max(as_frequencies(f)))
+    """The highest of the frequencies asked (Hz), for the default mesh: at least 1 Hz (the coarsest
+    mesh is sized there and serves any lower frequency), at most the range a default mesh is sized for."""
+    top = float(np.max(as_frequencies(f)))
+    if top > MAX_MESH_FREQUENCY:
+        raise InputError(f"f must be at most {MAX_MESH_FREQUENCY:g} Hz without elements_per_bay (the range a "
+                         f"default mesh is sized for), got {top!r}")
+    return max(top, 1.0)
 
 
 def fe_central_receptance(track: Track, f: ArrayLike, n_bays: int = 200, elements_per_bay: int | None = None,
