@@ -557,3 +557,11 @@ def test_sigint_during_start_up_exits_without_traceback(track):
         assert p.returncode in (0, 130, -signal.SIGINT) and "Traceback" not in err, (delay, err)
         interrupted += p.returncode != 0
     assert interrupted >= 2  # the start-up itself was interrupted, not only finished runs
+
+
+def test_an_unrecognised_argument_with_a_newline_is_refused_on_one_line(capsys):
+    """argparse quotes what it did not recognise as typed: ``--band '\\n' 400`` once split the refusal
+    over two lines (found by the property suite, seed 31)."""
+    assert main(["decay", "--", "--band", "\n", "400", "--df", "20"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.endswith("\n") and "unrecognized arguments: \\n 400" in err

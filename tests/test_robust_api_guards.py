@@ -372,3 +372,13 @@ def test_the_command_line_reads_no_underscored_numbers(tmp_path, capsys):
     assert "invalid integer value: '1_0'" in capsys.readouterr().err
     assert main(["receptance", str(example_path("slab")), "--fmin", "1_00", "-o", str(tmp_path / "r.csv")]) == 2
     assert "invalid number value: '1_00'" in capsys.readouterr().err
+
+
+def test_the_default_mesh_serves_frequencies_below_1_hz_and_names_f_above_its_range():
+    """``f=0.5`` without elements_per_bay was refused naming f_max, a parameter the caller never gave (the
+    property suite, seed 31); the 1-Hz mesh serves it. Above 20 kHz the refusal names f."""
+    low = st.fe_central_receptance(SLAB, [0.5], n_bays=10)
+    assert low.shape == (1, 2, 2) and np.all(np.isfinite(low))
+    assert np.allclose(low[0], st.fe_central_receptance(SLAB, [0.5, 1.0], n_bays=10)[0], rtol=1e-12)  # the 1-Hz mesh
+    refused(lambda: st.fe_semi_infinite_receptance(SLAB, [3e4]), InputError, "f must be at most 20000",
+            "elements_per_bay", cpu=ONE_SECOND)
