@@ -169,7 +169,7 @@ hostile_callable = hs.one_of(_pick(HOSTILE_CALLABLES), hostile)
 
 def hostile_but(dear: Callable[[Any], bool]) -> hs.SearchStrategy:
     """Hostile values without those ``dear(value)``: valid, bounded by their work guard, and dearer than
-    the suite's :data:`CALL_SECONDS` (each use says what they cost and where a test covers them)."""
+    the suite's :data:`CALL_SECONDS` (each use says what they cost)."""
     return hostile.filter(lambda value: not dear(value))
 
 

@@ -39,6 +39,7 @@ from ..base.checks import (
     as_real_array,
     brief,
     check_choice,
+    check_in_range,
     check_int_at_least,
     check_positive,
     check_real,
@@ -1020,10 +1021,8 @@ def fe_semi_infinite_receptance(track: Track, f: ArrayLike, n_bays: int = 200, e
 def _highest(f: ArrayLike) -> float:
     """The highest of the frequencies asked (Hz), for the default mesh: at least 1 Hz (the coarsest
     mesh is sized there and serves any lower frequency), at most the range a default mesh is sized for."""
-    top = float(np.max(as_frequencies(f)))
-    if top > MAX_MESH_FREQUENCY:
-        raise InputError(f"f must be at most {MAX_MESH_FREQUENCY:g} Hz without elements_per_bay (the range a "
-                         f"default mesh is sized for), got {top!r}")
+    top = check_in_range("f", float(np.max(as_frequencies(f))), (0.0, MAX_MESH_FREQUENCY),
+                         "Hz, the range a default mesh is sized for; give elements_per_bay for more")
     return max(top, 1.0)
 
 
