@@ -124,6 +124,51 @@ def test_enforcement_reaches_passivity_on_a_floating_slab():
     assert bnd.max_error < 0.35  # measured 0.299: as good as the shipped design's fit
 
 
+def test_the_constrained_step_is_the_least_squares_optimum_under_the_cuts():
+    """The step through the triangular factor of ``[J r]`` (no Q formed) meets the optimality
+    conditions of the convex programme, which certify its optimum independently of the method:
+    feasible, and the gradient a non-negative combination of the binding cuts alone."""
+    from scipy.optimize import nnls
+
+    from semitrack.boundary.passivity import _constrained_step
+    rng = np.random.default_rng(5)
+    J, r = rng.normal(size=(40, 9)), rng.normal(size=40)
+    G = rng.normal(size=(60, 9))
+    h = G @ rng.normal(size=9) - 0.1 * rng.random(60)  # feasible (at that point)
+    free = np.linalg.lstsq(J, -r, rcond=None)[0]
+    assert np.any(G @ free < h)  # and the unconstrained optimum violates some
+    step, active = _constrained_step(J, r, G, h)
+    slack = G @ step - h
+    assert np.all(slack >= -1e-9) and active.size and np.all(np.abs(slack[active]) < 1e-9)
+    gradient = J.T @ (r + J @ step)  # of half the squared residual
+    multipliers, misfit = nnls(G[active].T, gradient)
+    assert misfit < 1e-6 * np.linalg.norm(gradient) and np.any(multipliers > 0)
+
+
+def test_a_hint_changes_the_least_distance_work_not_its_answer():
+    from semitrack.boundary.passivity import _least_distance
+    rng = np.random.default_rng(8)
+    M = rng.normal(size=(3000, 12))
+    h = M @ rng.normal(size=12) - 0.1 * rng.random(3000)  # feasible, and 0 is not
+    y, active = _least_distance(M, h)
+    for hint in (active, rng.choice(3000, 50, replace=False), np.array([2999, 10**6])):
+        y_hint, active_hint = _least_distance(M, h, hint)
+        assert np.allclose(y_hint, y, rtol=1e-10, atol=1e-12) and np.array_equal(active_hint, active)
+
+
+def test_the_fan_cuts_at_the_guard_grid_are_handed_over_once():
+    """They depend on the poles and D only, so a later round would only repeat them."""
+    from semitrack.boundary.passivity import _FixedCuts, _guard_omegas
+    model = _synthetic(seed=3)
+    fixed = _FixedCuts(model, _guard_omegas(model))
+    G1, unit1 = fixed.newly_near(model)
+    assert G1.shape[0] == unit1.size > 0
+    G2, _ = fixed.newly_near(model)
+    assert G2.shape[0] == 0  # the same model: nothing new
+    far = RationalEndStiffness(model.poles, 0 * model.coefficients, model.K0, model.D)  # Re Z = D: far inside
+    assert fixed.newly_near(far)[0].shape[0] == 0
+
+
 @pytest.fixture(scope="module")
 def fitted():
     """The paper's two tracks fitted once: the slab by the automatic order search (which fits 24
