@@ -33,6 +33,7 @@ import pandas as pd
 from numpy.typing import ArrayLike
 from scipy.signal import butter, sosfiltfilt
 
+from ..base.parallel import thread_map
 from ..boundary.fitting import BroadbandBoundary
 from ..fe.ends import EXACT, PINNED, BoundaryEnd
 from ..fe.models import TruncatedTrack
@@ -188,9 +189,10 @@ def several_wheel_table(model: TruncatedTrack, vehicles: Mapping[str, tuple[Vehi
     DataFrame
         Rows (vehicle, wheel); the largest band error (dB) and the band where it is.
     """
+    runs = thread_map(lambda case: wheel_rail_response(model, case[0], roughness, x=case[1], dt=dt, duration=duration),
+                      vehicles.values())
     rows = {}
-    for label, (vehicle, x) in vehicles.items():
-        res = wheel_rail_response(model, vehicle, roughness, x=x, dt=dt, duration=duration)
+    for label, res in zip(vehicles, runs):
         for i in range(len(res.wheels)):
             transfer = contact_transfer(res, band=band, wheel=i)
             j = int(np.argmax(np.abs(transfer.error_db)))
@@ -236,10 +238,14 @@ def _least_attenuation(track: Track, band: tuple[float, float]) -> float:
 
 @dataclass(frozen=True, eq=False)
 class WeldRun:
-    """A wheel rolled over a dipped weld on one model: the run and how long it took (s)."""
+    """A wheel rolled over a dipped weld on one model: the run, its cost and the model's size.
+
+    ``seconds`` is the CPU time of the run's thread (s): its cost whether or not other runs shared
+    the machine (:func:`weld_runs` runs them side by side).
+    """
 
     response: ContactResponse
-    wall: float
+    seconds: float
     n_dof: int
 
 
@@ -278,15 +284,16 @@ def weld_runs(track: Track, boundary: BroadbandBoundary, speeds: Sequence[float]
     bays = pinned_bays or reflection_free_bays(track, max(abs(start), abs(stop)))[0]
     models = {"broadband ends": TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name, system=boundary),
               "pinned, long": TruncatedTrack(track, bays, PINNED.name)}
-    out = {}
-    for kmh in speeds:
-        v = kmh / 3.6
-        for name, model in models.items():
-            t0 = time.perf_counter()
-            res = wheel_rail_response(model, wheel, profile=weld, x=start, speed=v, dt=dt,
-                                      duration=(stop - start) / v, watch_supports=watch, bending_at=[weld.x])
-            out[kmh, name] = WeldRun(res, time.perf_counter() - t0, model.n_dof)
-    return out
+    def run(key):
+        kmh, name = key
+        v, model = kmh / 3.6, models[name]
+        t0 = time.thread_time()
+        res = wheel_rail_response(model, wheel, profile=weld, x=start, speed=v, dt=dt,
+                                  duration=(stop - start) / v, watch_supports=watch, bending_at=[weld.x])
+        return WeldRun(res, time.thread_time() - t0, model.n_dof)
+
+    keys = [(kmh, name) for kmh in speeds for name in models]
+    return dict(zip(keys, thread_map(run, keys)))
 
 
 def p1_p2(response: ContactResponse, weld: DippedWeld, f_low: float = 200.0) -> tuple[float, float]:
@@ -345,10 +352,14 @@ def jenkins_table(track: Track, boundary: BroadbandBoundary, wheel: Wheel,
     """
     lumped = lumped_track(track)
     model = TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name, system=boundary)
+    def run(case):
+        length, angle, kmh = case
+        return wheel_rail_response(model, wheel, profile=DippedWeld(angle, length, 0.0), x=-2.0, speed=kmh / 3.6,
+                                   dt=2e-5, duration=4.0 / (kmh / 3.6))
+
     rows = {}
-    for length, angle, kmh in dips:
+    for (length, angle, kmh), res in zip(dips, thread_map(run, dips)):
         dip, v = DippedWeld(angle, length, 0.0), kmh / 3.6
-        res = wheel_rail_response(model, wheel, profile=dip, x=-2.0, speed=v, dt=2e-5, duration=4.0 / v)
         rows[f"{length:g} m, {1e3 * angle:g} mrad, {kmh:g} km/h"] = {
             "P2, time domain (kN)": p1_p2(res, dip)[1] / 1e3, "Jenkins (kN)": jenkins_p2(wheel, angle, v, lumped) / 1e3,
             "lost contact": res.lost_contact}
@@ -408,9 +419,10 @@ def slope_change_table(track: Track, boundary: BroadbandBoundary, wheel: Wheel, 
     lumped = lumped_track(track)
     model = TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name, system=boundary)
     profile, rows = slope_change(angle), {}
-    for kmh in speeds:
+    runs = thread_map(lambda kmh: wheel_rail_response(model, wheel, profile=profile, x=start, speed=kmh / 3.6, dt=dt,
+                                                      duration=(3.0 - start) / (kmh / 3.6)), speeds)
+    for kmh, res in zip(speeds, runs):
         v = kmh / 3.6
-        res = wheel_rail_response(model, wheel, profile=profile, x=start, speed=v, dt=dt, duration=(3.0 - start) / v)
         p1, p2 = _p1_p2_at(res, 0.0)
         jenkins = jenkins_p2(wheel, angle, v, lumped)
         rows[kmh] = {"P1 (kN)": p1 / 1e3, "P2, time domain (kN)": p2 / 1e3, "Jenkins (kN)": jenkins / 1e3,
@@ -489,7 +501,7 @@ def weld_table(runs: Mapping[tuple[float, str], WeldRun], weld: DippedWeld, trac
                      "largest bending at the weld (kN m)": forces.bending.max() / 1e3,
                      "lost contact": p.response.lost_contact,
                      "DOFs broadband / pinned": f"{b.n_dof} / {p.n_dof}",
-                     "time broadband / pinned (s)": f"{b.wall:.1f} / {p.wall:.1f}"}
+                     "CPU time broadband / pinned (s)": f"{b.seconds:.1f} / {p.seconds:.1f}"}
     return pd.DataFrame.from_dict(rows, orient="index").rename_axis("speed (km/h)")
 
 
@@ -522,15 +534,15 @@ def weld_convergence(track: Track, boundary: BroadbandBoundary, speed: float, we
     DataFrame
         Rows (elements per bay, dt in us): P1 and P2 (kN).
     """
-    rows = {}
     v = speed / 3.6
-    for ne in meshes:
-        model = TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name, system=boundary, elements_per_bay=ne)
-        for dt in dts:
-            res = wheel_rail_response(model, wheel, profile=weld, x=start, speed=v, dt=dt,
-                                      duration=(stop - start) / v)
-            p1, p2 = p1_p2(res, weld)
-            rows[model.elements_per_bay, dt * 1e6] = {"P1 (kN)": p1 / 1e3, "P2 (kN)": p2 / 1e3}
+    models = [TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name, system=boundary, elements_per_bay=ne) for ne in meshes]
+    cases = [(model, dt) for model in models for dt in dts]
+    runs = thread_map(lambda case: wheel_rail_response(case[0], wheel, profile=weld, x=start, speed=v, dt=case[1],
+                                                       duration=(stop - start) / v), cases)
+    rows = {}
+    for (model, dt), res in zip(cases, runs):
+        p1, p2 = p1_p2(res, weld)
+        rows[model.elements_per_bay, dt * 1e6] = {"P1 (kN)": p1 / 1e3, "P2 (kN)": p2 / 1e3}
     return pd.DataFrame.from_dict(rows, orient="index").rename_axis(["elements per bay", "dt (us)"])
 
 
@@ -563,9 +575,10 @@ def gap_runs(track: Track, boundary: BroadbandBoundary, gaps: Sequence[float], k
     """
     model = TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name, system=boundary, changes={support: {"kb": 0.0}})
     v = kmh / 3.6
-    return {g: wheel_rail_response(model, Wheel(primary_stiffness=1.2e6, primary_damping=1.5e4), x=start,
-                                   speed=v, dt=dt, duration=(stop - start) / v, ballast_gaps={support: g})
-            for g in gaps}
+    runs = thread_map(lambda g: wheel_rail_response(model, Wheel(primary_stiffness=1.2e6, primary_damping=1.5e4),
+                                                    x=start, speed=v, dt=dt, duration=(stop - start) / v,
+                                                    ballast_gaps={support: g}), gaps)
+    return dict(zip(gaps, runs))
 
 
 def change_rolling_table(cases: Mapping[str, tuple], boundaries: Mapping[str, BroadbandBoundary], wheel: Wheel,
@@ -597,16 +610,19 @@ def change_rolling_table(cases: Mapping[str, tuple], boundaries: Mapping[str, Br
     DataFrame
         One row per case.
     """
-    v, rows = kmh / 3.6, {}
+    v, rows, pairs = kmh / 3.6, {}, {}
     for name, (track, keywords, which, _) in cases.items():
         own = [track] + ([keywords["right"]] if "right" in keywords else [])
         bays = max(reflection_free_bays(t, max(abs(start), abs(stop)))[0] for t in own)
-        models = {"short": TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name,
-                                          system=tuple(boundaries[w] for w in which), **keywords),
-                  "long": TruncatedTrack(track, bays, PINNED.name, **keywords)}
-        runs = {label: wheel_rail_response(model, wheel, x=start, speed=v, dt=dt, duration=(stop - start) / v,
-                                           watch_supports=(-1, 0, 1))
-                for label, model in models.items()}
+        pairs[name] = {"short": TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name,
+                                               system=tuple(boundaries[w] for w in which), **keywords),
+                       "long": TruncatedTrack(track, bays, PINNED.name, **keywords)}
+    keys = [(name, label) for name, models in pairs.items() for label in models]
+    done = dict(zip(keys, thread_map(lambda key: wheel_rail_response(
+        pairs[key[0]][key[1]], wheel, x=start, speed=v, dt=dt, duration=(stop - start) / v, watch_supports=(-1, 0, 1)),
+        keys)))
+    for name, models in pairs.items():
+        runs = {label: done[name, label] for label in models}
         fs, fl = runs["short"].force, runs["long"].force
         rows[name] = {"largest force (kN)": fl.max() / 1e3,
                       "peak, broadband vs pinned (% of peak)": 100 * abs(fs.max() - fl.max()) / fl.max(),
@@ -651,15 +667,23 @@ def hanging_sleeper_table(track: Track, boundary: BroadbandBoundary, wheel: Whee
     watch = (support - 1, support, support + 1)
     perfect = TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name, system=boundary)
     hanging = TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name, system=boundary, changes={support: {"kb": 0.0}})
-    rows = {}
-    for kmh in speeds:
+    def run(key):
+        kmh, g = key
         v = kmh / 3.6
         kw = {"x": start, "speed": v, "dt": dt if kmh >= 100 else slow_dt, "duration": (stop - start) / v,
               "watch_supports": watch}
-        ref = wheel_rail_response(perfect, wheel, **kw).track_forces.ballast
+        if g is None:
+            return wheel_rail_response(perfect, wheel, **kw)
+        return wheel_rail_response(hanging, wheel, ballast_gaps={support: g}, **kw)
+
+    keys = [(kmh, g) for kmh in speeds for g in (None, *gaps)]
+    done = dict(zip(keys, thread_map(run, keys)))
+    rows = {}
+    for kmh in speeds:
+        ref = done[kmh, None].track_forces.ballast
         reference = ref[:, [0, 2]].max()
         for g in gaps:
-            res = wheel_rail_response(hanging, wheel, ballast_gaps={support: g}, **kw)
+            res = done[kmh, g]
             neighbours = res.track_forces.ballast[:, [0, 2]].max()
             rows[kmh, 1e3 * g] = {"neighbours' largest ballast force (kN)": neighbours / 1e3,
                                   "increase over the perfect track (%)": 100 * (neighbours / reference - 1),
