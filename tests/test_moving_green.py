@@ -400,3 +400,21 @@ def test_a_short_memory_is_warned_of_where_the_kernels_are_made(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error", RuntimeWarning)
         assert st.moving_green_kernels(SLAB, SPEED, DT, memory=0.15, elements_per_bay=NE).tail < 1e-3
+
+
+def test_the_set_up_s_parts_give_the_same_kernels_on_any_number_of_cores(monkeypatch):
+    """The frequency blocks are summed in parts (on threads where there are cores): the parts follow from
+    the problem alone, so one core and two give the same numbers bit for bit, and the one-part sum to
+    round-off."""
+    from semitrack.base import parallel
+    from semitrack.fe import kernels as kernel_module
+    grid = grid_of(SLAB, SPEED, DT, (0.0, -0.5))
+    runs = {}
+    for parts, cores in ((2, 1), (2, 2), (1, 1)):
+        monkeypatch.setattr(kernel_module, "PARTIAL_SUMS", parts)
+        monkeypatch.setattr(parallel, "available_cores", lambda cores=cores: cores)
+        runs[parts, cores] = moving_kernels(SLAB, NE, grid, 600)
+    assert np.array_equal(runs[2, 1].loop, runs[2, 2].loop)
+    assert all(np.array_equal(runs[2, 1].release[k], runs[2, 2].release[k]) for k in runs[2, 1].release)
+    peak = np.abs(runs[1, 1].loop).max()
+    assert 0 < np.abs(runs[2, 2].loop - runs[1, 1].loop).max() <= 1e-14 * peak  # summed otherwise, not copied

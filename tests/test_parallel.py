@@ -74,3 +74,11 @@ def test_a_study_s_runs_on_two_threads_equal_the_serial_ones_bit_for_bit(monkeyp
     for g in (1.0, 5e-4):
         assert np.array_equal(cases[1][g].force, cases[2][g].force)
         assert np.array_equal(cases[1][g].gaps.force, cases[2][g].gaps.force)
+
+
+def test_a_map_inside_an_item_runs_in_that_item_s_thread():
+    def inner(_):
+        outer = threading.get_ident()
+        return all(t == outer for t in thread_map(lambda _: threading.get_ident(), range(4), workers=4))
+
+    assert thread_map(inner, range(2), workers=2) == [True, True]

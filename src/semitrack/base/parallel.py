@@ -18,6 +18,7 @@ finish, those not started are cancelled).
 
 from __future__ import annotations
 
+import contextvars
 import os
 from collections.abc import Callable, Iterable
 from concurrent.futures import ThreadPoolExecutor
@@ -26,13 +27,19 @@ from typing import TypeVar
 from .progress import silenced
 from .threads import serial_blas
 
-__all__ = ["available_cores", "thread_map", "MAX_THREADS"]
+__all__ = ["available_cores", "in_worker", "thread_map", "MAX_THREADS"]
 
 T = TypeVar("T")
 R = TypeVar("R")
 
 #: Most threads :func:`thread_map` starts (more would only contend for the memory bus).
 MAX_THREADS = 8
+_WORKER = contextvars.ContextVar("semitrack_thread_map_worker", default=False)
+
+
+def in_worker() -> bool:
+    """Whether this code runs inside a :func:`thread_map` item (whose map already holds the cores)."""
+    return _WORKER.get()
 
 
 def available_cores() -> int:
@@ -55,7 +62,8 @@ def thread_map(func: Callable[[T], R], items: Iterable[T], workers: int | None =
         The items, in the order of the results.
     workers : int, optional
         Threads at most; default :func:`available_cores` (at most :data:`MAX_THREADS`). One runs
-        the items in turn in this thread.
+        the items in turn in this thread, and so does a map inside another's item
+        (:func:`in_worker`): the outer map already holds the cores.
 
     Returns
     -------
@@ -69,6 +77,7 @@ def thread_map(func: Callable[[T], R], items: Iterable[T], workers: int | None =
     """
     items = list(items)
     n = min(len(items), MAX_THREADS, available_cores() if workers is None else max(1, int(workers)))
+    n = 1 if in_worker() else n
     with serial_blas():
         if n <= 1:
             return [func(item) for item in items]
@@ -83,5 +92,6 @@ def thread_map(func: Callable[[T], R], items: Iterable[T], workers: int | None =
 def _silenced_call(func: Callable[[T], R], item: T) -> R:
     """``func(item)`` without progress bars (a new thread starts with a fresh context: the caller's
     silencing does not reach it)."""
+    _WORKER.set(True)  # this thread's own context: the flag goes with the thread
     with silenced():
         return func(item)

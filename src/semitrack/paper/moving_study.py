@@ -10,6 +10,7 @@ truncation" and of ``benchmarks/bench_moving.py``; each returns runs or a table
   (:func:`semitrack.moving_green_response`) and by the truncated FE model with broadband ends that
   holds the whole path (:func:`semitrack.wheel_rail_response`), the same mesh, time step, start
   and roughness; with the set-up's cost, its cost read back from the cache, and the steps' costs.
+* :func:`compare_cases`: :func:`compare_runs` for several cases side by side on the machine's cores.
 * :func:`force_agreement`: the two contact forces' agreement: the rms of the difference over the
   rms of the reference's fluctuation, and the one-third-octave band levels 50 Hz - 2.5 kHz of the
   forces (their level difference, dB) and of the difference (its level under the reference's, dB).
@@ -29,6 +30,9 @@ import numpy as np
 import pandas as pd
 
 from ..base.bands import third_octave_bands
+from ..base.errors import InputError
+from ..base.parallel import thread_map
+from ..base.threads import serial_blas
 from ..boundary.fitting import BroadbandBoundary
 from ..dynamics.factor import factorise
 from ..fe.ends import PINNED, BoundaryEnd
@@ -43,7 +47,8 @@ from ..model.tracks import Track
 from ..model.vehicle import as_vehicle
 from ..model.wheel import Wheel
 
-__all__ = ["MARGIN_BAYS", "TABLE_FORMATS", "rolling_roughness", "Comparison", "compare_runs", "force_agreement",
+__all__ = ["MARGIN_BAYS", "TABLE_FORMATS", "rolling_roughness", "Comparison", "compare_runs", "compare_cases",
+           "force_agreement",
            "moving_table", "impulse_run_step", "contact_table"]
 
 #: How :func:`moving_table`'s columns read best (for :func:`semitrack.paper.tables.styled`).
@@ -96,15 +101,15 @@ class Comparison:
     kernels : MovingKernels
         The kernels used.
     setup : float
-        Wall time of the kernels' set-up (s).
+        CPU time of the kernels' set-up (s; one thread, BLAS on it too).
     from_cache : float
-        Wall time to read them back from a cache folder in a fresh process memory (s).
+        CPU time to read them back from a cache folder in a fresh process memory (s).
     step_compiled, step_numpy : float
         Wall time of a step of the compiled loop and of the Python loop (us).
     truncated_dofs : int
         DOFs of the truncated model.
     truncated_time : float
-        Wall time of the truncated model's run (s).
+        CPU time of the truncated model's run (s; one thread).
     """
 
     label: str
@@ -149,35 +154,114 @@ def compare_runs(label: str, track: Track, boundary: BroadbandBoundary, vehicle,
     -------
     Comparison
     """
+    return _timed_python_step(_both_routes(label, track, boundary, vehicle, kmh, dt, duration, kernels),
+                              numpy_duration)
+
+
+def compare_cases(cases: Mapping[str, tuple], duration: float, shares: Mapping[str, str] | None = None,
+                  numpy_duration: float = 0.05) -> dict[str, Comparison]:
+    """:func:`compare_runs` for several cases, side by side on this machine's cores.
+
+    The cases' set-ups and runs go on threads (:func:`semitrack.base.parallel.thread_map`): the
+    compiled loops and the set-up's matrix products release the GIL, so on two cores two cases take
+    about the time of one, and every force is the one :func:`compare_runs` gives alone, bit for bit
+    (one BLAS thread in both). The costs are each thread's CPU time, which running beside another
+    case does not inflate; the Python loop's steps, which the GIL would slow, are timed after, alone.
+
+    Parameters
+    ----------
+    cases : mapping of str to tuple
+        ``{label: (track, boundary, vehicle, kmh, dt)}`` as :func:`compare_runs` takes them.
+    duration : float
+        Duration of every run (s).
+    shares : mapping of str to str, optional
+        ``{label: other label}``: the case reads the other's kernels (a bogie's for one of its
+        wheels, on the same track, speed and step), which are computed first.
+    numpy_duration : float
+        Duration of each Python loop's timed run (s).
+
+    Returns
+    -------
+    dict of str to Comparison
+        In the order of ``cases``.
+    """
+    shares = dict(shares or {})
+    for label, source in shares.items():
+        if label not in cases or source not in cases or source in shares:
+            raise InputError(f"shares must map a case to another case that computes its own kernels, got "
+                             f"{label!r}: {source!r} for the cases {list(cases)}")
+    def case_and_readers(label: str) -> list[_Routes]:
+        """The case, then on the same thread the cases that read its kernels."""
+        first = _both_routes(label, *cases[label], duration)
+        return [first] + [_both_routes(other, *cases[other], duration, first.kernels)
+                          for other, source in shares.items() if source == label]
+
+    done = {r.label: r for group in thread_map(case_and_readers, [c for c in cases if c not in shares]) for r in group}
+    return {label: _timed_python_step(done[label], numpy_duration) for label in cases}
+
+
+@dataclass(frozen=True, eq=False)
+class _Routes:
+    """Both routes' runs of a case and their costs, before the Python loop is timed."""
+
+    label: str
+    kmh: float
+    track: Track
+    green: ContactResponse
+    truncated: ContactResponse
+    kernels: MovingKernels
+    setup: float
+    from_cache: float
+    rough: Roughness
+    run: dict
+    vehicle: object
+    truncated_dofs: int
+    truncated_time: float
+
+
+def _both_routes(label: str, track: Track, boundary: BroadbandBoundary, vehicle, kmh: float, dt: float,
+                 duration: float, kernels: MovingKernels | None = None) -> _Routes:
+    """The kernels (timed from an empty cache and read back, unless given), the compiled run on them and
+    the truncated model's run, each cost its thread's CPU time (one BLAS thread: all of it on this thread)."""
     vehicle = as_vehicle(vehicle)
     speed = kmh / 3.6
     path = speed * duration
     x0 = -round(0.5 * path / track.spacing) * track.spacing  # the path centred on the model, from a mid-span
     setup = from_cache = float("nan")
-    if kernels is None:
-        with tempfile.TemporaryDirectory() as folder:
-            clear_kernel_memo()  # timed from nothing: this process keeps no kernels from before
-            start = time.perf_counter()
-            kernels = moving_green_kernels(track, speed, dt, vehicle.offsets, x=x0, cache=folder)
-            setup = time.perf_counter() - start
-            clear_kernel_memo(kernels)
-            start = time.perf_counter()
-            moving_green_kernels(track, speed, dt, vehicle.offsets, x=x0, cache=folder)
-            from_cache = time.perf_counter() - start
-    rough = rolling_roughness(kernels.grid.speed)
-    run = {"x": x0, "speed": speed, "dt": dt, "kernels": kernels}
-    moving_green_response(track, vehicle, rough, duration=0.03, **run)  # compile outside the timing
-    green = moving_green_response(track, vehicle, rough, duration=duration, **run)
-    numpy = moving_green_response(track, vehicle, rough, duration=numpy_duration, compiled=False, **run)
-    reach = np.abs(green.x).max() + abs(vehicle.offsets).max() + track.spacing
-    model = TruncatedTrack(track, int(np.ceil(reach / track.spacing)) + MARGIN_BAYS, BoundaryEnd.name, system=boundary,
-                           elements_per_bay=kernels.elements_per_bay)
-    start = time.perf_counter()
-    truncated = wheel_rail_response(model, green.vehicle, rough, x=x0, speed=green.speed, dt=dt,
-                                    duration=duration)  # the vehicle as run: its offsets on the grid
-    return Comparison(label, kmh, green, truncated, kernels, setup, from_cache,
-                      1e6 * green.elapsed / (green.t.size - 1), 1e6 * numpy.elapsed / (numpy.t.size - 1),
-                      model.n_dof, time.perf_counter() - start)
+    with serial_blas():
+        if kernels is None:
+            with tempfile.TemporaryDirectory() as folder:
+                clear_kernel_memo()  # timed from nothing: this process keeps no kernels from before
+                start = time.thread_time()
+                kernels = moving_green_kernels(track, speed, dt, vehicle.offsets, x=x0, cache=folder)
+                setup = time.thread_time() - start
+                clear_kernel_memo(kernels)  # read back as a fresh process would
+                start = time.thread_time()
+                moving_green_kernels(track, speed, dt, vehicle.offsets, x=x0, cache=folder)
+                from_cache = time.thread_time() - start
+        rough = rolling_roughness(kernels.grid.speed)
+        run = {"x": x0, "speed": speed, "dt": dt, "kernels": kernels}
+        moving_green_response(track, vehicle, rough, duration=0.03, **run)  # compile outside the timing
+        green = moving_green_response(track, vehicle, rough, duration=duration, **run)
+        reach = np.abs(green.x).max() + abs(vehicle.offsets).max() + track.spacing
+        model = TruncatedTrack(track, int(np.ceil(reach / track.spacing)) + MARGIN_BAYS, BoundaryEnd.name,
+                               system=boundary, elements_per_bay=kernels.elements_per_bay)
+        start = time.thread_time()
+        truncated = wheel_rail_response(model, green.vehicle, rough, x=x0, speed=green.speed, dt=dt,
+                                        duration=duration)  # the vehicle as run: its offsets on the grid
+        spent = time.thread_time() - start
+    return _Routes(label, kmh, track, green, truncated, kernels, setup, from_cache, rough, run, vehicle, model.n_dof,
+                   spent)
+
+
+def _timed_python_step(routes: _Routes, numpy_duration: float) -> Comparison:
+    """The case's :class:`Comparison`, with a step of the Python loop timed on the same kernels (us)."""
+    green = routes.green
+    numpy = moving_green_response(routes.track, routes.vehicle, routes.rough, duration=numpy_duration, compiled=False,
+                                  **routes.run)
+    return Comparison(routes.label, routes.kmh, green, routes.truncated, routes.kernels, routes.setup,
+                      routes.from_cache, 1e6 * green.elapsed / (green.t.size - 1),
+                      1e6 * numpy.elapsed / (numpy.t.size - 1), routes.truncated_dofs, routes.truncated_time)
 
 
 def impulse_run_step(track: Track, bays: int, dt: float, positions: int, elements_per_bay: int | None = None,
@@ -245,6 +329,8 @@ def force_agreement(green: ContactResponse, truncated: ContactResponse, wheel: i
     """
     column = (lambda a: a) if green.force.ndim == 1 else (lambda a: a[:, wheel])  # noqa: E731
     late = green.t >= after
+    if np.count_nonzero(late) < 2:
+        raise InputError(f"after={after!r} s leaves fewer than two steps of the {green.t[-1]:g}-s runs to compare")
     F, R = column(green.force)[late], column(truncated.force)[late]
     fluct = R - R.mean()
     rms = float(np.sqrt(np.mean((F - R) ** 2)) / np.sqrt(np.mean(fluct**2)))

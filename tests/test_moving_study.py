@@ -1,0 +1,55 @@
+"""The moving chapter's comparisons side by side (:func:`semitrack.paper.moving_study.compare_cases`)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import semitrack as st
+from semitrack.paper import moving_study as study
+
+SLAB = st.slab_track(damping="viscous")
+DT = 1e-4  # s: 72 steps per spacing at 300 km/h, a set-up of about a second
+
+
+@pytest.fixture(scope="module")
+def boundary():
+    return st.fit_boundary(SLAB, n_poles=24)
+
+
+@pytest.fixture(scope="module")
+def side_by_side(boundary):
+    cases = {"bogie": (SLAB, boundary, st.Bogie(), 300.0, DT), "one wheel": (SLAB, boundary, st.Wheel(), 300.0, DT)}
+    return study.compare_cases(cases, 0.15, shares={"one wheel": "bogie"}, numpy_duration=0.03)
+
+
+def test_cases_side_by_side_are_each_case_alone_bit_for_bit(boundary, side_by_side):
+    alone = study.compare_runs("bogie", SLAB, boundary, st.Bogie(), 300.0, DT, 0.15, numpy_duration=0.03)
+    both = side_by_side["bogie"]
+    assert np.array_equal(both.green.force, alone.green.force)
+    assert np.array_equal(both.truncated.force, alone.truncated.force)
+    assert np.array_equal(both.kernels.loop, alone.kernels.loop)
+    assert both.truncated_dofs == alone.truncated_dofs
+
+
+def test_a_case_that_shares_reads_the_other_s_kernels_untimed(side_by_side):
+    wheel, bogie = side_by_side["one wheel"], side_by_side["bogie"]
+    assert list(side_by_side) == ["bogie", "one wheel"]  # the order asked, not the order computed
+    assert wheel.kernels is bogie.kernels and np.isnan(wheel.setup) and np.isnan(wheel.from_cache)
+    assert bogie.setup > 0 and bogie.from_cache > 0 and bogie.truncated_time > 0
+    rows = study.moving_table(side_by_side)
+    assert (rows["rms difference (%)"] < 0.05).all()  # both routes, every wheel
+
+
+@pytest.mark.parametrize("shares", [{"one wheel": "trailer"}, {"lorry": "bogie"},
+                                    {"one wheel": "bogie", "bogie": "one wheel"}])
+def test_shares_must_name_cases_that_compute_their_own_kernels(boundary, shares):
+    cases = {"bogie": (SLAB, boundary, st.Bogie(), 300.0, DT), "one wheel": (SLAB, boundary, st.Wheel(), 300.0, DT)}
+    with pytest.raises(st.BadInput, match="shares must map a case to another case"):
+        study.compare_cases(cases, 0.05, shares=shares)
+
+
+def test_an_agreement_needs_steps_to_compare(side_by_side):
+    run = side_by_side["bogie"]
+    with pytest.raises(st.BadInput, match="after=0.2 s leaves fewer than two steps"):
+        study.force_agreement(run.green, run.truncated, after=0.2)
