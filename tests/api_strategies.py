@@ -53,9 +53,11 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from hypothesis import assume
 from hypothesis import strategies as hs
 
 import semitrack as st
+from semitrack.base.checks import MAX_FREQUENCIES
 
 DATA = Path(__file__).parent / "data"
 F3 = (50.0, 200.0, 400.0)  #: the base calls' frequency grid (Hz): three points, resolved by 4 elements a bay
@@ -876,7 +878,10 @@ add("wheel_rail_response[window]", lambda **kw: st.wheel_rail_response(**kw),
     lambda r, a: _contact_ok(r), kinds={"profile": hs.one_of(hostile, hostile_callable)}, weight=0.7)
 add("convolution_response", _quiet(lambda **kw: st.convolution_response(**kw)),
     lambda: {"track": FX.slab, "wheel": st.Wheel(), "roughness": FX.roughness, "x": 0.0, **_RUN, "memory": 0.01},
-    lambda r, a: _contact_ok(r), weight=0.7)
+    lambda r, a: _contact_ok(r), weight=0.7,
+    # 1-20 s at 0.1 ms: 10 000-200 000 frequencies of the exact track, up to MAX_FREQUENCIES (3 s took 2.7 s for
+    # its 30 001, measured); longer memories are refused (the sizes below)
+    kinds={"memory": hostile_but(_number_in(1.0, 20.0))})
 add("moving_green_response", _quiet(lambda **kw: st.moving_green_response(**kw)),
     lambda: {"track": FX.viscous, "wheel": st.Wheel(), "roughness": None, "x": 0.0, "speed": 20.0, **_RUN,
              "memory": 0.005, "elements_per_bay": 4, "compiled": False, "kernels": FX.kernels},
@@ -1073,12 +1078,16 @@ class CliSurface:
         The option that names the result file, or None (results on stdout).
     weight : float
         As :attr:`Surface.weight`.
+    dear : dict
+        ``{key: dear(token)}``: hostile tokens for ``key`` that are valid, bounded by their work
+        guard and dearer than :data:`CALL_SECONDS`, which are not drawn (each use says what they cost).
     """
 
     command: str
     argv: Callable[[], list]
     output: str | None = None
     weight: float = 1.0
+    dear: dict = field(default_factory=dict)
 
     def keys(self) -> list[str]:
         return [k for k, _ in self.argv() if k]
@@ -1088,16 +1097,29 @@ def _track_path() -> str:
     return str(FX.track_file)
 
 
+def _dear_df(span: float, most: int = 2000) -> dict:
+    """``--df`` tokens that give a grid of more than ``most`` frequencies over ``span`` Hz, up to the
+    grid's guard (:data:`semitrack.base.checks.MAX_FREQUENCIES`): accepted, and seconds of work."""
+    def dear(token: str) -> bool:
+        try:
+            df = float(token)
+        except ValueError:
+            return False
+        return math.isfinite(df) and span / MAX_FREQUENCIES <= df < span / most
+    return {"--df": dear}
+
+
 CLI_SURFACES: dict[str, CliSurface] = {
     "example": CliSurface("example", lambda: [(None, "example"), ("name", "slab")]),
     "receptance": CliSurface("receptance", lambda: [
         (None, "receptance"), ("track", _track_path()), (None, "--fmin"), ("--fmin", "100"), (None, "--fmax"),
         ("--fmax", "200"), (None, "--df"), ("--df", "50"), (None, "--method"), ("--method", "transfer"),
-        (None, "-o"), ("-o", str(fresh(".csv"))), (None, "--quiet")], output="-o"),
+        (None, "-o"), ("-o", str(fresh(".csv"))), (None, "--quiet")], output="-o", dear=_dear_df(100.0)),
+    # --df 0.03125 over 100-400 Hz: 9601 frequencies of the exact track, 3.5 s alone (measured)
     "decay": CliSurface("decay", lambda: [
         (None, "decay"), ("track", _track_path()), (None, "--band"), ("--band", "100"), ("--band", "400"),
         (None, "--df"), ("--df", "20"), (None, "--frf"), ("--frf", "accelerance"), (None, "-o"),
-        ("-o", str(fresh(".csv")))], output="-o"),
+        ("-o", str(fresh(".csv")))], output="-o", dear=_dear_df(300.0)),
     "fit": CliSurface("fit", lambda: [
         (None, "fit"), ("track", _track_path()), (None, "--boundary"), (None, "--poles"), ("--poles", "4"),
         (None, "--band"), ("--band", "3"), ("--band", "300"), (None, "--seed"), ("--seed", "0"), (None, "-o"),
@@ -1111,7 +1133,7 @@ CLI_SURFACES: dict[str, CliSurface] = {
         (None, "-o"), ("-o", str(fresh(".mat")))], output="-o"),
     "features": CliSurface("features", lambda: [
         (None, "features"), ("track", _track_path()), (None, "--fmin"), ("--fmin", "3"), (None, "--fmax"),
-        ("--fmax", "300"), (None, "--df"), ("--df", "20"), (None, "--csv")], weight=0.5),
+        ("--fmax", "300"), (None, "--df"), ("--df", "20"), (None, "--csv")], weight=0.5, dear=_dear_df(297.0)),
     # the cheapest route as the base (a window's set-up fits a boundary): the wheels stand, the roughness passes
     "run": CliSurface("run", lambda: [
         (None, "run"), ("track", _track_path()), ("vehicle", str(FX.wheel_file)),
@@ -1150,5 +1172,7 @@ def cli_examples(draw, surface: CliSurface):
                                           if k not in ("int 3",)}).map(str), hs.sampled_from(HOSTILE_TEXT)))
         else:
             value = draw(hs.one_of(hs.sampled_from(HOSTILE_TEXT), hs.floats().map(repr)))
+        dear = surface.dear.get(key)
+        assume(dear is None or not dear(value))  # valid, bounded and dear: not this suite's to time
         argv[i] = value
     return argv, tuple((tokens[i][0], argv[i]) for i in chosen)

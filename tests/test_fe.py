@@ -510,6 +510,30 @@ def test_a_chain_is_solved_as_a_band_and_anything_else_by_a_sparse_lu():
         assert np.abs(A @ x - rhs).max() < 1e-12 * np.abs(rhs).max()
 
 
+def test_the_band_solve_is_lapack_s_banded_lu_bit_for_bit_and_refuses_a_singular_band():
+    """The storage handed to ``?gbsv`` directly gives what scipy's checked wrapper gives, real or complex;
+    a singular band raises as scipy's does."""
+    from semitrack.dynamics.factor import BandOrder, band_solve
+    rng = np.random.default_rng(11)
+    n, w = 200, 3
+    offsets = range(-w, w + 1)
+    for dtype in (float, complex):
+        diagonals = [rng.uniform(-1, 1, n - abs(k)) + (1j * rng.uniform(-1, 1, n - abs(k)) if dtype is complex else 0)
+                     for k in offsets]
+        A = sp.diags(diagonals, list(offsets), format="coo").astype(dtype)
+        order = BandOrder(np.arange(n), np.arange(n), w)  # the identity order: the band as built
+        rhs = rng.standard_normal((n, 3)).astype(dtype)
+        x = band_solve(order, order.solver_positions(A.row, A.col), A.data, rhs)
+        ab = np.zeros((2 * w + 1, n), dtype=dtype)
+        ab[w + A.row - A.col, A.col] = A.data
+        assert x.dtype == np.dtype(dtype) and np.array_equal(x, sl.solve_banded((w, w), ab, rhs))
+        singular = A.tocsr().copy()
+        singular[5, :] = 0.0
+        S = singular.tocoo()
+        with pytest.raises(np.linalg.LinAlgError, match="singular"):
+            band_solve(order, order.solver_positions(S.row, S.col), S.data, rhs)
+
+
 def test_time_step_factor_is_a_band_cholesky_and_matches_a_dense_solve():
     """The effective stiffness of a time step (symmetric positive definite) gets a banded Cholesky
     (dpbtrf/dpbtrs) in band order; a non-symmetric band a band LU (gbtrf/gbtrs); an arrow matrix

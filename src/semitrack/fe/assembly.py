@@ -153,7 +153,7 @@ class Pattern:
         pattern is not a narrow band (not a chain: :meth:`solve` falls back to a sparse LU)."""
         rows, cols = self.indices.astype(np.int64), self.keys // max(self.n, 1)
         order = BandOrder.of(rows, cols, self.n, self.hint)
-        return None if order is None else (order, order.general_positions(rows, cols))
+        return None if order is None else (order, order.solver_positions(rows, cols))
 
     def solve(self, data: np.ndarray, rhs: np.ndarray) -> np.ndarray:
         """Solve ``A x = rhs`` for the matrix ``A`` with ``data`` on this pattern.

@@ -199,7 +199,7 @@ class _BandPattern:
         self.rows, self.cols = (a.astype(np.int64) for a in pattern.nonzero())
         self.values = [np.asarray(A.tocsr()[self.rows, self.cols]).ravel() for A in (M, C, K)]
         self.order = BandOrder.of(self.rows, self.cols, len(dofs), None if hint is None else np.asarray(hint))
-        self.positions = self.order.general_positions(self.rows, self.cols)
+        self.positions = self.order.solver_positions(self.rows, self.cols)
         self.index = {(int(r), int(c)): k for k, (r, c) in enumerate(zip(self.rows, self.cols))}
         self._slots: dict = {}
 

@@ -420,6 +420,49 @@ def _far(cell: BlochCell, w: CellWaves, omega: np.ndarray, dt: float, sums: _Sum
                 sums.release[side * j] += (A0 @ B.reshape(omega.size * 2, P)).real
 
 
+def _frequency_sums(cell: BlochCell, omega: np.ndarray, dt: float, weights: dict, lags: list, starts: list,
+                    L: int) -> _Sums:
+    """Every cell's block of each kernel, summed over the frequencies ``omega`` block by block.
+
+    The blocks are summed in :data:`PARTIAL_SUMS` parts where their sums are small enough
+    (:data:`MAX_EXTRA_SUM_VALUES`), on threads where there are cores, then added.
+    """
+    P = cell.grid.size
+    impulse_cells = sorted(set().union(*(_cells(P, g, L) for g in lags)))
+    release_cells = sorted(set().union(*(_cells(P, g + p, L) for g, p in starts)))
+
+    def empty_sums() -> _Sums:
+        return _Sums(lags, starts, {j: np.zeros((len(lags), P, P)) for j in impulse_cells},
+                     {j: np.zeros((len(starts), P)) for j in release_cells})
+
+    blocks = list(range(0, omega.size, FREQUENCY_BLOCK))
+    size = (len(impulse_cells) * len(lags) * P + len(release_cells) * len(starts)) * P
+    n_parts = PARTIAL_SUMS if size * (PARTIAL_SUMS - 1) <= MAX_EXTRA_SUM_VALUES and len(blocks) >= PARTIAL_SUMS else 1
+    with Progress("moving kernels", len(blocks), unit="block", delay=LIBRARY_DELAY) as bar:
+
+        def part_sums(part: np.ndarray) -> _Sums:
+            """The sums over the frequency blocks starting at ``part``."""
+            sums = empty_sums()
+            for lo in part:
+                window = slice(lo, lo + FREQUENCY_BLOCK)
+                w = cell.waves(warped_s(omega[window], dt))
+                block_weights = {kind: value[window] for kind, value in weights.items()}
+                _near(cell, w, omega[window], dt, sums, block_weights, L)
+                _far(cell, w, omega[window], dt, sums, block_weights, L)
+                bar.advance()
+            return sums
+
+        # The parts' number follows from the problem alone, never from the cores, so the kernels are the
+        # same numbers wherever they run; thread_map holds BLAS on one thread (many mid-sized products and
+        # small solves: threaded BLAS gained 11 % on a quiet 2-core machine and lost 3-5x beside other jobs).
+        sums, *others = thread_map(part_sums, np.array_split(np.array(blocks, dtype=np.int64), n_parts))
+    for other in others:
+        for mine, theirs in ((sums.impulse, other.impulse), (sums.release, other.release)):
+            for j in mine:
+                mine[j] += theirs[j]
+    return sums
+
+
 def _static_release(cell: BlochCell, w0: CellWaves, p0: int, j: int) -> np.ndarray:
     """The static receptance from cell 0's grid point p0 to the grid points of cell j (P,), from one zero frequency."""
     if j == 0:  # the loaded column alone: the whole P x P matrix of a slow wheel's grid was gigabytes
@@ -490,38 +533,7 @@ def moving_kernels(track: Track, elements_per_bay: int | None, grid: KernelGrid,
     z = np.exp(1j * omega * dt)
     weights = {"impulse": np.full(omega.size, 2.0 / n_fft), "release": -2.0 / n_fft / (z - 1.0)}
     starts = release_starts(grid, start)
-    impulse_cells = sorted(set().union(*(_cells(P, g, L) for g in lags)))
-    release_cells = sorted(set().union(*(_cells(P, g + p, L) for g, p in starts)))
-
-    def empty_sums() -> _Sums:
-        return _Sums(lags, starts, {j: np.zeros((len(lags), P, P)) for j in impulse_cells},
-                     {j: np.zeros((len(starts), P)) for j in release_cells})
-
-    blocks = list(range(0, omega.size, FREQUENCY_BLOCK))
-    size = (len(impulse_cells) * len(lags) * P + len(release_cells) * len(starts)) * P
-    n_parts = PARTIAL_SUMS if size * (PARTIAL_SUMS - 1) <= MAX_EXTRA_SUM_VALUES and len(blocks) >= PARTIAL_SUMS else 1
-    with Progress("moving kernels", len(blocks), unit="block", delay=LIBRARY_DELAY) as bar:
-
-        def part_sums(part: np.ndarray) -> _Sums:
-            """The sums over the frequency blocks starting at ``part``."""
-            sums = empty_sums()
-            for lo in part:
-                window = slice(lo, lo + FREQUENCY_BLOCK)
-                w = cell.waves(warped_s(omega[window], dt))
-                block_weights = {kind: value[window] for kind, value in weights.items()}
-                _near(cell, w, omega[window], dt, sums, block_weights, L)
-                _far(cell, w, omega[window], dt, sums, block_weights, L)
-                bar.advance()
-            return sums
-
-        # The parts' number follows from the problem alone, never from the cores, so the kernels are the
-        # same numbers wherever they run; thread_map holds BLAS on one thread (many mid-sized products and
-        # small solves: threaded BLAS gained 11 % on a quiet 2-core machine and lost 3-5x beside other jobs).
-        sums, *others = thread_map(part_sums, np.array_split(np.array(blocks, dtype=np.int64), n_parts))
-    for other in others:
-        for mine, theirs in ((sums.impulse, other.impulse), (sums.release, other.release)):
-            for j in mine:
-                mine[j] += theirs[j]
+    sums = _frequency_sums(cell, omega, dt, weights, lags, starts, L)
     w0 = cell.waves(np.zeros(1))
     loop = np.empty((len(lags), P, L))
     h0 = None

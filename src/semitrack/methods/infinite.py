@@ -23,12 +23,12 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.linalg import solve_banded
 
 from ..base.checks import as_frequencies, as_real_array, check_int_at_least, check_nonnegative, check_real, check_work
 from ..base.deprecation import renamed_keywords
 from ..base.errors import InputError, InputTypeError
 from ..base.notices import ImplausibleValueWarning, warn_user
+from ..dynamics.factor import lapack_band_solve
 from ..model.curves import FrequencyCurve, as_curve, stiffness_values
 from ..model.timoshenko import segment_dynamic_stiffness
 from ..model.tracks import SUPPORT_FIELDS, Track, require_track
@@ -435,8 +435,10 @@ class _Band:
         s = 1.0 / np.sqrt(np.abs(self.ab[:, w, :]))  # (n_f, n)
         i = np.arange(2 * w + 1)[:, None] - w + np.arange(n)[None, :]  # row of each stored entry
         inside = (i >= 0) & (i < n)
-        scaled = self.ab * np.where(inside, s[:, np.clip(i, 0, n - 1)], 0.0) * s[:, None, :]
+        columns = np.zeros((self.ab.shape[0], n, 3 * w + 1), dtype=complex)  # LAPACK's layout, with pivot room
+        columns[:, :, w:] = (self.ab * np.where(inside, s[:, np.clip(i, 0, n - 1)], 0.0) * s[:, None, :]
+                             ).transpose(0, 2, 1)
         out = np.empty((self.ab.shape[0], n, rhs.shape[1]), dtype=complex)
         for k in range(self.ab.shape[0]):
-            out[k] = s[k][:, None] * solve_banded((w, w), scaled[k], s[k][:, None] * rhs, check_finite=False)
+            out[k] = s[k][:, None] * lapack_band_solve(columns[k], w, s[k][:, None] * rhs.astype(complex))
         return out
