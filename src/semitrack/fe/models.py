@@ -87,6 +87,11 @@ DEFAULT_F_MAX = 3000.0
 #: Most rail elements of one model: ~400 k DOFs, whose sparse factorisation takes ~0.5 s per
 #: frequency (the book's longest reference track has 19 200).
 MAX_ELEMENTS = 200_000
+#: Most stored entries a frequency sweep forms at once (16 bytes each): a chunk of frequencies whose
+#: matrices' data is formed together (64 frequencies of a 2000-DOF model).
+SWEEP_VALUES = 1_000_000
+
+
 def _old_end_keywords(init):
     """FETrack's ends were ``left=``/``right=`` and its second track ``right_track=`` until 0.2 (kept until 0.3)."""
     @functools.wraps(init)
@@ -582,12 +587,25 @@ class FETrack:
         """Data of ``K*`` at frequency ``f`` (Hz); ``f`` may be omitted for hysteretic damping."""
         if self.track.damping != "hysteretic" and f is None:
             raise InputError("a viscously damped track has a frequency-dependent K*: give f (Hz)")
-        out = self._parts.data["K_end"] + self._parts.data["K_joint"] + 0j
+        base, constant, slope = self._k_star_terms()
+        return base + 1j * (constant + (1.0 if f is None else float(f)) * slope)
+
+    def _k_star_terms(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``K*(f) = base + i (constant + f slope)`` (data on the pattern, N/m and alike).
+
+        Each damped family's loss factor is ``eta`` (hysteretic) or ``eta f / f_ref`` (viscous:
+        :meth:`semitrack.Track.loss_factor`), affine in f, so the families sum once into these three
+        and a frequency costs one multiply-add over the stored entries, not one per family.
+        """
+        data = self._parts.data
+        base, constant, slope = data["K_end"] + data["K_joint"], np.zeros(data["M"].size), np.zeros(data["M"].size)
         for tr, parts in zip(self.tracks, self._parts.by_track):
             for family in DAMPED:
-                eta = float(tr.loss_factor(family[2:], f if f is not None else 1.0))
-                out = out + (1 + 1j * eta) * parts[family]
-        return out
+                at_0, at_1 = np.asarray(tr.loss_factor(family[2:], np.array([0.0, 1.0])), dtype=float)
+                base = base + parts[family]
+                constant = constant + at_0 * parts[family]
+                slope = slope + (at_1 - at_0) * parts[family]
+        return base, constant, slope
 
     def mass(self) -> sp.csc_matrix:
         """Mass matrix (kg, kg m, kg m^2): rail (consistent), sleepers, attached systems."""
@@ -598,12 +616,16 @@ class FETrack:
         return {side: end.stiffness(self.end_track(side), omega, side) for side, end in self.end_models.items()
                 if end.frequency_dependent}
 
-    def _z_data(self, k0: np.ndarray, omega: float, exact: dict, i: int) -> np.ndarray:
-        """Data of ``Z = K* + i omega C_end - omega^2 M`` (+ the exact blocks at frequency i)."""
-        d = self._parts.data
-        data = k0 + (1j * omega) * d["C_end"] - (omega * omega) * d["M"]
-        for side, k in exact.items():
-            np.add.at(data, self._parts.exact[side], k[i].ravel())
+    def _z_stack(self, f: np.ndarray, exact: dict, part: slice) -> np.ndarray:
+        """Data of ``Z = K* + i omega C_end - omega^2 M`` (+ the exact blocks of frequencies ``part``) at each
+        frequency of ``f`` (Hz): ``(f.size, n_stored)``."""
+        d, (base, constant, slope) = self._parts.data, self._k_star_terms()
+        omega = 2 * np.pi * f[:, None]
+        data = np.empty((f.size, base.size), dtype=complex)
+        data.real = base - (omega * omega) * d["M"]
+        data.imag = constant + f[:, None] * slope + omega * d["C_end"]
+        for side, block in exact.items():
+            np.add.at(data, (slice(None), self._parts.exact[side]), block[part].reshape(f.size, -1))
         return data
 
     def dynamic_stiffness(self, f: float) -> sp.csc_matrix:
@@ -619,9 +641,8 @@ class FETrack:
         scipy.sparse.csc_matrix of complex, shape (n_dof, n_dof)
             N/m, N/rad, N m/m, N m/rad by DOF pair.
         """
-        f = float(as_frequencies(f))
-        omega = 2 * np.pi * f
-        return self._csc(self._z_data(self._complex_k_data(f), omega, self._exact_blocks(np.array([omega])), 0))
+        f = np.array([float(as_frequencies(f))])
+        return self._csc(self._z_stack(f, self._exact_blocks(2 * np.pi * f), slice(0, 1))[0])
 
     def solve(self, f: ArrayLike, rhs: ArrayLike, *, check_mesh: bool = True) -> np.ndarray:
         """Solve ``Z(f) u = rhs`` frequency by frequency (a band LU, :meth:`~.assembly.Pattern.solve`).
@@ -650,16 +671,17 @@ class FETrack:
             raise InputError(f"rhs must have shape ({self.n_dof}, n_rhs), got {rhs.shape}")
         if check_mesh:
             self._check_mesh(float(f.max(initial=0.0)))
-        omega = 2 * np.pi * f
-        hysteretic = self.track.damping == "hysteretic"
-        k0 = self._complex_k_data() if hysteretic else None
-        exact = self._exact_blocks(omega)
+        exact = self._exact_blocks(2 * np.pi * f)
         out = np.empty((f.size, self.n_dof, rhs.shape[1]), dtype=complex)
         rhs_c = np.ascontiguousarray(rhs, dtype=complex)
+        # The matrices' data is formed for a chunk of frequencies at once (one NumPy operation per term, not per
+        # frequency), the chunk at most SWEEP_VALUES stored entries; each frequency is then one band LU.
+        chunk = max(1, min(f.size, SWEEP_VALUES // max(self._parts.data["M"].size, 1)))
         with serial_blas():  # one band (or sparse) LU per frequency: threads only contend
-            for i, w in enumerate(omega):
-                k = k0 if hysteretic else self._complex_k_data(f[i])
-                out[i] = self._parts.pattern.solve(self._z_data(k, w, exact, i), rhs_c)
+            for lo in range(0, f.size, chunk):
+                part = slice(lo, lo + chunk)
+                for i, data in enumerate(self._z_stack(f[part], exact, part), start=lo):
+                    out[i] = self._parts.pattern.solve(data, rhs_c)
         return out
 
     def _check_mesh(self, f_top: float, stacklevel: int = 3) -> None:
