@@ -196,3 +196,17 @@ def test_a_hanging_sleeper_s_neighbours_quasi_statically_are_the_exact_static_tr
     assert row["hanging sleeper's largest ballast force (kN)"] == 0 and row["on its ballast (ms)"] == 0
     static_sleeper = largest(st.InfiniteTrack(track)) / track.kb  # its ballast's force over its stiffness
     assert row["perfect track's sleeper deflection (mm)"] == pytest.approx(1e3 * static_sleeper, rel=0.02)
+
+
+def test_the_two_routes_side_by_side_are_each_route_alone(boundaries):
+    """The chapter's bogie by the 10-bay model and by the exact track's convolution, run on two threads:
+    each the same numbers as the route run by itself."""
+    from semitrack.paper.imperfect_study import CASE_BAYS, fe_and_exact_runs
+    track = st.ballasted_track(damping="viscous")
+    rough = st.corrugation(20.0, 0.05, 1e-6)  # standing wheels, the roughness passing under them at 20 m/s
+    run = {"x": 1.25, "dt": 1e-4, "duration": 0.05}
+    fe, exact = fe_and_exact_runs(track, boundaries["ballasted"], st.Bogie(), rough, **run)
+    model = st.TruncatedTrack(track, CASE_BAYS, "boundary", system=boundaries["ballasted"])
+    assert np.array_equal(fe.force, st.wheel_rail_response(model, st.Bogie(), rough, **run).force)
+    assert np.array_equal(exact.force, st.convolution_response(track, st.Bogie(), rough, **run).force)
+    assert fe.route != exact.route

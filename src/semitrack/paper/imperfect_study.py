@@ -38,6 +38,7 @@ from ..boundary.fitting import BroadbandBoundary
 from ..fe.ends import EXACT, PINNED, BoundaryEnd
 from ..fe.models import TruncatedTrack
 from ..interaction.fe_model import wheel_rail_response
+from ..interaction.infinite_convolution import convolution_response
 from ..interaction.response import ContactResponse
 from ..interaction.transfer import contact_transfer
 from ..methods.decay import track_decay_rate
@@ -50,7 +51,7 @@ from ..model.vehicle import Vehicle
 from ..model.wheel import Wheel
 
 __all__ = ["CASE_BAYS", "imperfect_cases", "imperfect_receptance_table", "floating_slab_table", "jenkins_table",
-           "several_wheel_table",
+           "several_wheel_table", "fe_and_exact_runs",
            "reflection_free_bays", "WeldRun", "weld_runs", "p1_p2", "weld_table", "weld_convergence", "gap_runs",
            "change_rolling_table", "slope_change", "slope_change_table", "weld_entry_table", "hanging_sleeper_table"]
 
@@ -200,6 +201,38 @@ def several_wheel_table(model: TruncatedTrack, vehicles: Mapping[str, tuple[Vehi
                               "in the band of (Hz)": float(transfer.centres[j]), "bands": transfer.centres.size,
                               "lost contact": res.lost_contact}
     return pd.DataFrame.from_dict(rows, orient="index").rename_axis(["vehicle", "wheel"])
+
+
+def fe_and_exact_runs(track: Track, boundary: BroadbandBoundary, vehicle: Vehicle, roughness: Roughness, x: float,
+                      dt: float, duration: float) -> tuple[ContactResponse, ContactResponse]:
+    """A vehicle standing on a small roughness by the 10-bay model with broadband ends and by the
+    convolution on the exact track (:func:`semitrack.convolution_response`), the two side by side.
+
+    Parameters
+    ----------
+    track : Track
+        A periodic track (viscous damping).
+    boundary : BroadbandBoundary
+        Its broadband end.
+    vehicle : Vehicle
+        The vehicle (a bogie in the chapter).
+    roughness : Roughness
+        The roughness passing under it.
+    x : float
+        Where the vehicle stands (m).
+    dt, duration : float
+        Time step and duration (s).
+
+    Returns
+    -------
+    (ContactResponse, ContactResponse)
+        The truncated model's run and the convolution's.
+    """
+    model = TruncatedTrack(track, CASE_BAYS, BoundaryEnd.name, system=boundary)
+    runs = (lambda: wheel_rail_response(model, vehicle, roughness, x=x, dt=dt, duration=duration),
+            lambda: convolution_response(track, vehicle, roughness, x=x, dt=dt, duration=duration))
+    fe, exact = thread_map(lambda run: run(), runs)
+    return fe, exact
 
 
 def reflection_free_bays(track: Track, reach: float, attenuation: float = 40.0,

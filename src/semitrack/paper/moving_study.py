@@ -372,12 +372,15 @@ def contact_table(track: Track, boundary: BroadbandBoundary, kernels: MovingKern
         One row per rail; the out-of-contact times and the line's amplitudes in numbers, both routes'.
     """
     speed, dt, d = kernels.grid.speed, kernels.grid.dt, track.spacing
-    rows = {}
-    for label, rough in rails.items():
+
+    def both(rough) -> tuple[ContactResponse, ContactResponse]:
         green = moving_green_response(track, Wheel(), rough, speed=speed, dt=dt, duration=duration, kernels=kernels)
         model = TruncatedTrack(track, int(np.ceil(np.abs(green.x).max() / d)) + MARGIN_BAYS, BoundaryEnd.name,
                                system=boundary, elements_per_bay=kernels.elements_per_bay)
-        truncated = wheel_rail_response(model, Wheel(), rough, speed=speed, dt=dt, duration=duration)
+        return green, wheel_rail_response(model, Wheel(), rough, speed=speed, dt=dt, duration=duration)
+
+    rows = {}
+    for label, (green, truncated) in zip(rails, thread_map(both, rails.values())):  # the rails side by side
         f, amp = green.force_spectrum(after=after)
         amp_ref = truncated.force_spectrum(after=after)[1]
         line = int(np.argmin(np.abs(f - speed / d)))
