@@ -53,3 +53,21 @@ def test_an_agreement_needs_steps_to_compare(side_by_side):
     run = side_by_side["bogie"]
     with pytest.raises(st.BadInput, match="after=0.2 s leaves fewer than two steps"):
         study.force_agreement(run.green, run.truncated, after=0.2)
+
+
+def test_a_case_that_fails_fails_its_readers_too_and_nothing_waits(boundary):
+    import threading
+    cases = {"bogie": (SLAB, boundary, st.Bogie(), 300.0, -DT), "one wheel": (SLAB, boundary, st.Wheel(), 300.0, DT)}
+    outcome = []
+
+    def run():
+        try:
+            study.compare_cases(cases, 0.15, shares={"one wheel": "bogie"})
+        except st.BadInput as err:
+            outcome.append(err)
+
+    worker = threading.Thread(target=run, daemon=True)
+    worker.start()
+    worker.join(timeout=60)
+    assert not worker.is_alive(), "the reader waited for kernels that never came"
+    assert outcome and "dt" in str(outcome[0])

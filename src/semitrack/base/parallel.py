@@ -59,7 +59,8 @@ def thread_map(func: Callable[[T], R], items: Iterable[T], workers: int | None =
         Called once per item; it must not depend on the others' side effects (the runs are
         independent: a study's cases).
     items : iterable
-        The items, in the order of the results.
+        The items, in the order of the results; they start in this order (an item may wait for one
+        before it, never for one after).
     workers : int, optional
         Threads at most; default :func:`available_cores` (at most :data:`MAX_THREADS`). One runs
         the items in turn in this thread, and so does a map inside another's item

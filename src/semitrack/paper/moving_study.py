@@ -24,6 +24,7 @@ from __future__ import annotations
 import tempfile
 import time
 from collections.abc import Mapping
+from concurrent.futures import Future
 from dataclasses import dataclass
 
 import numpy as np
@@ -190,13 +191,24 @@ def compare_cases(cases: Mapping[str, tuple], duration: float, shares: Mapping[s
         if label not in cases or source not in cases or source in shares:
             raise InputError(f"shares must map a case to another case that computes its own kernels, got "
                              f"{label!r}: {source!r} for the cases {list(cases)}")
-    def case_and_readers(label: str) -> list[_Routes]:
-        """The case, then on the same thread the cases that read its kernels."""
-        first = _both_routes(label, *cases[label], duration)
-        return [first] + [_both_routes(other, *cases[other], duration, first.kernels)
-                          for other, source in shares.items() if source == label]
+    kernels_of = {label: Future() for label in cases if label not in shares}
 
-    done = {r.label: r for group in thread_map(case_and_readers, [c for c in cases if c not in shares]) for r in group}
+    def one(label: str) -> _Routes:
+        """A case; one that reads another's kernels waits for them, from an item that started before it."""
+        if label in shares:
+            return _both_routes(label, *cases[label], duration, kernels_of[shares[label]].result())
+        try:
+            routes = _both_routes(label, *cases[label], duration)
+        except BaseException as err:
+            kernels_of[label].set_exception(err)  # its readers raise it too, not wait for ever
+            raise
+        kernels_of[label].set_result(routes.kernels)
+        return routes
+
+    # The cases that compute kernels first: the items start in this order (and a reader on a thread that is
+    # free waits only for kernels under way), so the readers fill the threads that finish first.
+    order = list(kernels_of) + list(shares)
+    done = dict(zip(order, thread_map(one, order)))
     return {label: _timed_python_step(done[label], numpy_duration) for label in cases}
 
 
