@@ -382,3 +382,22 @@ def test_the_default_mesh_serves_frequencies_below_1_hz_and_names_f_above_its_ra
     assert np.allclose(low[0], st.fe_central_receptance(SLAB, [0.5, 1.0], n_bays=10)[0], rtol=1e-12)  # the 1-Hz mesh
     refused(lambda: st.fe_semi_infinite_receptance(SLAB, [3e4]), InputError, "f must be from 0 to 20000",
             "elements_per_bay", cpu=ONE_SECOND)
+
+
+def test_a_given_mesh_checks_frequencies_below_1_hz_against_its_1_hz_probe():
+    """``FETrack.receptance(f=0.5)`` on a model with its own mesh was refused naming f_max (the property
+    suite, seed 61): the mesh check probed at 0.5 Hz, below the probes' first. A mesh that resolves 1 Hz
+    resolves anything lower."""
+    model = st.FETrack(SLAB, 2, 2, "pinned", "pinned", elements_per_bay=8)
+    low = model.receptance(0.5)
+    assert low.shape == (2, 2) and np.all(np.isfinite(low))
+    assert np.allclose(model.receptance([0.5, 1.0])[0], low, rtol=1e-12)
+
+
+def test_a_roughness_line_beyond_1_ghz_is_refused_naming_frequencies():
+    """``frequencies=1e308`` over a 2001-s period was accepted, and its signal was NaN (the property suite,
+    seed 61): f times the period overflowed, so the whole-multiple check passed on NaN."""
+    refused(lambda: st.Roughness(frequencies=[1e308], amplitudes=[1e-6], phases=[0.0], speed=20.0, period=2001.0),
+            InputError, "frequencies must be positive and at most 1e+09 Hz", cpu=ONE_SECOND)
+    line = st.Roughness(frequencies=[1e9], amplitudes=[1e-6], phases=[0.0], speed=20.0, period=1.0)
+    assert np.all(np.isfinite(line.sampled(1e-9, 10)))

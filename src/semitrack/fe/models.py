@@ -686,6 +686,7 @@ class FETrack:
 
     def _check_mesh(self, f_top: float, stacklevel: int = 3) -> None:
         """Warn when frequencies above what the mesh resolves within MESH_TOLERANCE are asked (once per model)."""
+        f_top = max(f_top, 1.0)  # the probes start at 1 Hz, and a mesh that resolves it resolves anything lower
         if f_top <= self._mesh_checked:
             return
         self._mesh_checked = f_top

@@ -76,6 +76,9 @@ MAX_PERIOD = 1e7
 BAND_WAVELENGTHS = (1e-6, 1e4)
 #: Largest amplitude of a roughness line (m): a metre is far beyond any rail's (their sum stays finite).
 MAX_AMPLITUDE = 1.0
+#: Highest line frequency (Hz): far above any a time step resolves, and low enough that ``f t`` over a
+#: period stays finite (``frequencies=1e308`` over 2000 s made the signal NaN).
+MAX_LINE_FREQUENCY = 1e9
 #: Farthest a roughness is shifted along the rail (m): the Earth's circumference 250 times.
 MAX_DISTANCE = 1e10
 #: Most samples x lines summed as cosines by :meth:`Roughness.sampled` when its period is no whole
@@ -137,8 +140,9 @@ class Roughness:
             raise InputError(f"frequencies, amplitudes and phases must be 1-D arrays of one length, got shapes "
                              f"{f.shape}, {a.shape}, {phi.shape}")
         check_work(f.size, MAX_LINES, f"the roughness holds {f.size} lines", "use a shorter period or fewer bands")
-        if not (np.all(np.isfinite(f)) and np.all(f > 0)):
-            raise InputError(f"frequencies must be positive and finite (Hz), got {f[~(np.isfinite(f) & (f > 0))][:3]}")
+        if not (np.all(np.isfinite(f)) and np.all(f > 0) and np.all(f <= MAX_LINE_FREQUENCY)):
+            bad = f[~(np.isfinite(f) & (f > 0) & (f <= MAX_LINE_FREQUENCY))][:3]
+            raise InputError(f"frequencies must be positive and at most {MAX_LINE_FREQUENCY:g} Hz, got {bad}")
         j = f * period
         if np.any(np.abs(j - np.round(j)) > 1e-6 * np.maximum(j, 1.0)):
             raise InputError(f"frequencies must be whole multiples of 1/period = {1 / period:.6g} Hz, "
