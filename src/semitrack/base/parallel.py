@@ -20,14 +20,15 @@ from __future__ import annotations
 
 import contextvars
 import os
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager
 from typing import TypeVar
 
 from .progress import silenced
 from .threads import serial_blas
 
-__all__ = ["available_cores", "in_worker", "thread_map", "MAX_THREADS"]
+__all__ = ["available_cores", "in_worker", "one_thread", "thread_map", "MAX_THREADS"]
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -38,8 +39,20 @@ _WORKER = contextvars.ContextVar("semitrack_thread_map_worker", default=False)
 
 
 def in_worker() -> bool:
-    """Whether this code runs inside a :func:`thread_map` item (whose map already holds the cores)."""
+    """Whether this code runs inside a :func:`thread_map` item (whose map already holds the cores), or
+    inside :func:`one_thread`."""
     return _WORKER.get()
+
+
+@contextmanager
+def one_thread() -> Iterator[None]:
+    """Every :func:`thread_map` inside runs its items in turn, in this thread: for timing a computation by
+    its thread's CPU time (:func:`time.thread_time`), which a helper thread's work would escape."""
+    token = _WORKER.set(True)
+    try:
+        yield
+    finally:
+        _WORKER.reset(token)
 
 
 def available_cores() -> int:

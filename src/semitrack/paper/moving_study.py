@@ -32,7 +32,7 @@ import pandas as pd
 
 from ..base.bands import third_octave_bands
 from ..base.errors import InputError
-from ..base.parallel import thread_map
+from ..base.parallel import one_thread, thread_map
 from ..base.threads import serial_blas
 from ..boundary.fitting import BroadbandBoundary
 from ..dynamics.factor import factorise
@@ -102,7 +102,7 @@ class Comparison:
     kernels : MovingKernels
         The kernels used.
     setup : float
-        CPU time of the kernels' set-up (s; one thread, BLAS on it too).
+        CPU time of the kernels' set-up (s; on one thread, BLAS and the set-up's parts too).
     from_cache : float
         CPU time to read them back from a cache folder in a fresh process memory (s).
     step_compiled, step_numpy : float
@@ -234,13 +234,14 @@ class _Routes:
 def _both_routes(label: str, track: Track, boundary: BroadbandBoundary, vehicle, kmh: float, dt: float,
                  duration: float, kernels: MovingKernels | None = None) -> _Routes:
     """The kernels (timed from an empty cache and read back, unless given), the compiled run on them and
-    the truncated model's run, each cost its thread's CPU time (one BLAS thread: all of it on this thread)."""
+    the truncated model's run, each cost its thread's CPU time: all of it on this thread (one BLAS
+    thread, and the set-up's parts in turn)."""
     vehicle = as_vehicle(vehicle)
     speed = kmh / 3.6
     path = speed * duration
     x0 = -round(0.5 * path / track.spacing) * track.spacing  # the path centred on the model, from a mid-span
     setup = from_cache = float("nan")
-    with serial_blas():
+    with serial_blas(), one_thread():
         if kernels is None:
             with tempfile.TemporaryDirectory() as folder:
                 clear_kernel_memo()  # timed from nothing: this process keeps no kernels from before
