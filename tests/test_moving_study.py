@@ -55,8 +55,11 @@ def test_an_agreement_needs_steps_to_compare(side_by_side):
         study.force_agreement(run.green, run.truncated, after=0.2)
 
 
-def test_a_case_that_fails_fails_its_readers_too_and_nothing_waits(boundary):
+def test_a_case_that_fails_fails_its_readers_too_and_nothing_waits(boundary, monkeypatch):
     import threading
+
+    from semitrack.base import parallel
+    monkeypatch.setattr(parallel, "available_cores", lambda: 2)  # the threaded path, whatever the machine
     cases = {"bogie": (SLAB, boundary, st.Bogie(), 300.0, -DT), "one wheel": (SLAB, boundary, st.Wheel(), 300.0, DT)}
     outcome = []
 
@@ -71,3 +74,21 @@ def test_a_case_that_fails_fails_its_readers_too_and_nothing_waits(boundary):
     worker.join(timeout=60)
     assert not worker.is_alive(), "the reader waited for kernels that never came"
     assert outcome and "dt" in str(outcome[0])
+
+
+def test_a_reader_starts_once_the_kernels_are_there_not_after_the_source_s_runs(boundary, monkeypatch):
+    from semitrack.base import parallel
+    monkeypatch.setattr(parallel, "available_cores", lambda: 2)
+    truncated, readers = study.wheel_rail_response, []
+
+    def failing_for_the_bogie(model, vehicle, *args, **kwargs):
+        if len(vehicle.wheels) > 1:
+            raise RuntimeError("the bogie's truncated run")
+        readers.append(truncated(model, vehicle, *args, **kwargs))
+        return readers[-1]
+
+    monkeypatch.setattr(study, "wheel_rail_response", failing_for_the_bogie)
+    cases = {"bogie": (SLAB, boundary, st.Bogie(), 300.0, DT), "one wheel": (SLAB, boundary, st.Wheel(), 300.0, DT)}
+    with pytest.raises(RuntimeError, match="the bogie's truncated run"):
+        study.compare_cases(cases, 0.05, shares={"one wheel": "bogie"})
+    assert len(readers) == 1  # the reader had the kernels before its source failed after them

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import inspect
 import threading
 import time
 
@@ -11,6 +12,7 @@ from threadpoolctl import threadpool_info
 
 import semitrack as st
 from semitrack.base import parallel
+from semitrack.base.notices import warn_user
 from semitrack.base.parallel import thread_map
 from semitrack.base.progress import progress_shown
 from semitrack.paper import imperfect_study as study
@@ -49,13 +51,13 @@ def test_the_first_failing_item_in_order_raises_after_the_others_end():
     def run(x):
         if x in (1, 3):
             raise ValueError(f"item {x}")
-        time.sleep(0.02)
+        time.sleep(0.02 if x == 0 else 0.3)  # item 2 starts when 1 fails and is still under way when 0 ends
         ended.append(x)
         return x
 
     with pytest.raises(ValueError, match="item 1"):
         thread_map(run, range(4), workers=2)
-    assert 0 in ended  # the run under way finished before the error reached the caller
+    assert 2 in ended  # the run under way when item 1's error was found finished before it reached the caller
 
 
 def test_bars_of_the_runs_are_silenced(monkeypatch):
@@ -82,3 +84,10 @@ def test_a_map_inside_an_item_runs_in_that_item_s_thread():
         return all(t == outer for t in thread_map(lambda _: threading.get_ident(), range(4), workers=4))
 
     assert thread_map(inner, range(2), workers=2) == [True, True]
+
+
+def test_a_warning_on_a_thread_names_the_line_that_called_the_map():
+    line = inspect.currentframe().f_lineno + 2
+    with pytest.warns(UserWarning, match="from a run") as caught:
+        thread_map(warn_user, ["from a run", "from a run"], workers=2)  # warn_user is the package's own frame
+    assert {(w.filename, w.lineno) for w in caught} == {(__file__, line)}  # not concurrent/futures/thread.py

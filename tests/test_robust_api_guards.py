@@ -260,6 +260,7 @@ def _fit():
     (lambda: st.contact_filter([5e-324], 0.006), ("wavelength must be from",)),  # nan
     (lambda: st.corrugation(20.0, 0.05, 1e308), ("amplitude must be from",)),  # inf then nan
     (lambda: st.corrugation(20.0, 1e12, 1e-6), ("wavelength must be from",)),  # named period
+    (lambda: st.corrugation(1000.0, 1e-7, 1e-6), ("wavelength must be from",)),  # 10 GHz, named frequencies
     (lambda: st.corrugation(20.0, 0.05, 1e-6).sampled(1e308, 10), ("dt must be from",)),  # nan
     (lambda: st.corrugation(20.0, 0.05, 1e-6).sampled(1e-308, 10), ("dt must be from",)),  # OverflowError
     (lambda: st.corrugation(20.0, 0.05, 1e-6).along_rail(-1e308, 2.0), ("start must be from",)),  # named x

@@ -25,6 +25,7 @@ from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
 from typing import TypeVar
 
+from .notices import user_line, warnings_from
 from .progress import silenced
 from .threads import serial_blas
 
@@ -96,16 +97,17 @@ def thread_map(func: Callable[[T], R], items: Iterable[T], workers: int | None =
         if n <= 1:
             return [func(item) for item in items]
         pool = ThreadPoolExecutor(n, thread_name_prefix="semitrack-run")
+        line = user_line()  # the package's warnings on the threads name the line that called the map
         try:
-            futures = [pool.submit(_silenced_call, func, item) for item in items]
+            futures = [pool.submit(_silenced_call, func, item, line) for item in items]
             return [future.result() for future in futures]
         finally:
             pool.shutdown(wait=True, cancel_futures=True)
 
 
-def _silenced_call(func: Callable[[T], R], item: T) -> R:
-    """``func(item)`` without progress bars (a new thread starts with a fresh context: the caller's
-    silencing does not reach it)."""
+def _silenced_call(func: Callable[[T], R], item: T, line: tuple[str, int, dict] | None) -> R:
+    """``func(item)`` without progress bars, its warnings naming the caller's ``line`` (a new thread
+    starts with a fresh context: the caller's silencing does not reach it)."""
     _WORKER.set(True)  # this thread's own context: the flag goes with the thread
-    with silenced():
+    with silenced(), warnings_from(line):
         return func(item)

@@ -108,8 +108,9 @@ def cached_kernels(track: Track, elements_per_bay: int | None, f_max: float | No
     folder = None if cache is None else check_cache_folder(cache, "cache")  # before the work, not after
     key = kernel_key(track, elements_per_bay, grid, memory, f_ref, start, f_max)
     digest = _digest(key)
-    if digest in _MEMO:
-        return _MEMO[digest]
+    held = _MEMO.get(digest)  # one read: another thread may clear the memo between a test and a read
+    if held is not None:
+        return held
     if folder is None:
         kernels = moving_kernels(track, elements_per_bay, grid, memory, f_ref, f_max, start)
     else:

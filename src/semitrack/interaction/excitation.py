@@ -15,12 +15,12 @@ contact. Every route samples its input here (:func:`rail_input`).
 
 from __future__ import annotations
 
-import warnings
 from collections.abc import Sequence
 
 import numpy as np
 
 from ..base.errors import InputError, InputTypeError
+from ..base.notices import warn_user
 from ..dynamics.signals import sin2_ramp
 from ..model.centre_path import rail_drop, tread_drop, tread_rolling
 from ..model.irregularity import DippedWeld, Irregularity, RailProfile
@@ -87,9 +87,9 @@ def tread_along(wheels: Sequence[Wheel], rolled: np.ndarray) -> np.ndarray:
             r[:, i] = tread_drop(wheel, rolled[:, i])
         if not np.any(r[:, i]):
             reach = tread_rolling(wheel).period if wheel.contact == "centre_path" else wheel.circumference
-            warnings.warn(f"wheel {i} rolls {np.ptp(rolled[:, i]):.6g} m in the run and meets none of its defects (it "
-                          f"turns once per {reach:.6g} m): its run is a perfect wheel's; run longer, or place the "
-                          "defect (its position) nearer the start", RuntimeWarning, stacklevel=4)
+            warn_user(f"wheel {i} rolls {np.ptp(rolled[:, i]):.6g} m in the run and meets none of its defects (it "
+                      f"turns once per {reach:.6g} m): its run is a perfect wheel's; run longer, or place the "
+                      "defect (its position) nearer the start", RuntimeWarning)
     return r
 
 
@@ -143,7 +143,7 @@ def profile_along(profile: Irregularity, x: np.ndarray, wheels: Sequence[Wheel] 
                          f"{x[0].tolist()} m it is {r[0].tolist()} m under them at the start; start them elsewhere")
     lo, hi = profile.extent
     if hi < x.min() or lo > x.max():  # nothing silently ignored: a profile no wheel reaches is said so
-        warnings.warn(f"the profile spans {lo:.6g} to {hi:.6g} m, and the wheels run from {x.min():.6g} to "
-                      f"{x.max():.6g} m: no wheel meets it, and the run is that of a smooth rail; start the "
-                      "wheels before it or run longer", RuntimeWarning, stacklevel=4)
+        warn_user(f"the profile spans {lo:.6g} to {hi:.6g} m, and the wheels run from {x.min():.6g} to "
+                  f"{x.max():.6g} m: no wheel meets it, and the run is that of a smooth rail; start the "
+                  "wheels before it or run longer", RuntimeWarning)
     return r

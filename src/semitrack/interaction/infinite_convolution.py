@@ -28,7 +28,6 @@ over it per wheel pair).
 from __future__ import annotations
 
 import functools
-import warnings
 import weakref
 from collections.abc import Sequence
 
@@ -36,6 +35,7 @@ import numpy as np
 
 from ..base.checks import MAX_FREQUENCIES, check_nonnegative, check_positive, check_work
 from ..base.deprecation import renamed_keywords
+from ..base.notices import warn_user
 from ..methods.infinite import InfiniteTrack
 from ..model.roughness import Roughness
 from ..model.tracks import Track
@@ -92,8 +92,9 @@ def rail_impulse_responses(infinite: InfiniteTrack, x: np.ndarray, dt: float, me
     """
     key = (np.asarray(x, dtype=float).tobytes(), float(dt), float(memory))
     held = _IMPULSE_CACHE.setdefault(infinite, {})
-    if key in held:
-        return held[key]
+    found = held.get(key)  # one read: a run on another thread may drop it between a test and a read
+    if found is not None:
+        return found
     lags = memory / dt  # guarded before the grid is allocated (1e9 lags asked for 24 GB here)
     check_work(lags + 1, MAX_FREQUENCIES, f"memory={memory!r} s at dt={dt!r} s takes {lags + 1:.3g} frequencies",
                "give a shorter memory or a larger dt")
@@ -113,9 +114,9 @@ def rail_impulse_responses(infinite: InfiniteTrack, x: np.ndarray, dt: float, me
     kept.setflags(write=False)
     static.setflags(write=False)
     if len(held) >= _CACHE_PER_TRACK:
-        held.pop(next(iter(held)))
-    held[key] = (kept, static, float(tail))
-    return held[key]
+        held.pop(next(iter(held), None), None)  # the oldest, unless another thread dropped it first
+    found = held[key] = (kept, static, float(tail))
+    return found
 
 
 @renamed_keywords({"x_contact": "x"})
@@ -157,14 +158,14 @@ def convolution_response(track: Track | InfiniteTrack, wheel: Wheel | Vehicle | 
     turning = check_nonnegative("speed", speed)
     check_roughness_speed(roughness, turning)
     if turning == 0 and any(w.defects for w in run.vehicle.wheels):
-        warnings.warn("speed=0: the wheels do not turn, and each stays on the point of its tread it starts on; give "
-                      "speed= for their defects to come round", RuntimeWarning, stacklevel=3)
+        warn_user("speed=0: the wheels do not turn, and each stays on the point of its tread it starts on; give "
+                  "speed= for their defects to come round", RuntimeWarning)
     memory = check_positive("memory", memory)
     h, static, wrap = rail_impulse_responses(infinite, run.x0, run.dt, memory)
     if wrap > WRAP_TOLERANCE and run.t.size > h.shape[0]:  # a run within the memory uses no lag it cut
-        warnings.warn(f"memory={memory!r} s keeps the rail's impulse responses while they are still {wrap:.1e} of "
-                      "their peak over its second half: the convolution cuts off their tail; give a longer memory",
-                      RuntimeWarning, stacklevel=3)  # past the renamed-keywords wrapper, at the caller
+        warn_user(f"memory={memory!r} s keeps the rail's impulse responses while they are still {wrap:.1e} of "
+                  "their peak over its second half: the convolution cuts off their tail; give a longer memory",
+                  RuntimeWarning)
     path = run.path()
     r = rail_input(roughness, path, run.dt, run.ramp, wheels=run.vehicle.wheels,
                    rolled=np.repeat(turning * run.t[:, None], run.k, axis=1))

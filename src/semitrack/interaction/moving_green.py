@@ -31,7 +31,6 @@ Limits, where a user meets them:
 from __future__ import annotations
 
 import dataclasses
-import warnings
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -48,6 +47,7 @@ from ..base.checks import (
 )
 from ..base.deprecation import renamed_keywords
 from ..base.errors import InputError, InputTypeError
+from ..base.notices import warn_user
 from ..equivalent.cache import canonical
 from ..fe.kernelcache import cached_kernels
 from ..fe.kernels import ALIAS_FACTOR, MovingKernels, grid_of, track_key
@@ -154,11 +154,10 @@ def _warn_short_memory(kernels: MovingKernels) -> None:
     """
     if kernels.tail > TAIL_TOLERANCE:
         L = kernels.memory
-        warnings.warn(f"memory={L * kernels.grid.dt:.4g} s keeps the moving Green's functions while they are still "
-                      f"{kernels.tail:.1e} of their peak over its last quarter: forces older than it are dropped, "
-                      f"and the transform that gives the kernels folds their response after {ALIAS_FACTOR} memories "
-                      "back onto them (aliasing); give a longer memory", RuntimeWarning,
-                      stacklevel=4)  # the caller of the public function, past the keywords' wrapper
+        warn_user(f"memory={L * kernels.grid.dt:.4g} s keeps the moving Green's functions while they are still "
+                  f"{kernels.tail:.1e} of their peak over its last quarter: forces older than it are dropped, "
+                  f"and the transform that gives the kernels folds their response after {ALIAS_FACTOR} memories "
+                  "back onto them (aliasing); give a longer memory", RuntimeWarning)
 
 
 def vehicle_on_grid(vehicle: Vehicle, kernels: MovingKernels) -> Vehicle:

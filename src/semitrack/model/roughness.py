@@ -546,7 +546,8 @@ def corrugation(speed: float, wavelength: float, amplitude: float, *, phase: flo
     if not math.isfinite(phase):
         raise InputError(f"phase must be finite (rad), got {phase!r}")
     check_in_range("amplitude", amplitude, (0.0, MAX_AMPLITUDE), "m, a roughness of the rail")
-    check_in_range("wavelength", wavelength, (1e-9, speed * MAX_PERIOD), f"m: one cycle in at most {MAX_PERIOD:g} s")
+    check_in_range("wavelength", wavelength, (speed / MAX_LINE_FREQUENCY, speed * MAX_PERIOD),
+                   f"m: one cycle in at least 1/{MAX_LINE_FREQUENCY:g} and at most {MAX_PERIOD:g} s")
     f = speed / wavelength
     return _checked_for(dt, Roughness(np.array([f]), np.array([amplitude]), np.array([phase]), speed, 1.0 / f,
                                       label=f"corrugation {wavelength:.4g} m at {speed:.4g} m/s"))

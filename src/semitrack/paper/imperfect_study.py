@@ -273,8 +273,9 @@ def _least_attenuation(track: Track, band: tuple[float, float]) -> float:
 class WeldRun:
     """A wheel rolled over a dipped weld on one model: the run, its cost and the model's size.
 
-    ``seconds`` is the CPU time of the run's thread (s): its cost whether or not other runs shared
-    the machine (:func:`weld_runs` runs them side by side).
+    ``seconds`` is the CPU time of the run's thread (s), which a run on another core beside it does
+    not inflate (:func:`weld_runs` runs them side by side); memory traffic shared with it, or a second
+    hardware thread on the same core, still can, a little.
     """
 
     response: ContactResponse

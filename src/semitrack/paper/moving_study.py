@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import tempfile
 import time
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from concurrent.futures import Future
 from dataclasses import dataclass
 
@@ -105,12 +105,16 @@ class Comparison:
         CPU time of the kernels' set-up (s; on one thread, BLAS and the set-up's parts too).
     from_cache : float
         CPU time to read them back from a cache folder in a fresh process memory (s).
-    step_compiled, step_numpy : float
-        Wall time of a step of the compiled loop and of the Python loop (us).
+    step_compiled : float
+        CPU time of a step of the compiled loop (us; the run's own thread).
+    step_numpy : float
+        Wall time of a step of the Python loop (us), timed alone after the other runs.
     truncated_dofs : int
         DOFs of the truncated model.
     truncated_time : float
         CPU time of the truncated model's run (s; one thread).
+    green_time : float
+        CPU time of the compiled run on the kernels (s; one thread).
     """
 
     label: str
@@ -124,6 +128,7 @@ class Comparison:
     step_numpy: float
     truncated_dofs: int
     truncated_time: float
+    green_time: float
 
 
 def compare_runs(label: str, track: Track, boundary: BroadbandBoundary, vehicle, kmh: float, dt: float,
@@ -166,8 +171,10 @@ def compare_cases(cases: Mapping[str, tuple], duration: float, shares: Mapping[s
     The cases' set-ups and runs go on threads (:func:`semitrack.base.parallel.thread_map`): the
     compiled loops and the set-up's matrix products release the GIL, so on two cores two cases take
     about the time of one, and every force is the one :func:`compare_runs` gives alone, bit for bit
-    (one BLAS thread in both). The costs are each thread's CPU time, which running beside another
-    case does not inflate; the Python loop's steps, which the GIL would slow, are timed after, alone.
+    (one BLAS thread in both). The set-up, the cache's read and both compiled runs are costed by their
+    thread's CPU time, which another case on the other core does not inflate (two hardware threads
+    of one core would); the Python loop's steps, which the GIL would slow, are timed after, alone,
+    as wall time.
 
     Parameters
     ----------
@@ -197,13 +204,13 @@ def compare_cases(cases: Mapping[str, tuple], duration: float, shares: Mapping[s
         """A case; one that reads another's kernels waits for them, from an item that started before it."""
         if label in shares:
             return _both_routes(label, *cases[label], duration, kernels_of[shares[label]].result())
-        try:
-            routes = _both_routes(label, *cases[label], duration)
+        found = kernels_of[label]
+        try:  # its readers may start as soon as the kernels are there, not after this case's runs
+            return _both_routes(label, *cases[label], duration, on_kernels=found.set_result)
         except BaseException as err:
-            kernels_of[label].set_exception(err)  # its readers raise it too, not wait for ever
+            if not found.done():
+                found.set_exception(err)  # its readers raise it too, not wait for ever
             raise
-        kernels_of[label].set_result(routes.kernels)
-        return routes
 
     # The cases that compute kernels first: the items start in this order (and a reader on a thread that is
     # free waits only for kernels under way), so the readers fill the threads that finish first.
@@ -229,13 +236,15 @@ class _Routes:
     vehicle: object
     truncated_dofs: int
     truncated_time: float
+    green_time: float
 
 
 def _both_routes(label: str, track: Track, boundary: BroadbandBoundary, vehicle, kmh: float, dt: float,
-                 duration: float, kernels: MovingKernels | None = None) -> _Routes:
-    """The kernels (timed from an empty cache and read back, unless given), the compiled run on them and
-    the truncated model's run, each cost its thread's CPU time: all of it on this thread (one BLAS
-    thread, and the set-up's parts in turn)."""
+                 duration: float, kernels: MovingKernels | None = None,
+                 on_kernels: Callable[[MovingKernels], object] | None = None) -> _Routes:
+    """The kernels (timed from an empty cache and read back, unless given; handed to ``on_kernels`` once
+    there), the compiled run on them and the truncated model's run, each cost its thread's CPU time: all
+    of it on this thread (one BLAS thread, and the set-up's parts in turn)."""
     vehicle = as_vehicle(vehicle)
     speed = kmh / 3.6
     path = speed * duration
@@ -252,10 +261,14 @@ def _both_routes(label: str, track: Track, boundary: BroadbandBoundary, vehicle,
                 start = time.thread_time()
                 moving_green_kernels(track, speed, dt, vehicle.offsets, x=x0, cache=folder)
                 from_cache = time.thread_time() - start
+            if on_kernels is not None:
+                on_kernels(kernels)
         rough = rolling_roughness(kernels.grid.speed)
         run = {"x": x0, "speed": speed, "dt": dt, "kernels": kernels}
         moving_green_response(track, vehicle, rough, duration=0.03, **run)  # compile outside the timing
+        start = time.thread_time()
         green = moving_green_response(track, vehicle, rough, duration=duration, **run)
+        green_time = time.thread_time() - start
         reach = np.abs(green.x).max() + abs(vehicle.offsets).max() + track.spacing
         model = TruncatedTrack(track, int(np.ceil(reach / track.spacing)) + MARGIN_BAYS, BoundaryEnd.name,
                                system=boundary, elements_per_bay=kernels.elements_per_bay)
@@ -264,7 +277,7 @@ def _both_routes(label: str, track: Track, boundary: BroadbandBoundary, vehicle,
                                         duration=duration)  # the vehicle as run: its offsets on the grid
         spent = time.thread_time() - start
     return _Routes(label, kmh, track, green, truncated, kernels, setup, from_cache, rough, run, vehicle, model.n_dof,
-                   spent)
+                   spent, green_time)
 
 
 def _timed_python_step(routes: _Routes, numpy_duration: float) -> Comparison:
@@ -273,8 +286,9 @@ def _timed_python_step(routes: _Routes, numpy_duration: float) -> Comparison:
     numpy = moving_green_response(routes.track, routes.vehicle, routes.rough, duration=numpy_duration, compiled=False,
                                   **routes.run)
     return Comparison(routes.label, routes.kmh, green, routes.truncated, routes.kernels, routes.setup,
-                      routes.from_cache, 1e6 * green.elapsed / (green.t.size - 1),
-                      1e6 * numpy.elapsed / (numpy.t.size - 1), routes.truncated_dofs, routes.truncated_time)
+                      routes.from_cache, 1e6 * routes.green_time / (green.t.size - 1),
+                      1e6 * numpy.elapsed / (numpy.t.size - 1), routes.truncated_dofs, routes.truncated_time,
+                      routes.green_time)
 
 
 def impulse_run_step(track: Track, bays: int, dt: float, positions: int, elements_per_bay: int | None = None,
@@ -431,5 +445,5 @@ def moving_table(comparisons: Mapping[str, Comparison] | list[Comparison]) -> pd
                          "set-up (s)": c.setup, "from cache (s)": c.from_cache,
                          "step, compiled (us)": c.step_compiled, "step, Python (us)": c.step_numpy,
                          "truncated model": f"{c.truncated_dofs} DOFs, {c.truncated_time:.1f} s",
-                         "run, compiled (s)": c.green.elapsed})
+                         "run, compiled (s)": c.green_time})
     return pd.DataFrame(rows).set_index(["case", "km/h", "wheel"])
