@@ -92,3 +92,21 @@ def test_a_reader_starts_once_the_kernels_are_there_not_after_the_source_s_runs(
     with pytest.raises(RuntimeError, match="the bogie's truncated run"):
         study.compare_cases(cases, 0.05, shares={"one wheel": "bogie"})
     assert len(readers) == 1  # the reader had the kernels before its source failed after them
+
+
+def test_the_finer_mesh_run_is_the_green_route_on_that_mesh(boundary, side_by_side):
+    run = side_by_side["one wheel"]
+    fine = study.finer_mesh_run(run, SLAB, boundary)
+    ne = run.kernels.elements_per_bay
+    green = st.moving_green_response(SLAB, st.Wheel(), study.rolling_roughness(run.green.speed),
+                                     x=float(run.green.x[0]), speed=run.green.speed, dt=DT, duration=0.15,
+                                     elements_per_bay=2 * ne)
+    assert np.array_equal(fine.t, run.truncated.t) and np.array_equal(fine.x, run.truncated.x)  # the same case
+    assert study.force_agreement(green, fine, after=0.05)["rms"] < 5e-4  # the two routes on the finer mesh
+    assert study.force_agreement(run.truncated, fine, after=0.05)["rms"] > 2e-3  # and the mesh moves it more
+
+
+@pytest.mark.parametrize("factor", [1, 9, 2.5, "2", np.nan])
+def test_the_finer_mesh_factor_is_a_whole_number_from_2_to_8(boundary, side_by_side, factor):
+    with pytest.raises(st.BadInput, match="factor"):
+        study.finer_mesh_run(side_by_side["one wheel"], SLAB, boundary, factor)
