@@ -94,14 +94,23 @@ def test_a_reader_starts_once_the_kernels_are_there_not_after_the_source_s_runs(
     assert len(readers) == 1  # the reader had the kernels before its source failed after them
 
 
+@pytest.mark.parametrize("case", ["bogie", "one wheel"])
+def test_the_finer_mesh_run_is_the_truncated_run_s_case(boundary, side_by_side, case):
+    run = side_by_side[case]
+    fine = study.finer_mesh_run(run, boundary)
+    truncated = run.truncated
+    assert np.array_equal(fine.t, truncated.t) and np.array_equal(fine.x, truncated.x)  # every wheel, every step
+    assert fine.vehicle.offsets.tolist() == truncated.vehicle.offsets.tolist()
+    assert np.array_equal(fine.roughness, truncated.roughness) and fine.ramp == truncated.ramp  # the same rail
+
+
 def test_the_finer_mesh_run_is_the_green_route_on_that_mesh(boundary, side_by_side):
     run = side_by_side["one wheel"]
-    fine = study.finer_mesh_run(run, SLAB, boundary)
+    fine = study.finer_mesh_run(run, boundary)
     ne = run.kernels.elements_per_bay
     green = st.moving_green_response(SLAB, st.Wheel(), study.rolling_roughness(run.green.speed),
                                      x=float(run.green.x[0]), speed=run.green.speed, dt=DT, duration=0.15,
                                      elements_per_bay=2 * ne)
-    assert np.array_equal(fine.t, run.truncated.t) and np.array_equal(fine.x, run.truncated.x)  # the same case
     assert study.force_agreement(green, fine, after=0.05)["rms"] < 5e-4  # the two routes on the finer mesh
     assert study.force_agreement(run.truncated, fine, after=0.05)["rms"] > 2e-3  # and the mesh moves it more
 
@@ -109,4 +118,9 @@ def test_the_finer_mesh_run_is_the_green_route_on_that_mesh(boundary, side_by_si
 @pytest.mark.parametrize("factor", [1, 9, 2.5, "2", np.nan])
 def test_the_finer_mesh_factor_is_a_whole_number_from_2_to_8(boundary, side_by_side, factor):
     with pytest.raises(st.BadInput, match="factor"):
-        study.finer_mesh_run(side_by_side["one wheel"], SLAB, boundary, factor)
+        study.finer_mesh_run(side_by_side["one wheel"], boundary, factor)
+
+
+def test_the_finer_mesh_run_takes_a_comparison(boundary):
+    with pytest.raises(st.BadInput, match="comparison must be a Comparison"):
+        study.finer_mesh_run({"green": None}, boundary)

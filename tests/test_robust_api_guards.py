@@ -260,7 +260,7 @@ def _fit():
     (lambda: st.contact_filter([5e-324], 0.006), ("wavelength must be from",)),  # nan
     (lambda: st.corrugation(20.0, 0.05, 1e308), ("amplitude must be from",)),  # inf then nan
     (lambda: st.corrugation(20.0, 1e12, 1e-6), ("wavelength must be from",)),  # named period
-    (lambda: st.corrugation(1000.0, 1e-7, 1e-6), ("wavelength must be from",)),  # 10 GHz, named frequencies
+    (lambda: st.corrugation(1000.0, 1e-7, 1e-6), ("wavelength must be at least",)),  # 10 GHz, named frequencies
     (lambda: st.corrugation(20.0, 0.05, 1e-6).sampled(1e308, 10), ("dt must be from",)),  # nan
     (lambda: st.corrugation(20.0, 0.05, 1e-6).sampled(1e-308, 10), ("dt must be from",)),  # OverflowError
     (lambda: st.corrugation(20.0, 0.05, 1e-6).along_rail(-1e308, 2.0), ("start must be from",)),  # named x
@@ -402,3 +402,11 @@ def test_a_roughness_line_beyond_1_ghz_is_refused_naming_frequencies():
             InputError, "frequencies must be positive and at most 1e+09 Hz", cpu=ONE_SECOND)
     line = st.Roughness(frequencies=[1e9], amplitudes=[1e-6], phases=[0.0], speed=20.0, period=1.0)
     assert np.all(np.isfinite(line.sampled(1e-9, 10)))
+
+
+def test_a_corrugation_on_the_shortest_wavelength_is_taken_or_refused_naming_wavelength():
+    for speed in np.linspace(1.0, 1000.0, 400):  # speed / (speed / 1e9) rounds above 1e9 at some speeds
+        try:
+            st.corrugation(float(speed), float(speed) / 1e9, 1e-6)
+        except st.BadInput as err:
+            assert str(err).startswith("wavelength must be at least"), err

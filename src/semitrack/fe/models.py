@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import copy
 import functools
-import warnings
 from collections.abc import Mapping, Sequence
 from functools import lru_cache
 
@@ -47,6 +46,7 @@ from ..base.checks import (
 )
 from ..base.deprecation import deprecated_alias, renamed_keywords, warn_renamed
 from ..base.errors import InputError, InputTypeError
+from ..base.notices import warn_user
 from ..base.threads import serial_blas
 from ..boundary.fitting import BroadbandBoundary
 from ..dynamics.points import PointSet
@@ -226,7 +226,7 @@ class FETrack:
         # Up to where the mesh's own error is known to be within MESH_TOLERANCE (Hz; grown as asked)
         self._mesh_checked = self.f_max if elements_per_bay is None else 0.0
         if elements_per_bay is not None and f_max is not None:  # a stated f_max (the time domain's): check it now
-            self._check_mesh(self.f_max, stacklevel=4)  # the caller, past __init__ and its keywords' wrapper
+            self._check_mesh(self.f_max)
         self.system = system
         self.changes, self.joints = ({}, {}) if self._infinite is None else (self._infinite.changes,
                                                                              self._infinite.joints)
@@ -684,25 +684,24 @@ class FETrack:
                     out[i] = self._parts.pattern.solve(data, rhs_c)
         return out
 
-    def _check_mesh(self, f_top: float, stacklevel: int = 3) -> None:
+    def _check_mesh(self, f_top: float) -> None:
         """Warn when frequencies above what the mesh resolves within MESH_TOLERANCE are asked (once per model)."""
         f_top = max(f_top, 1.0)  # the probes start at 1 Hz, and a mesh that resolves it resolves anything lower
         if f_top <= self._mesh_checked:
             return
         self._mesh_checked = f_top
         if f_top > MAX_MESH_FREQUENCY:  # beyond the probe's reach: said, and judged up to it
-            warnings.warn(f"f reaches {f_top:.0f} Hz: the mesh's own error is measured up to "
-                          f"{MAX_MESH_FREQUENCY:.0f} Hz only, so nothing above it is checked", RuntimeWarning,
-                          stacklevel=stacklevel)
+            warn_user(f"f reaches {f_top:.0f} Hz: the mesh's own error is measured up to "
+                      f"{MAX_MESH_FREQUENCY:.0f} Hz only, so nothing above it is checked", RuntimeWarning)
             f_top = MAX_MESH_FREQUENCY
         probes = [mesh_probe(t, f_top) for t in self.tracks]
         valid = min(valid_frequency(probes, self.elements_per_bay), f_top)
         if valid < f_top:
             need = elements_for(probes, f_top)
-            warnings.warn(f"{self.elements_per_bay} elements per bay keep the mesh's own error under "
-                          f"{MESH_TOLERANCE:.0%} up to {valid:.0f} Hz only, and frequencies up to {f_top:.0f} Hz "
-                          f"are asked: give elements_per_bay >= {need} (or leave it out and give f_max)",
-                          RuntimeWarning, stacklevel=stacklevel)
+            warn_user(f"{self.elements_per_bay} elements per bay keep the mesh's own error under "
+                      f"{MESH_TOLERANCE:.0%} up to {valid:.0f} Hz only, and frequencies up to {f_top:.0f} Hz "
+                      f"are asked: give elements_per_bay >= {need} (or leave it out and give f_max)",
+                      RuntimeWarning)
 
     def receptance(self, f: ArrayLike, x: float = 0.0) -> np.ndarray:
         """2x2 point receptance at the rail node at ``x``: (w, psi) per (F, M) there.

@@ -28,6 +28,7 @@ over it per wheel pair).
 from __future__ import annotations
 
 import functools
+import threading
 import weakref
 from collections.abc import Sequence
 
@@ -57,6 +58,7 @@ WRAP_TOLERANCE = 1e-3
 #: points, step and memory: a study of many runs on one track (speeds, defects, wheels that stand
 #: in the same places) transforms its receptance once, not once a run (~1 s each).
 _IMPULSE_CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+_CACHE_LOCK = threading.Lock()
 #: The most sets of responses kept for one track (the oldest goes first).
 _CACHE_PER_TRACK = 4
 
@@ -113,9 +115,11 @@ def rail_impulse_responses(infinite: InfiniteTrack, x: np.ndarray, dt: float, me
     kept, static = kept.copy(), H[0].real.copy()  # a copy: the transform's second half is not kept alive
     kept.setflags(write=False)
     static.setflags(write=False)
-    if len(held) >= _CACHE_PER_TRACK:
-        held.pop(next(iter(held), None), None)  # the oldest, unless another thread dropped it first
-    found = held[key] = (kept, static, float(tail))
+    found = (kept, static, float(tail))
+    with _CACHE_LOCK:  # runs on threads share it: the oldest out and this one in, as one step
+        if len(held) >= _CACHE_PER_TRACK:
+            held.pop(next(iter(held)))
+        held[key] = found
     return found
 
 

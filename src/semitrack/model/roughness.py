@@ -546,8 +546,10 @@ def corrugation(speed: float, wavelength: float, amplitude: float, *, phase: flo
     if not math.isfinite(phase):
         raise InputError(f"phase must be finite (rad), got {phase!r}")
     check_in_range("amplitude", amplitude, (0.0, MAX_AMPLITUDE), "m, a roughness of the rail")
-    check_in_range("wavelength", wavelength, (speed / MAX_LINE_FREQUENCY, speed * MAX_PERIOD),
-                   f"m: one cycle in at least 1/{MAX_LINE_FREQUENCY:g} and at most {MAX_PERIOD:g} s")
+    check_in_range("wavelength", wavelength, (0.0, speed * MAX_PERIOD), f"m: one cycle in at most {MAX_PERIOD:g} s")
     f = speed / wavelength
+    if f > MAX_LINE_FREQUENCY:  # on the line itself: a bound on the wavelength can round past it
+        raise InputError(f"wavelength must be at least {speed / MAX_LINE_FREQUENCY:.6g} m at {speed:.6g} m/s (a line "
+                         f"of at most {MAX_LINE_FREQUENCY:g} Hz), got {wavelength!r} m")
     return _checked_for(dt, Roughness(np.array([f]), np.array([amplitude]), np.array([phase]), speed, 1.0 / f,
                                       label=f"corrugation {wavelength:.4g} m at {speed:.4g} m/s"))

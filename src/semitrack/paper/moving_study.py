@@ -33,7 +33,7 @@ import pandas as pd
 
 from ..base.bands import third_octave_bands
 from ..base.checks import check_in_range, check_int_at_least
-from ..base.errors import InputError
+from ..base.errors import InputError, InputTypeError
 from ..base.parallel import one_thread, thread_map
 from ..base.threads import serial_blas
 from ..boundary.fitting import BroadbandBoundary
@@ -118,6 +118,12 @@ class Comparison:
         CPU time of the truncated model's run (s; one thread).
     green_time : float
         CPU time of the compiled run on the kernels (s; one thread).
+    track : Track
+        The track.
+    start : float
+        The vehicle's start as both runs were given it (m; the first wheel's position).
+    roughness : Roughness
+        The rail's roughness of both runs (:func:`rolling_roughness`).
     """
 
     label: str
@@ -132,6 +138,9 @@ class Comparison:
     truncated_dofs: int
     truncated_time: float
     green_time: float
+    track: Track
+    start: float
+    roughness: Roughness
 
 
 def compare_runs(label: str, track: Track, boundary: BroadbandBoundary, vehicle, kmh: float, dt: float,
@@ -264,8 +273,8 @@ def _both_routes(label: str, track: Track, boundary: BroadbandBoundary, vehicle,
                 start = time.thread_time()
                 moving_green_kernels(track, speed, dt, vehicle.offsets, x=x0, cache=folder)
                 from_cache = time.thread_time() - start
-            if on_kernels is not None:
-                on_kernels(kernels)
+        if on_kernels is not None:
+            on_kernels(kernels)
         rough = rolling_roughness(kernels.grid.speed)
         run = {"x": x0, "speed": speed, "dt": dt, "kernels": kernels}
         moving_green_response(track, vehicle, rough, duration=0.03, **run)  # compile outside the timing
@@ -290,8 +299,7 @@ def _holding_the_path(track: Track, boundary: BroadbandBoundary, run: ContactRes
                           system=boundary, elements_per_bay=int(elements_per_bay))
 
 
-def finer_mesh_run(comparison: Comparison, track: Track, boundary: BroadbandBoundary,
-                   factor: int = 2) -> ContactResponse:
+def finer_mesh_run(comparison: Comparison, boundary: BroadbandBoundary, factor: int = 2) -> ContactResponse:
     """The comparison's case on a mesh ``factor`` times finer, by the truncated model (the reference route).
 
     The two routes agree on one mesh far closer than either moves with the mesh, so either measures
@@ -301,9 +309,8 @@ def finer_mesh_run(comparison: Comparison, track: Track, boundary: BroadbandBoun
     Parameters
     ----------
     comparison : Comparison
-        From :func:`compare_runs` or :func:`compare_cases`.
-    track : Track
-        Its track.
+        From :func:`compare_runs` or :func:`compare_cases`: its track, vehicle, start, speed, step,
+        duration and roughness.
     boundary : BroadbandBoundary
         The track's broadband end (on the finer mesh the same fit: it is the track's, not the mesh's).
     factor : int
@@ -312,14 +319,17 @@ def finer_mesh_run(comparison: Comparison, track: Track, boundary: BroadbandBoun
     Returns
     -------
     ContactResponse
-        The run, with the same vehicle, start, speed, step, duration and roughness
-        (:func:`rolling_roughness`).
+        The run as the comparison's truncated run was made (the vehicle as run, its offsets on the grid),
+        on the finer mesh.
     """
+    if not isinstance(comparison, Comparison):
+        raise InputTypeError(f"comparison must be a Comparison (compare_runs, compare_cases), got "
+                             f"{type(comparison).__name__}")
     factor = int(check_in_range("factor", check_int_at_least("factor", factor, 2), (2, 8), "times the mesh"))
     green, dt = comparison.green, comparison.kernels.grid.dt
-    model = _holding_the_path(track, boundary, green, factor * comparison.kernels.elements_per_bay)
-    return wheel_rail_response(model, green.vehicle, rolling_roughness(green.speed), x=float(np.ravel(green.x)[0]),
-                               speed=green.speed, dt=dt, duration=float(green.t[-1]))
+    model = _holding_the_path(comparison.track, boundary, green, factor * comparison.kernels.elements_per_bay)
+    return wheel_rail_response(model, green.vehicle, comparison.roughness, x=comparison.start, speed=green.speed,
+                               dt=dt, duration=float(green.t[-1]))
 
 
 def _timed_python_step(routes: _Routes, numpy_duration: float) -> Comparison:
@@ -330,7 +340,7 @@ def _timed_python_step(routes: _Routes, numpy_duration: float) -> Comparison:
     return Comparison(routes.label, routes.kmh, green, routes.truncated, routes.kernels, routes.setup,
                       routes.from_cache, 1e6 * green.elapsed / (green.t.size - 1),
                       1e6 * numpy.elapsed / (numpy.t.size - 1), routes.truncated_dofs, routes.truncated_time,
-                      routes.green_time)
+                      routes.green_time, routes.track, routes.run["x"], routes.rough)
 
 
 def impulse_run_step(track: Track, bays: int, dt: float, positions: int, elements_per_bay: int | None = None,
