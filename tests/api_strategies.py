@@ -749,6 +749,10 @@ add("fit_boundary", lambda **kw: st.fit_boundary(**kw),
     lambda: {"track": FX.viscous, "band": (3.0, 300.0), "n_poles": 4, "seed": 0, "df": 30.0, "n_starts": 1,
              "n_iter": 3},
     lambda b, a: check_receptance(b.receptance(F3)), weight=0.3)
+add("cached_boundary", lambda **kw: st.cached_boundary(**kw),
+    lambda: {"track": FX.viscous, "band": (3.0, 300.0), "cache_dir": TMP / "boundaries", "n_poles": 4, "seed": 0,
+             "df": 30.0, "n_starts": 1, "n_iter": 3},
+    lambda b, a: check_receptance(b.receptance(F3)), weight=0.3)
 record("BroadbandBoundary", lambda: FX.boundary, then=lambda b: check_receptance(b.receptance(F3)))
 add("BroadbandBoundary.receptance", method(lambda: FX.boundary, "receptance"), lambda: {"f": list(F3)},
     receptance_check)

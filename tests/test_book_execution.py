@@ -143,7 +143,7 @@ def compute():
         fh.write("computed\n")
     time.sleep(1.0)
     return cache._load(Path(sys.argv[3]), CachedResponse)
-result = cache._computed_once("k", folder / "result.json", CachedResponse, compute)
+result = cache.computed_once("k", folder / "result.json", CachedResponse, compute)
 print(type(result).__name__)
 """
 

@@ -28,6 +28,7 @@ The readers (:data:`READERS`), each started from a valid file the package wrote 
 .mat)                                  same boundary's M, C, K
 fit and sweep caches                   :func:`semitrack.cached_fit` and ``cached_central_response``
                                        (:mod:`semitrack.equivalent.cache`) with a cache folder
+boundary cache (.json)                 :func:`semitrack.cached_boundary` of a viscous slab, 4 poles
 kernel cache (.npz)                    ``cached_kernels`` (:mod:`semitrack.fe.kernelcache`), a
                                        coarse slab mesh: its file is what it read
 study records (.json)                  :func:`semitrack.run_study` with a ``cache_dir``: one case's
@@ -179,7 +180,12 @@ def study_in(folder: Path):
     return st.run_study(study_functions.eigen, [{"x": 3, "n": 8}], cache_dir=folder, progress=False)
 
 
-COMPUTE = {"fit": fit_in, "sweep": sweep_in, "kernels": kernels_in, "study": study_in}
+def boundary_in(folder: Path):
+    clear_fit_memo()
+    return st.cached_boundary(VISCOUS_SLAB, band=(3.0, 300.0), n_poles=4, df=30.0, n_iter=3, cache_dir=folder)
+
+
+COMPUTE = {"fit": fit_in, "sweep": sweep_in, "kernels": kernels_in, "study": study_in, "boundary": boundary_in}
 
 
 @cache
@@ -247,6 +253,10 @@ def is_fit(result):
 
 def is_sweep(result):
     assert isinstance(result, CachedResponse) and np.all(np.isfinite(result.response.w1)), result
+
+
+def is_an_end(result):
+    assert isinstance(result, st.BroadbandBoundary) and np.all(np.isfinite(result.receptance([10.0, 100.0]))), result
 
 
 def are_the_kernels(result):
@@ -326,6 +336,7 @@ READERS = {reader.name: reader for reader in [
     Reader("sweep-cache", "sweep", lambda p: sweep_in(p.parent), is_sweep, cache="sweep"),
     Reader("kernel-cache", "kernels", lambda p: kernels_in(p.parent), are_the_kernels, cache="kernels"),
     Reader("study-cache", "study", lambda p: study_in(p.parent), is_the_study, cache="study"),
+    Reader("boundary-cache", "boundary", lambda p: boundary_in(p.parent), is_an_end, cache="boundary"),
     Reader("cli-receptance-track", "track.toml", _receptance, wrote_output, cli=True),
     Reader("cli-receptance-pad-table", "pad.csv", lambda p: _receptance(pad_track_file(p)), wrote_output, cli=True),
     *[Reader(f"cli-export-{name}", name, _export, wrote_output, cli=True) for name in END_FILES],

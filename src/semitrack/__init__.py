@@ -18,6 +18,7 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "PAPER_GRID": ("base.paper_values", "PAPER_GRID"),
     "BroadbandBoundary": ("boundary.fitting", "BroadbandBoundary"),
     "fit_boundary": ("boundary.fitting", "fit_boundary"),
+    "cached_boundary": ("boundary.cache", "cached_boundary"),
     "load_boundary": ("boundary.io", "load_boundary"),
     "save_boundary": ("boundary.io", "save_boundary"),
     "export_boundary": ("boundary.io", "export_boundary"),

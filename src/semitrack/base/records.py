@@ -8,7 +8,8 @@ numbers, arrays and strings inside a few record types, so they are stored as JSO
   exact, NaN and infinities included);
 * an array as ``{"a": dtype, "shape": [...], "b64": ...}`` of its bytes, numeric dtypes only
   (bool, integer, float, complex; never ``object``), read back read-only;
-* tuples, lists and dicts with string keys, tagged;
+* tuples, lists and dicts with string keys, tagged; a dict with integer keys (a fit's orders
+  tried, by order) as the list of its ``[key, value]`` pairs, tagged apart;
 * a record as ``{"r": name, "v": {field: value}}``, where ``name`` must be one of the types the
   caller allows (:func:`decode`'s ``types``); the record is rebuilt by calling that type with its
   fields, so its own validation runs again.
@@ -52,8 +53,8 @@ def encode(value):
     Parameters
     ----------
     value : object
-        Numbers, strings, None, arrays of numbers, tuples, lists, dicts with string keys, and
-        records (frozen dataclasses, named tuples) made of them.
+        Numbers, strings, None, arrays of numbers, tuples, lists, dicts with string keys or with
+        integer keys, and records (frozen dataclasses, named tuples) made of them.
 
     Returns
     -------
@@ -87,6 +88,8 @@ def encode(value):
         return {"tuple" if isinstance(value, tuple) else "list": [encode(v) for v in value]}
     if isinstance(value, dict) and all(isinstance(k, str) for k in value):
         return {"d": {k: encode(v) for k, v in value.items()}}
+    if isinstance(value, dict) and all(isinstance(k, (int, np.integer)) and not isinstance(k, bool) for k in value):
+        return {"di": [[int(k), encode(v)] for k, v in value.items()]}
     raise InputTypeError(f"a record cannot store a value of type {type(value).__name__}")
 
 
@@ -109,6 +112,14 @@ def _tagged(data: dict, tag: str, kind: type):
     if not isinstance(value, kind):
         raise InputError(f"a record file's {tag!r} holds a {type(value).__name__}, not a {kind.__name__}")
     return value
+
+
+def _int_keyed(pair, types: dict[str, type], depth: int) -> tuple[int, object]:
+    """One ``[key, value]`` pair of a dict with integer keys."""
+    if not (isinstance(pair, list) and len(pair) == 2 and type(pair[0]) is int):
+        raise InputError(f"a record file's integer-keyed dict holds {type(pair).__name__} {str(pair)[:40]!r}, "
+                         "not an [int, value] pair")
+    return pair[0], _decode(pair[1], types, depth)
 
 
 def _decode(data, types: dict[str, type], depth: int):
@@ -134,6 +145,11 @@ def _decode(data, types: dict[str, type], depth: int):
             return build(_decode(v, types, depth + 1) for v in _tagged(data, tag, list))
     if "d" in data:
         return {str(k): _decode(v, types, depth + 1) for k, v in _tagged(data, "d", dict).items()}
+    if "di" in data:
+        pairs = [_int_keyed(pair, types, depth + 1) for pair in _tagged(data, "di", list)]
+        if len({k for k, _ in pairs}) != len(pairs):
+            raise InputError("a record file's integer-keyed dict repeats a key")
+        return dict(pairs)
     raise InputError(f"a record file holds an unknown tag {sorted(data)}")
 
 

@@ -148,10 +148,10 @@ def canonical(value):
     if callable(value):
         raise InputTypeError("cached_fit cannot key a callable target (its code and state have no stable identity); "
                         "pass sampled (f, alpha) or call fit_equivalent")
-    raise InputTypeError(f"cached_fit cannot key an argument of type {type(value).__name__}: {value!r}")
+    raise InputTypeError(f"a cache cannot key an argument of type {type(value).__name__}: {value!r}")
 
 
-def _named_canonical(arguments: dict) -> list:
+def named_canonical(arguments: dict) -> list:
     """``[[name, canonical(value)], ...]`` of a call's arguments, a refusal naming the argument it could not key."""
     return canonical(dict(arguments))[1:]
 
@@ -198,7 +198,7 @@ def fit_cache_key(track: Track, layout: Layout, n_bars: int = 5, band: tuple[flo
     track = require_track(track)
     arguments = _bound_arguments(track, layout, n_bars, band, seed, options)
     description = {"source": package_source_digest(),
-                   "arguments": _named_canonical(arguments)}
+                   "arguments": named_canonical(arguments)}
     return hashlib.sha256(json.dumps(description, sort_keys=True).encode()).hexdigest()
 
 
@@ -212,24 +212,43 @@ def _record_types() -> dict[str, type]:
     return {kind.__name__: kind for kind in kinds}
 
 
-def _load(path: Path, kind: type = FitResult):
-    """The result (of type ``kind``) stored at ``path``, or None when it is absent or cannot be read."""
+def _load(path: Path, kind: type = FitResult, types: dict[str, type] | None = None):
+    """The result (of type ``kind``, built from ``types`` only) stored at ``path``, or None when it is absent
+    or cannot be read."""
     try:
-        result = records.loads(read_text(path, MAX_CACHE_BYTES, "cache file"), _record_types())
+        result = records.loads(read_text(path, MAX_CACHE_BYTES, "cache file"), types or _record_types())
     except (OSError, InputError):  # absent, too large, not JSON, a foreign type: recompute and rewrite
         return None
     return result if isinstance(result, kind) else None
 
 
-def _computed_once(key: str, path: Path | None, kind: type, compute):
-    """The memoised result of ``key``, else the one stored at ``path``, else ``compute()`` (stored)."""
+def computed_once(key: str, path: Path | None, kind: type, compute, types: dict[str, type] | None = None):
+    """The memoised result of ``key``, else the one stored at ``path``, else ``compute()`` (stored).
+
+    Parameters
+    ----------
+    key : str
+        The result's key (a digest that includes the package's source).
+    path : Path or None
+        Its file in a cache folder already checked (None: the in-process memo only).
+    kind : type
+        The result's type: a file that holds another is recomputed.
+    compute : callable
+        Computes the result when neither the memo nor the file has it.
+    types : dict of str to type, optional
+        The only record types the file may build (default: the fits' and sweeps').
+
+    Returns
+    -------
+    object
+    """
     if key in _MEMO:
         return _MEMO[key]
     if path is None:
         result = compute()
     else:
         with exclusive(path):  # a process computing the same key meanwhile: wait for its file
-            result = None if path.is_symlink() else _load(path, kind)  # a planted link is not read
+            result = None if path.is_symlink() else _load(path, kind, types)  # a planted link is not read
             if result is None:
                 result = compute()
                 text = records.dumps(result)
@@ -285,7 +304,7 @@ def cached_fit(track: Track, layout: Layout, n_bars: int = 5, band: tuple[float,
     """
     key = fit_cache_key(track, layout, n_bars, band, seed, **options)
     path = None if cache_dir is None else check_cache_folder(cache_dir, "cache_dir") / f"fit-{key}.json"
-    return _computed_once(key, path, FitResult,
+    return computed_once(key, path, FitResult,
                           lambda: fit_equivalent(**_bound_arguments(track, layout, n_bars, band, seed, options)))
 
 
@@ -329,7 +348,7 @@ def response_cache_key(track: Track, f, method: Method = "wavenumber", **setting
     track = require_track(track)
     arguments = {"track": track, "f": np.atleast_1d(as_frequencies(f)), "method": method, "settings": settings}
     description = {"source": package_source_digest(), "kind": "central_response",
-                   "arguments": _named_canonical(arguments)}
+                   "arguments": named_canonical(arguments)}
     return hashlib.sha256(json.dumps(description, sort_keys=True).encode()).hexdigest()
 
 
@@ -376,7 +395,7 @@ def cached_central_response(track: Track, f, method: Method = "wavenumber",
         response = central_response(track, f, method, **settings)
         return CachedResponse(response, time.perf_counter() - start)
 
-    return _computed_once(key, path, CachedResponse, compute)
+    return computed_once(key, path, CachedResponse, compute)
 
 
 def clear_fit_memo() -> None:
