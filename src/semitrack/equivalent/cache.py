@@ -242,8 +242,9 @@ def computed_once(key: str, path: Path | None, kind: type, compute, types: dict[
     -------
     object
     """
-    if key in _MEMO:
-        return _MEMO[key]
+    held = _MEMO.get(key)  # one read: another thread may clear the memo between a test and a read
+    if held is not None:
+        return held
     if path is None:
         result = compute()
     else:
@@ -305,7 +306,7 @@ def cached_fit(track: Track, layout: Layout, n_bars: int = 5, band: tuple[float,
     key = fit_cache_key(track, layout, n_bars, band, seed, **options)
     path = None if cache_dir is None else check_cache_folder(cache_dir, "cache_dir") / f"fit-{key}.json"
     return computed_once(key, path, FitResult,
-                          lambda: fit_equivalent(**_bound_arguments(track, layout, n_bars, band, seed, options)))
+                         lambda: fit_equivalent(**_bound_arguments(track, layout, n_bars, band, seed, options)))
 
 
 class CachedResponse(NamedTuple):
@@ -399,5 +400,6 @@ def cached_central_response(track: Track, f, method: Method = "wavenumber",
 
 
 def clear_fit_memo() -> None:
-    """Forget the results (fits and sweeps) memoised in this process (the files of a cache folder stay)."""
+    """Forget the results (fits, sweeps and :func:`~semitrack.cached_boundary`'s ends) memoised in this
+    process (the files of a cache folder stay)."""
     _MEMO.clear()
