@@ -68,7 +68,11 @@ def boundary_cache_key(track: Track, band: tuple[float, float] = DEFAULT_BOUNDAR
     str
         64 hexadecimal digits.
     """
-    arguments = _bound_arguments(track, band, options)
+    return _key_of(_bound_arguments(track, band, options))
+
+
+def _key_of(arguments: dict) -> str:
+    """SHA-256 (hex) of the package source and fit_boundary's bound ``arguments``."""
     description = {"source": package_source_digest(), "kind": "fit_boundary",
                    "arguments": named_canonical(arguments)}
     return hashlib.sha256(json.dumps(description, sort_keys=True).encode()).hexdigest()
@@ -107,8 +111,8 @@ def cached_boundary(track: Track, band: tuple[float, float] = DEFAULT_BOUNDARY_B
     >>> st.cached_boundary(track, (3.0, 300.0), n_poles=4, df=30.0, n_iter=3) is end
     True
     """
-    key = boundary_cache_key(track, band, **options)  # an unkeyable argument refused before any work
+    arguments = _bound_arguments(track, band, options)
+    key = _key_of(arguments)  # an unkeyable argument refused before any work
     folder = None if cache_dir is None else check_cache_folder(cache_dir, "cache_dir")
     path = None if folder is None else folder / f"boundary-{key}.json"
-    arguments = _bound_arguments(track, band, options)
     return computed_once(key, path, BroadbandBoundary, lambda: fit_boundary(**arguments), _RECORD_TYPES)

@@ -294,6 +294,7 @@ def _holding_the_path(track: Track, boundary: BroadbandBoundary, run: ContactRes
                       elements_per_bay: int) -> TruncatedTrack:
     """The truncated model with broadband ends that holds the path of ``run``'s wheels, and
     :data:`MARGIN_BAYS` beyond it at each end."""
+    # run.x holds every wheel; the offsets once more are the margin the comparisons were measured with
     reach = np.abs(run.x).max() + np.abs(run.vehicle.offsets).max() + track.spacing
     return TruncatedTrack(track, int(np.ceil(reach / track.spacing)) + MARGIN_BAYS, BoundaryEnd.name,
                           system=boundary, elements_per_bay=int(elements_per_bay))
