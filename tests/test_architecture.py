@@ -31,7 +31,9 @@ TOP_PACKAGES = {"plotting"}  # subpackages of the top layer: the figures, by sub
 # bad-input errors answer without importing scipy and the fitting machinery, __main__ so that
 # Ctrl-C during those imports is caught; dynamics.simulate so that numba's import (0.3-0.6 s) is paid
 # by the runs that use the compiled loop only, not by every import of the time domain.
-DEFERRED_IMPORTS_ALLOWED = {"semitrack.cli", "semitrack.__main__", "semitrack.dynamics.simulate"}
+# The command line defers its heavy imports; simulate and pointfield defer numba (their compiled twins) to first use.
+DEFERRED_IMPORTS_ALLOWED = {"semitrack.cli", "semitrack.__main__", "semitrack.dynamics.simulate",
+                            "semitrack.fe.pointfield"}
 
 
 def _modules():

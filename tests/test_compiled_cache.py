@@ -1,11 +1,11 @@
 """Every compiled loop is compiled once per machine: a new process reads it from numba's cache.
 
 A run in a child process makes sure the cache holds both loops (the FE model's step loop and the
-convolution loop); a second child then runs them again and reports numba's own counts: hits
-only, no miss (a miss is a compilation: 5-7 s a loop on a 2-core machine). The convolution loop
-used to take the compiled contact solve as an argument, which put a weak reference into numba's
-cache key: every process missed and saved one more entry, and at last one failed to read the
-index.
+convolution loop) and the moving kernels' compiled pass; a second child then runs them again and
+reports numba's own counts: hits only, no miss (a miss is a compilation: 5-7 s a loop on a 2-core
+machine). The convolution loop used to take the compiled contact solve as an argument, which put
+a weak reference into numba's cache key: every process missed and saved one more entry, and at
+last one failed to read the index.
 """
 
 from __future__ import annotations
@@ -23,13 +23,16 @@ CHILD = r"""
 import json, warnings
 import semitrack as st
 from semitrack.dynamics import compiled
+from semitrack.fe import compiled as fe_compiled
 warnings.simplefilter("ignore")
 track = st.slab_track(damping="viscous")
 st.wheel_rail_response(st.TruncatedTrack(track, 2, elements_per_bay=4), st.Wheel(), dt=5e-5, duration=0.03,
                        compiled=True)
 st.convolution_response(st.InfiniteTrack(track), st.Wheel(), dt=1e-4, duration=0.03)
-print(json.dumps({name: [sum(getattr(compiled, name).stats.cache_hits.values()),
-                         sum(getattr(compiled, name).stats.cache_misses.values())] for name in ("_run", "_convolved")}))
+st.moving_green_kernels(track, 30.0, 1e-4, memory=0.004, elements_per_bay=4)
+kernels = {"_run": compiled._run, "_convolved": compiled._convolved, "point_field_into": fe_compiled.point_field_into}
+print(json.dumps({name: [sum(k.stats.cache_hits.values()), sum(k.stats.cache_misses.values())]
+                  for name, k in kernels.items()}))
 """
 
 

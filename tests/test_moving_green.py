@@ -418,3 +418,32 @@ def test_the_set_up_s_parts_give_the_same_kernels_on_any_number_of_cores(monkeyp
     assert all(np.array_equal(runs[2, 1].release[k], runs[2, 2].release[k]) for k in runs[2, 1].release)
     peak = np.abs(runs[1, 1].loop).max()
     assert 0 < np.abs(runs[2, 2].loop - runs[1, 1].loop).max() <= 1e-14 * peak  # summed otherwise, not copied
+
+
+def test_the_phased_point_field_is_the_cell_s_field_with_the_load_s_phase(monkeypatch):
+    """Cell 0's field of a load at each grid point, DOF first and with the load's phase, compiled and in NumPy,
+    is the cell's own field (its loaded DOFs' field through the shape weights) to round-off; and the kernels
+    made without numba are those made with it."""
+    import sys
+
+    from semitrack.fe.bloch import warped_s
+    from semitrack.fe.pointfield import phased_point_field, phased_point_field_numpy
+
+    grid = grid_of(SLAB, SPEED, DT, (0.0, -0.5))
+    P = grid.positions
+    cell = BlochCell(SLAB, NE, grid.step * np.arange(P))
+    omega = 2 * np.pi * np.array([35.0, 410.0, 2900.0])
+    w = cell.waves(warped_s(omega, DT))
+    phase = np.exp(-1j * DT * omega[:, None] * np.arange(P)[None, :])
+    expected = (w.field * phase[:, None, :]).transpose(1, 0, 2)
+    scale = np.abs(expected).max()
+    for made in (phased_point_field, phased_point_field_numpy):
+        got = made(w.loaded, cell.grid_loaded, cell.grid_weights, phase)
+        assert got.shape == (cell.model.n_dof, omega.size, P) and got.flags.c_contiguous
+        assert np.abs(got - expected).max() <= 1e-14 * scale
+    with_numba = moving_kernels(SLAB, NE, grid, 300)
+    monkeypatch.setitem(sys.modules, "semitrack.fe.compiled", None)  # importing it now raises ImportError
+    without = moving_kernels(SLAB, NE, grid, 300)
+    peak = np.abs(with_numba.loop).max()
+    assert np.abs(without.loop - with_numba.loop).max() <= 1e-14 * peak
+    assert all(np.abs(without.release[k] - with_numba.release[k]).max() <= 1e-14 * peak for k in without.release)

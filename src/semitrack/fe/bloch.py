@@ -66,9 +66,12 @@ class CellWaves:
 
     Attributes
     ----------
-    field : ndarray of complex, shape (n_f, n, P)
-        The cell's DOFs in cell 0 per unit force at grid point p (m/N...): w at grid point q is
-        :meth:`BlochCell.observe` of it.
+    loaded : ndarray of complex, shape (n_f, n, n_s)
+        The cell's DOFs in cell 0 per unit force on each loaded DOF (:attr:`BlochCell.loaded_dofs`, the
+        rail DOFs of the elements that hold grid points; m/N...).
+    load_weights : scipy.sparse.csr_matrix, shape (n_s, P)
+        The loaded DOFs' shares of a unit force at each grid point (the elements' shape functions):
+        the field of a load at grid point p is ``loaded @ load_weights[:, p]`` (:attr:`field`).
     out_right, out_left : ndarray of complex, shape (n_f, 2, P)
         The rail's ``(w, psi)`` at the right (left) cut of cell 0 per unit force at grid point p.
     step_right, step_left : ndarray of complex, shape (n_f, 2, 2)
@@ -80,13 +83,22 @@ class CellWaves:
         ``shows_right[q] @ T_right^(j - 1) @ out_right[:, p]``, and to the left likewise.
     """
 
-    field: np.ndarray
+    loaded: np.ndarray
+    load_weights: np.ndarray
     out_right: np.ndarray
     out_left: np.ndarray
     step_right: np.ndarray
     step_left: np.ndarray
     shows_right: np.ndarray
     shows_left: np.ndarray
+
+    @property
+    def field(self) -> np.ndarray:
+        """The cell's DOFs in cell 0 per unit force at each grid point (n_f, n, P): w at grid point q is
+        :meth:`BlochCell.observe` of it. Formed on each access (P columns where :attr:`loaded` has n_s)."""
+        n_f, n, n_s = self.loaded.shape
+        Y = self.load_weights.T @ self.loaded.transpose(2, 0, 1).reshape(n_s, -1)  # (P, n_f * n), sparse weights
+        return Y.reshape(-1, n_f, n).transpose(1, 2, 0)
 
 
 class BlochCell:
@@ -124,8 +136,12 @@ class BlochCell:
         points = m.points(self.grid)
         self.grid_dofs, self.grid_weights = points.dofs[0], points.weights[0]  # (P, 4) each
         loads = m.output_matrix(self.grid).tocsc().T  # (n, P): a unit force at each grid point
-        self._loaded = np.unique(self.grid_dofs)
-        self._weights_of_loaded = sp.csr_matrix(loads.tocsr()[self._loaded])  # (n_loaded, P)
+        #: The DOFs a grid point's force acts on (the rail DOFs of the elements holding grid points)
+        self.loaded_dofs = np.unique(self.grid_dofs)
+        #: The grid points' DOFs as indices into the loaded DOFs, (P, 4)
+        self.grid_loaded = np.searchsorted(self.loaded_dofs, self.grid_dofs)
+        #: Their shares of a unit force at each grid point, (n_s, P) sparse (4 per point): few DOFs, many points
+        self.load_weights = sp.csr_matrix(loads.tocsr()[self.loaded_dofs])
         self._end_rows = np.r_[np.repeat(self.left, 2), np.repeat(self.right, 2)]
         self._end_cols = np.r_[np.tile(self.left, 2), np.tile(self.right, 2)]
         elements = np.unique(self.grid_dofs, axis=0, return_inverse=True)[1].ravel()
@@ -158,25 +174,27 @@ class BlochCell:
         T_r = -np.linalg.solve(S_rr + K_right, S_rl)
         T_l = -np.linalg.solve(S_ll + K_left, S_lr)
         ends = np.concatenate([K_left.reshape(-1, 4), K_right.reshape(-1, 4)], axis=1)  # on _end_rows, _end_cols
-        Y = self._loaded_field(s, ends)
+        Z = self._loaded_field(s, ends)
+        at_cuts = (self.load_weights.T @ Z[:, np.r_[self.right, self.left], :].reshape(-1, Z.shape[2]).T).T.reshape(
+            s.size, 4, -1)  # (n_f, 4, P): the cuts' motion per grid point's load (not the whole field)
         eye = np.broadcast_to(np.eye(2), T_r.shape)
-        return CellWaves(Y, Y[:, self.right, :], Y[:, self.left, :], T_r, T_l,
+        return CellWaves(Z, self.load_weights, at_cuts[:, :2], at_cuts[:, 2:], T_r, T_l,
                          self._shows(X, eye, T_r), self._shows(X, T_l, eye))
 
     def _loaded_field(self, s: np.ndarray, ends: np.ndarray) -> np.ndarray:
-        """Cell 0's DOFs per unit force at each grid point, the track on both sides closing it (n_f, n, P).
+        """Cell 0's DOFs per unit force on each loaded DOF, the track on both sides closing it (n_f, n, n_s).
 
-        Solved for a unit load on each loaded DOF (fewer than the grid points on a fine grid), then
-        combined with the grid points' shape weights.
+        A grid point's field is these combined with its shape weights (:attr:`CellWaves.field`): on a
+        fine grid far fewer columns than the grid points, and the moving kernels' cell-0 sums take the
+        weights once, after their sums over frequencies (:func:`semitrack.fe.kernels._near`).
         """
-        n, P = self.model.n_dof, self.grid.size
-        unit = np.zeros((n, self._loaded.size))
-        unit[self._loaded, np.arange(self._loaded.size)] = 1.0
-        Z = np.empty((s.size, n, self._loaded.size), dtype=complex)
+        n, n_s = self.model.n_dof, self.loaded_dofs.size
+        unit = np.zeros((n, n_s))
+        unit[self.loaded_dofs, np.arange(n_s)] = 1.0
+        Z = np.empty((s.size, n, n_s), dtype=complex)
         for i, si in enumerate(s):
             Z[i] = self._closed.solve(si, unit, (self._end_rows, self._end_cols, ends[i]))
-        Y = self._weights_of_loaded.T @ Z.transpose(2, 0, 1).reshape(self._loaded.size, -1)  # (P, n_f * n)
-        return Y.reshape(P, s.size, n).transpose(1, 2, 0)
+        return Z
 
     def _shows(self, X: np.ndarray, at_left: np.ndarray, at_right: np.ndarray) -> np.ndarray:
         """w at the grid points of a cell whose cuts move as ``at_left``, ``at_right`` (n_f, 2, 2): (n_f, P, 2)."""

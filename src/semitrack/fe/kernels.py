@@ -54,6 +54,7 @@ from ..equivalent.cache import canonical, package_source_digest
 from ..model.tracks import Track
 from .bloch import BlochCell, CellWaves, warped_s
 from .models import DEFAULT_F_MAX
+from .pointfield import phased_point_field
 
 __all__ = ["KernelGrid", "MovingKernels", "grid_of", "loop_order", "moving_kernels", "release_starts", "track_key",
            "kernel_key",
@@ -348,6 +349,12 @@ class _Sums:
     impulse: dict
     release: dict
 
+    def add(self, other: _Sums) -> None:
+        """Add another part's sums to these."""
+        for mine, theirs in ((self.impulse, other.impulse), (self.release, other.release)):
+            for j in mine:
+                mine[j] += theirs[j]
+
 
 def _sources(P: int, j: int, q_lo: int, q_hi: int, lags: Sequence[int], L: int) -> slice:
     """The load phases p of cell 0 whose kernels reach grid points ``q_lo..q_hi`` of cell j within the memory.
@@ -360,10 +367,14 @@ def _sources(P: int, j: int, q_lo: int, q_hi: int, lags: Sequence[int], L: int) 
 
 def _near(cell: BlochCell, w: CellWaves, omega: np.ndarray, dt: float, sums: _Sums, weights: dict,
           L: int) -> None:
-    """Cell 0's share: one product per element over its grid points and the loads reaching them, all kernels."""
+    """Cell 0's share: one product per element over its grid points, the lags and the loads reaching them.
+
+    The field of a load at each grid point with its phase is formed once a block, DOF first
+    (:func:`semitrack.fe.pointfield.phased_point_field`), so an element's four DOFs are one block of it.
+    """
     P = cell.grid.size
     at_p = np.exp(-1j * dt * omega[:, None] * np.arange(P)[None, :])  # (n_f, P): the load at p
-    field = w.field * at_p[:, None, :]
+    field = phased_point_field(w.loaded, cell.grid_loaded, cell.grid_weights, at_p)  # (n, n_f, P)
     lags = np.array(sums.lags, dtype=float)
     to_lag = np.exp(-1j * dt * omega[None, :] * lags[:, None]) * weights["impulse"]  # (n_lags, n_f)
     p0 = np.array([p for _, p in sums.starts], dtype=np.int64)
@@ -371,21 +382,30 @@ def _near(cell: BlochCell, w: CellWaves, omega: np.ndarray, dt: float, sums: _Su
                       ) * weights["release"]
     for points, dofs in cell.by_element:
         at_q = np.exp(1j * dt * omega[None, :] * points[:, None])  # (|Q|, n_f)
-        sub = field[:, dofs, :]  # (n_f, 4, P)
-        for r, lag in enumerate(sums.lags if 0 in sums.impulse else ()):  # by lag: each reaches its own loads
-            src = _sources(P, 0, int(points.min()), int(points.max()), [lag], L)
-            if src.start >= src.stop:
-                continue  # a wheel ahead of these points by more than the cell: it reaches them from cell 1 on
-            Z = ((at_q * to_lag[r]) @ sub[:, :, src].reshape(omega.size, -1)).reshape(points.size, 4, -1)
-            sums.impulse[0][r][src, points] += np.einsum("qa,qap->pq", cell.grid_weights[points], Z).real
+        sub = field[dofs[0]:dofs[0] + 4] if np.all(np.diff(dofs) == 1) else field[dofs]  # (4, n_f, P)
+        spans = [_sources(P, 0, int(points.min()), int(points.max()), [lag], L) for lag in sums.lags]
+        # The lags that reach these points from cell 0 (a wheel ahead of them by more than the cell reaches them
+        # from cell 1 on), in one product over the loads any of them reaches: the element's field is read once.
+        reach = [r for r, src in enumerate(spans) if src.start < src.stop] if 0 in sums.impulse else []
+        if reach:
+            src = slice(min(spans[r].start for r in reach), max(spans[r].stop for r in reach))
+            E = (to_lag[reach][:, None, :] * at_q[None]).reshape(-1, omega.size)  # (reach x |Q|, n_f)
+            Z = np.matmul(E, sub[:, :, src]).reshape(4, len(reach), points.size, -1)  # (4, reach, |Q|, loads)
+            block = np.einsum("qa,arqp->rpq", cell.grid_weights[points], Z.real)
+            for i, r in enumerate(reach):
+                sums.impulse[0][r][src, points] += block[i]
         if 0 in sums.release:
-            Z = np.einsum("ql,rl,lar->rqa", at_q, to_start, sub[:, :, p0])
+            Z = np.einsum("ql,rl,alr->rqa", at_q, to_start, sub[:, :, p0])
             sums.release[0][:, points] += np.einsum("qa,rqa->rq", cell.grid_weights[points], Z).real
 
 
 def _far(cell: BlochCell, w: CellWaves, omega: np.ndarray, dt: float, sums: _Sums, weights: dict, L: int) -> None:
-    """The other cells' share: per cell one real matrix product over (frequency, wave) for every kernel,
-    over the loads that reach the cell within the memory."""
+    """The other cells' share: per cell one real matrix product over (frequency, wave) for the kernels that
+    reach it, over the loads that reach the cell within the memory.
+
+    The loads' side of every lag, ``out`` with its phases, is formed once per block; a cell forms only
+    its view ``B`` (the lags share it), so the products are most of the work.
+    """
     P = cell.grid.size
     q = np.arange(P)
     at_p = np.exp(-1j * dt * omega[:, None] * q[None, :])
@@ -401,7 +421,8 @@ def _far(cell: BlochCell, w: CellWaves, omega: np.ndarray, dt: float, sums: _Sum
             continue
         out, step, shows = ((w.out_right, w.step_right, w.shows_right) if side > 0 else
                             (w.out_left, w.step_left, w.shows_left))
-        A = (out * at_p[:, None, :]).transpose(2, 0, 1).reshape(P, -1)  # (P, n_f * 2): (l, a)
+        A = (out * at_p[:, None, :]).transpose(2, 0, 1)  # (P, n_f, 2)
+        A = (A[None] * to_lag[:, None, :, None]).reshape(len(sums.lags), P, -1)  # (lags, P, n_f * 2): (l, a)
         A_re, A_im = A.real.copy(), A.imag.copy()
         A0 = (out[:, :, p0].transpose(2, 0, 1) * (at_p[:, p0].T * to_start)[:, :, None]).reshape(p0.size, -1)
         V = shows * at_q[:, :, None]  # (n_f, P, 2): the view from cell 1, then T^(j-1) further
@@ -410,14 +431,16 @@ def _far(cell: BlochCell, w: CellWaves, omega: np.ndarray, dt: float, sums: _Sum
             for _ in range(j - power):
                 V = V @ step
             power = j
-            B = (V * np.exp(1j * dt * omega * side * j * P)[:, None, None]).transpose(0, 2, 1)  # (n_f, 2, P)
-            if side * j in sums.impulse:
-                src = _sources(P, side * j, 0, P - 1, sums.lags, L)
-                Bl = (B[None] * to_lag[:, :, None, None]).transpose(1, 2, 0, 3).reshape(omega.size * 2, -1)
-                sums.impulse[side * j][:, src] += (A_re[src] @ Bl.real - A_im[src] @ Bl.imag).reshape(
-                    -1, len(sums.lags), P).transpose(1, 0, 2)
+            B = (V * np.exp(1j * dt * omega * side * j * P)[:, None, None]).transpose(0, 2, 1).reshape(-1, P)
+            # The lags whose memory reaches this cell: a run of them, the lags being sorted
+            reach = [r for r, lag in enumerate(sums.lags) if side * j in _cells(P, lag, L)]
+            if side * j in sums.impulse and reach:
+                run = slice(reach[0], reach[-1] + 1)
+                src = _sources(P, side * j, 0, P - 1, sums.lags[run], L)
+                sums.impulse[side * j][run, src] += (np.matmul(A_re[run, src], np.ascontiguousarray(B.real)) -
+                                                     np.matmul(A_im[run, src], np.ascontiguousarray(B.imag)))
             if side * j in sums.release:
-                sums.release[side * j] += (A0 @ B.reshape(omega.size * 2, P)).real
+                sums.release[side * j] += (A0 @ B).real
 
 
 def _frequency_sums(cell: BlochCell, omega: np.ndarray, dt: float, weights: dict, lags: list, starts: list,
@@ -457,16 +480,14 @@ def _frequency_sums(cell: BlochCell, omega: np.ndarray, dt: float, weights: dict
         # small solves: threaded BLAS gained 11 % on a quiet 2-core machine and lost 3-5x beside other jobs).
         sums, *others = thread_map(part_sums, np.array_split(np.array(blocks, dtype=np.int64), n_parts))
     for other in others:
-        for mine, theirs in ((sums.impulse, other.impulse), (sums.release, other.release)):
-            for j in mine:
-                mine[j] += theirs[j]
+        sums.add(other)
     return sums
 
 
 def _static_release(cell: BlochCell, w0: CellWaves, p0: int, j: int) -> np.ndarray:
     """The static receptance from cell 0's grid point p0 to the grid points of cell j (P,), from one zero frequency."""
     if j == 0:  # the loaded column alone: the whole P x P matrix of a slow wheel's grid was gigabytes
-        return cell.observe(w0.field[:, :, p0:p0 + 1])[0, :, 0].real
+        return cell.observe(w0.loaded @ w0.load_weights[:, [p0]].toarray())[0, :, 0].real
     out, step, shows = ((w0.out_right, w0.step_right, w0.shows_right) if j > 0 else
                         (w0.out_left, w0.step_left, w0.shows_left))
     return (shows[0] @ np.linalg.matrix_power(step[0], abs(j) - 1) @ out[0][:, p0]).real
