@@ -1,9 +1,10 @@
 """Moving Green's functions against the truncated model that holds the path (printed, not asserted).
 
-Run: ``python benchmarks/bench_moving.py [--duration 1.0] [--cases ...] [--dt DT] [--fresh]`` (one run of
-each case; about 8 minutes on a 2-core machine for the default cases at 1 s; ``madeup-bogie-250``
+Run: ``python benchmarks/bench_moving.py [--duration 1.0] [--cases ...] [--dt DT] [--fresh] [--tail-rank R]``
+(one run of each case; about 8 minutes on a 2-core machine for the default cases at 1 s; ``madeup-bogie-250``
 is a ballasted track that is not the paper's at 30 us, ``--fresh`` adds the first run's step in a
-new process that reads the kernels and the compiled loop from their caches). For each case a vehicle rolls
+new process that reads the kernels and the compiled loop from their caches, ``--tail-rank R`` a run with
+the kernels' tails in rank R, its time and its agreement with both references). For each case a vehicle rolls
 over a rough rail (the ISO 3095 limit over 40 Hz - 3 kHz at the speed) on a periodic track with
 viscous damping, by :func:`semitrack.moving_green_response` and by the truncated FE model with
 broadband ends that holds its whole path with 40 bays to spare
@@ -30,7 +31,8 @@ from pathlib import Path
 import pandas as pd
 
 import semitrack as st
-from semitrack.paper.moving_study import compare_runs, moving_table, rolling_roughness
+from semitrack.interaction.moving_green import DEFAULT_TAIL_START
+from semitrack.paper.moving_study import compare_runs, force_agreement, moving_table, rolling_roughness
 
 
 def made_up_track(damping: str = "viscous") -> st.Track:
@@ -88,6 +90,9 @@ def main() -> None:
                              "three wheels 2 m apart")
     parser.add_argument("--dt", type=float, default=None, help="time step (s) instead of the track's")
     parser.add_argument("--fresh", action="store_true", help="also the first run's step in a fresh process")
+    parser.add_argument("--tail-rank", type=int, default=None,
+                        help="also a run with the kernels past --tail-start in this rank (semitrack.fe.kerneltail)")
+    parser.add_argument("--tail-start", type=float, default=None, help="where the low-rank tail starts (s)")
     args = parser.parse_args()
     boundaries, comparisons = {}, []
     for case in args.cases:
@@ -110,6 +115,21 @@ def main() -> None:
               f"truncated run), from cache {c.from_cache:.2f} s; a run from the kernels {wall:.3f} s, the truncated "
               f"run {c.truncated_time:.2f} s ({c.truncated_dofs} DOFs): {c.truncated_time / wall:.1f}x; step "
               f"{c.step_compiled:.2f} us compiled, {c.step_numpy:.2f} us Python", flush=True)
+        if args.tail_rank is not None:
+            tail = {"tail_rank": args.tail_rank, "tail_start": args.tail_start}
+            st.moving_green_response(track, wheels, rolling_roughness(c.kernels.grid.speed), **run, **tail)  # factors
+            start = time.thread_time()
+            tailed = st.moving_green_response(track, wheels, rolling_roughness(c.kernels.grid.speed), **run, **tail)
+            low = time.thread_time() - start
+            steps = tailed.t.size - 1
+            print(f"  low-rank tail (rank {args.tail_rank}, from {args.tail_start or DEFAULT_TAIL_START:g} s): a run "
+                  f"{low:.3f} s, {c.truncated_time / low:.1f}x the truncated run; step "
+                  f"{1e6 * tailed.elapsed / steps:.2f} us", flush=True)
+            for i in range(len(wheels.offsets)):
+                ref, full = force_agreement(tailed, c.truncated, i), force_agreement(tailed, c.green, i)
+                print(f"  wheel {i + 1}: against the truncated model {100 * ref['rms']:.4f} % rms, worst band "
+                      f"{ref['worst_level_difference']:.1e} dB; against the whole kernels {100 * full['rms']:.5f} % "
+                      f"rms, worst band {full['worst_level_difference']:.1e} dB", flush=True)
         if args.fresh:
             fresh = fresh_process_step(case, dt, args.duration, x0, c.kernels)
             print(f"  fresh process: first run's step {fresh:.2f} us ({fresh / c.step_compiled:.2f}x in-process)",

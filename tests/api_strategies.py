@@ -888,7 +888,8 @@ add("convolution_response", _quiet(lambda **kw: st.convolution_response(**kw)),
     kinds={"memory": hostile_but(_number_in(1.0, 20.0))})
 add("moving_green_response", _quiet(lambda **kw: st.moving_green_response(**kw)),
     lambda: {"track": FX.viscous, "wheel": st.Wheel(), "roughness": None, "x": 0.0, "speed": 20.0, **_RUN,
-             "memory": 0.005, "elements_per_bay": 4, "compiled": False, "kernels": FX.kernels},
+             "memory": 0.005, "elements_per_bay": 4, "compiled": False, "kernels": FX.kernels, "tail_rank": None,
+             "tail_start": None},
     lambda r, a: _contact_ok(r), weight=0.7)
 add("moving_green_kernels", _quiet(lambda **kw: st.moving_green_kernels(**kw)),
     lambda: {"track": FX.viscous, "speed": 20.0, "dt": 1e-4, "offsets": (0.0,), "x": 0.0, "memory": 0.005,

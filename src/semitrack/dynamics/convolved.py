@@ -28,8 +28,13 @@ __all__ = ["convolved_steps", "one_contact_steps"]
 
 
 def convolved_steps(kernels, pair, release, preload, phase0, flexibility, c_h, r, inverse, M, C, coef, loads,
-                    u, force, w_wheel, w_rail, history, work):  # noqa: PLR0913, PLR0915
-    """Run the steps 1..n of the contacts against the convolution, in place (see the module docstring).
+                    u, force, w_wheel, w_rail, history, work, first, last):  # noqa: PLR0913, PLR0915
+    """Run the steps ``first..last`` of the contacts against the convolution, in place (see the module docstring).
+
+    A run may be taken in pieces (``1..a``, ``a+1..b``, ...) with the same arrays: every step starts from
+    what the arrays hold, so the pieces give the one run's numbers bit for bit. Between them the
+    caller may add to ``r`` what the kernels here do not hold (a long memory's tail,
+    :mod:`semitrack.fe.kerneltail`).
 
     Parameters
     ----------
@@ -65,6 +70,8 @@ def convolved_steps(kernels, pair, release, preload, phase0, flexibility, c_h, r
         Zero; holds each contact's forces from step 1, newest first (``F_j(n)`` at ``n_steps - n``).
     work : ndarray, shape (k, k + 5)
         Workspace of the contact solve.
+    first, last : int
+        The steps to run, ``1 <= first <= last <= n_steps``.
 
     Returns
     -------
@@ -82,7 +89,7 @@ def convolved_steps(kernels, pair, release, preload, phase0, flexibility, c_h, r
     rhs = np.zeros(n_v)
     free = np.zeros(n_v)
     f_now = np.zeros(k)
-    for n in range(1, n_steps + 1):
+    for n in range(first, last + 1):
         base = n_steps - n
         for i in range(k):
             s = 0.0
@@ -130,7 +137,7 @@ def convolved_steps(kernels, pair, release, preload, phase0, flexibility, c_h, r
 
 
 def one_contact_steps(kernels, pair, release, preload, phase0, flexibility, c_h, r, inverse, M, C, coef, loads,
-                      u, force, w_wheel, w_rail, history, work):  # noqa: PLR0913
+                      u, force, w_wheel, w_rail, history, work, first, last):  # noqa: PLR0913
     """:func:`convolved_steps` for one contact on a one-DOF vehicle (a wheel on its primary suspension), in floats.
 
     The same equations with Python floats for the vehicle and the contact, so that the Python
@@ -147,12 +154,13 @@ def one_contact_steps(kernels, pair, release, preload, phase0, flexibility, c_h,
     R = len(e)
     flex, rough = flexibility.tolist(), r[:, 0].tolist()
     hist_force = history[0]
-    first = rows[:, 0].tolist()
+    at_now = rows[:, 0].tolist()
     x, v, acc = float(u[0, 0]), float(u[1, 0]), float(u[2, 0])
     phase, dot = int(phase0[0]), np.dot
-    f_out, w_out, r_out = [0.0] * n_steps, [0.0] * n_steps, [0.0] * n_steps
+    count = last - first + 1
+    f_out, w_out, r_out = [0.0] * count, [0.0] * count, [0.0] * count
     G, a, f_now = np.zeros((1, 1)), np.zeros(1), np.zeros(1)
-    for n in range(1, n_steps + 1):
+    for n in range(first, last + 1):
         q = (phase + n) % P
         base = n_steps - n
         hist = float(dot(rows[q, 1:], hist_force[base + 1: base + L]))
@@ -160,7 +168,7 @@ def one_contact_steps(kernels, pair, release, preload, phase0, flexibility, c_h,
             hist += p0 * e[n]
         flex_n = flex[q]
         free = g_w * (load + m * (a0 * x + a2 * v + a3 * acc) + c * (a1 * x + a4 * v + a5 * acc))
-        G[0, 0] = first[q] + g_w + flex_n
+        G[0, 0] = at_now[q] + g_w + flex_n
         a[0] = free - hist - rough[n]
         if solve_hertz(c_h, a, G, f_now, work) > MAX_NEWTON:
             return n
@@ -170,7 +178,7 @@ def one_contact_steps(kernels, pair, release, preload, phase0, flexibility, c_h,
         v += (acc + acc_new) / a1
         x, acc = new, acc_new
         hist_force[base] = f
-        f_out[n - 1], w_out[n - 1], r_out[n - 1] = f, x, hist + (first[q] + flex_n) * f
-    force[1:, 0], w_wheel[1:, 0], w_rail[1:, 0] = f_out, w_out, r_out
+        f_out[n - first], w_out[n - first], r_out[n - first] = f, x, hist + (at_now[q] + flex_n) * f
+    force[first:last + 1, 0], w_wheel[first:last + 1, 0], w_rail[first:last + 1, 0] = f_out, w_out, r_out
     u[0, 0], u[1, 0], u[2, 0] = x, v, acc
     return 0

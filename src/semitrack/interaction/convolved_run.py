@@ -17,15 +17,20 @@ import numpy as np
 
 from ..dynamics.newmark import Newmark
 from ..dynamics.simulate import convolved_loop
+from ..fe.kerneltail import KernelTail
 from ..model.vehicle import Vehicle, vehicle_step
 
 __all__ = ["convolved_run"]
 
 
 def convolved_run(vehicle: Vehicle, kernels: np.ndarray, pair: np.ndarray, release: np.ndarray, phase0: np.ndarray,
-                  flexibility: np.ndarray, r: np.ndarray, dt: float, compiled: bool | None
-                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+                  flexibility: np.ndarray, r: np.ndarray, dt: float, compiled: bool | None,
+                  tail: KernelTail | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """The static start and the step loop of a vehicle against a convolution.
+
+    With a ``tail``, ``kernels`` are its heads: the loop runs in blocks of the tail's start, and before
+    each block the tail's share of the rail under the wheels, from forces older than the block, is
+    added to the wheels' input (and after it to the rail's displacement).
 
     Parameters
     ----------
@@ -47,6 +52,8 @@ def convolved_run(vehicle: Vehicle, kernels: np.ndarray, pair: np.ndarray, relea
         Time step (s).
     compiled : bool or None
         The loop compiled (True), in Python (False) or compiled where numba is installed (None).
+    tail : KernelTail, optional
+        The kernels' tails in low rank (:mod:`semitrack.fe.kerneltail`); None: ``kernels`` are whole.
 
     Returns
     -------
@@ -70,10 +77,24 @@ def convolved_run(vehicle: Vehicle, kernels: np.ndarray, pair: np.ndarray, relea
     state[0] = u0
     history = np.zeros((k, rows - 1 + kernels.shape[2]))
     loop = convolved_loop(compiled, k == 1 and u0.size == 1)
+    n_steps = rows - 1
+    r = np.array(r, dtype=float)  # the tail's share is added to it block by block
+    arrays = [kernels, pair, release, preload, phase0, flexibility, np.array([w.hertz_constant for w in wheels]), r,
+              inverse, M, C, np.array(stepper.coefficients), loads, state, force, w_wheel, w_rail, history,
+              np.zeros((k, k + 5))]
     start = time.perf_counter()
-    failed = loop(kernels, pair, release, preload, phase0, flexibility, np.array([w.hertz_constant for w in wheels]),
-                  np.ascontiguousarray(r), inverse, M, C, np.array(stepper.coefficients), loads, state, force,
-                  w_wheel, w_rail, history, np.zeros((k, k + 5)))
+    block = n_steps if tail is None else tail.start
+    failed = 0
+    for first in range(1, n_steps + 1, block):
+        last = min(first + block - 1, n_steps)
+        share = None if tail is None else tail.response(force, pair, phase0, first, last)
+        if share is not None:
+            r[first:last + 1] += share
+        failed = loop(*arrays, first, last)
+        if share is not None:
+            w_rail[first:last + 1] += share
+        if failed:
+            break
     if failed:
         raise RuntimeError(f"the contact forces did not converge at step {failed}")
     return force, w_wheel, w_rail, time.perf_counter() - start
