@@ -111,3 +111,21 @@ def test_a_block_longer_than_the_tail_s_start_is_refused(kernels):
     pair = np.zeros((1, 1), dtype=np.int64)
     with pytest.raises(ValueError, match="first <= last < first"):
         tail.response(np.zeros((200, 1)), pair, np.zeros(1, dtype=np.int64), 1, 60)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_the_loop_in_pieces_is_the_one_run_bit_for_bit(kernels, monkeypatch, compiled):
+    """The step loop run in blocks of 70 steps with the whole kernels and a tail that adds nothing gives the one
+    call's numbers exactly: every step starts from what the arrays hold."""
+    if compiled:
+        pytest.importorskip("numba")
+    from semitrack.fe.kerneltail import KernelTail
+    from semitrack.interaction import moving_green
+
+    n = len(kernels.grid.lags)
+    nothing = KernelTail(70, 1, kernels.loop, np.zeros((n, kernels.grid.positions, 1)), np.zeros((n, 1, 1)), 0.0)
+    whole = _run(kernels, duration=0.05, compiled=compiled)
+    monkeypatch.setattr(moving_green, "_tail_of", lambda *args: nothing)
+    pieces = _run(kernels, duration=0.05, compiled=compiled, tail_rank=1)
+    assert np.array_equal(pieces.force, whole.force) and np.array_equal(pieces.w_rail, whole.w_rail)
+    assert np.array_equal(pieces.w_wheel, whole.w_wheel)
