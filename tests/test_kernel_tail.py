@@ -109,7 +109,7 @@ def test_a_tail_far_from_the_kernels_is_warned_of(kernels):
 def test_a_block_longer_than_the_tail_s_start_is_refused(kernels):
     tail = kernel_tail(kernels, 50, 2)
     pair = np.zeros((1, 1), dtype=np.int64)
-    with pytest.raises(ValueError, match="first <= last < first"):
+    with pytest.raises(InputError, match="first <= last < first"):
         tail.response(np.zeros((200, 1)), pair, np.zeros(1, dtype=np.int64), 1, 60)
 
 

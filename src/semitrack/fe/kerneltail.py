@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.fft
 
+from ..base.errors import InputError
 from .kernels import MovingKernels
 
 __all__ = ["KernelTail", "kernel_tail"]
@@ -85,7 +86,7 @@ class KernelTail:
         n_fft = self._length(M0)
         k, P = pair.shape[0], self.U.shape[1]
         if not 1 <= first <= last < first + M0:
-            raise ValueError(f"a block of the tail is 1 <= first <= last < first + {M0}, got {first}..{last}")
+            raise InputError(f"a block of the tail is 1 <= first <= last < first + {M0}, got {first}..{last}")
         s = np.arange(first - M0 - T + 1, last - M0 + 1)  # the forces' steps the block reads: T + B - 1
         held = s >= 1
         F = np.zeros((s.size, k))
