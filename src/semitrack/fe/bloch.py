@@ -84,7 +84,7 @@ class CellWaves:
     """
 
     loaded: np.ndarray
-    load_weights: np.ndarray
+    load_weights: sp.csr_matrix
     out_right: np.ndarray
     out_left: np.ndarray
     step_right: np.ndarray
@@ -185,8 +185,8 @@ class BlochCell:
         """Cell 0's DOFs per unit force on each loaded DOF, the track on both sides closing it (n_f, n, n_s).
 
         A grid point's field is these combined with its shape weights (:attr:`CellWaves.field`): on a
-        fine grid far fewer columns than the grid points, and the moving kernels' cell-0 sums take the
-        weights once, after their sums over frequencies (:func:`semitrack.fe.kernels._near`).
+        fine grid far fewer columns than the grid points. The moving kernels' cell-0 sums combine them
+        with the load's phase in one pass (:func:`semitrack.fe.pointfield.phased_point_field`).
         """
         n, n_s = self.model.n_dof, self.loaded_dofs.size
         unit = np.zeros((n, n_s))

@@ -269,7 +269,7 @@ def moving_green_response(track: Track, wheel: Wheel | Vehicle | Sequence[Wheel]
         when it passes :data:`TAIL_RANK_TOLERANCE` of their peak. Measured, on the paper's ballasted
         track at 300 km/h and 20 us, three wheels 2 m apart over 0.4 s, rank 4 past 0.06 s: the forces
         0.0011 % rms from the whole kernels' and 0.0015 % from the truncated model's (0.0011 % with the
-        whole kernels), band levels within 2e-4 dB; the step 20 us instead of 56 us
+        whole kernels), band levels within 2e-4 dB; the step 11 us instead of 45 us
         (``benchmarks/bench_moving.py --cases ballasted-three-300 --duration 0.4 --tail-rank 4``).
     tail_start : float, optional
         Where the tail starts (s; default :data:`DEFAULT_TAIL_START`), shorter than the memory;
