@@ -124,3 +124,37 @@ def test_the_finer_mesh_factor_is_a_whole_number_from_2_to_8(boundary, side_by_s
 def test_the_finer_mesh_run_takes_a_comparison(boundary):
     with pytest.raises(st.BadInput, match="comparison must be a Comparison"):
         study.finer_mesh_run({"green": None}, boundary)
+
+
+def test_the_tail_run_is_the_comparison_s_run_at_full_rank(side_by_side):
+    """At the rank of the load's phases the tail is the kernels: the comparison's own run to round-off (its
+    vehicle, start, speed, step and roughness); at rank 4 past 0.05 s close, and the table says so."""
+    run = side_by_side["bogie"]
+    P = run.kernels.grid.positions
+    full = study.tail_run(run, tail_rank=P, tail_start=0.05)
+    assert np.array_equal(full.t, run.green.t) and np.array_equal(full.x, run.green.x)
+    assert np.abs(full.force - run.green.force).max() <= 1e-9 * np.ptp(run.green.force)
+    table = study.tail_table(side_by_side, ["bogie", "one wheel"], tail_rank=P, tail_start=0.05)
+    assert (table["rms from the whole kernels (%)"] < 1e-7).all()
+    def routes(c):  # the comparison's own agreement, its worst wheel
+        wheels = range(len(c.kernels.grid.offsets))
+        return 100 * max(study.force_agreement(c.green, c.truncated, wheel=i)["rms"] for i in wheels)
+
+    expected = [routes(side_by_side[c]) for c in ("bogie", "one wheel")]
+    assert np.allclose(table["rms from the truncated model (%)"], expected, rtol=1e-4)
+
+
+def test_the_tail_run_takes_a_comparison():
+    with pytest.raises(st.BadInput, match="comparison must be a Comparison"):
+        study.tail_run({"green": None})
+
+
+def test_a_short_record_s_agreement_leaves_out_the_bands_it_cannot_resolve(side_by_side):
+    """0.05 s after 0.1 s: the 50-Hz band holds no frequency of it, so it is left out (it read 0/0, NaN, and made the
+    worst band NaN); the bands kept are named and every figure is finite."""
+    run = side_by_side["bogie"]
+    a = study.force_agreement(run.green, run.truncated, after=0.1)
+    assert a["centres"][0] > 50 and a["centres"].size == a["level_difference"].size
+    assert np.isfinite(a["worst_level_difference"]) and np.isfinite(a["worst_error_level"])
+    with pytest.raises(st.BadInput, match="holds no frequency"):
+        study.force_agreement(run.green, run.truncated, after=0.1, band=(50.0, 50.0))

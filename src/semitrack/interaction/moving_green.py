@@ -76,13 +76,16 @@ DEFAULT_MEMORY = 0.2
 #: track at 20 us, 2e9, took 0.9 s compiled).
 MAX_LOOP_WORK = 2e11
 
-#: Where a low-rank tail starts when none is given (s). On the paper's ballasted track at 300 km/h and 40 us,
-#: three wheels 2 m apart over 0.4 s, rank 4 past 0.06 s held the kernels to 1.8e-6 of their peak and the forces
-#: to 0.0013 % rms of the whole kernels' (past 0.04 s: 7e-6 and 0.008 %; past 0.02 s at rank 6: 8e-5 and 0.11 %).
-DEFAULT_TAIL_START = 0.06
+#: Where a low-rank tail starts when none is given (s): half the default memory. The paper's slab track loses the
+#: load's phase slowest of its tracks: a bogie at 300 km/h and 40 us over 0.5 s, rank 4 past 0.1 s held the kernels
+#: to 1.4e-6 of their peak and the forces to 0.0021 % rms of the whole kernels' (past 0.06 s: 2.4e-5 and 0.043 %).
+#: On the ballasted track 0.06 s is enough: a wheel there 1.2e-6 and 0.0005 %, three wheels 2 m apart at 20 us
+#: 0.0011 % (measured, ``benchmarks/bench_moving.py``).
+DEFAULT_TAIL_START = 0.1
 
 #: The largest distance of a low-rank tail from the kernels, over their peak, accepted without a warning: at 1e-5 the
-#: forces above were 0.015 % rms from the whole kernels', at 8e-5 0.11 %.
+#: forces were 0.01-0.03 % rms from the whole kernels' (three wheels on the ballasted track, a bogie on the slab
+#: track), at 8e-5 0.11 %.
 TAIL_RANK_TOLERANCE = 1e-5
 
 #: The largest magnitude of the kernels over the memory's last quarter, relative to their peak, accepted without a
@@ -270,7 +273,8 @@ def moving_green_response(track: Track, wheel: Wheel | Vehicle | Sequence[Wheel]
         track at 300 km/h and 20 us, three wheels 2 m apart over 0.4 s, rank 4 past 0.06 s: the forces
         0.0011 % rms from the whole kernels' and 0.0015 % from the truncated model's (0.0011 % with the
         whole kernels), band levels within 2e-4 dB; the step 11 us instead of 45 us
-        (``benchmarks/bench_moving.py --cases ballasted-three-300 --duration 0.4 --tail-rank 4``).
+        (``benchmarks/bench_moving.py --cases ballasted-three-300 --duration 0.4 --tail-rank 4
+        --tail-start 0.06``).
     tail_start : float, optional
         Where the tail starts (s; default :data:`DEFAULT_TAIL_START`), shorter than the memory;
         only with ``tail_rank``.

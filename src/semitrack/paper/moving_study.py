@@ -11,6 +11,7 @@ truncation" and of ``benchmarks/bench_moving.py``; each returns runs or a table
   holds the whole path (:func:`semitrack.wheel_rail_response`), the same mesh, time step, start
   and roughness; with the set-up's cost, its cost read back from the cache, and the steps' costs.
 * :func:`compare_cases`: :func:`compare_runs` for several cases side by side on the machine's cores.
+* :func:`tail_run`: a comparison's run again with the kernels' tails in low rank.
 * :func:`force_agreement`: the two contact forces' agreement: the rms of the difference over the
   rms of the reference's fluctuation, and the one-third-octave band levels 50 Hz - 2.5 kHz of the
   forces (their level difference, dB) and of the difference (its level under the reference's, dB).
@@ -50,9 +51,9 @@ from ..model.tracks import Track
 from ..model.vehicle import as_vehicle
 from ..model.wheel import Wheel
 
-__all__ = ["MARGIN_BAYS", "TABLE_FORMATS", "rolling_roughness", "Comparison", "compare_runs", "compare_cases",
-           "force_agreement",
-           "moving_table", "impulse_run_step", "contact_table", "finer_mesh_run"]
+__all__ = ["MARGIN_BAYS", "TABLE_FORMATS", "TAIL_FORMATS", "rolling_roughness", "Comparison", "compare_runs",
+           "compare_cases", "force_agreement", "moving_table", "impulse_run_step", "contact_table", "finer_mesh_run",
+           "tail_run", "tail_table"]
 
 #: How :func:`moving_table`'s columns read best (for :func:`semitrack.paper.tables.styled`).
 TABLE_FORMATS = {"rms difference (%)": "{:.4f}", "worst band difference (dB)": "{:.1e}",
@@ -290,6 +291,76 @@ def _both_routes(label: str, track: Track, boundary: BroadbandBoundary, vehicle,
                    spent, green_time)
 
 
+def tail_run(comparison: Comparison, tail_rank: int = 4, tail_start: float | None = None) -> ContactResponse:
+    """The comparison's moving Green's functions run again, its kernels' tails in low rank.
+
+    Parameters
+    ----------
+    comparison : Comparison
+        From :func:`compare_runs` or :func:`compare_cases`: its track, kernels, vehicle, start, speed,
+        step, duration and roughness.
+    tail_rank : int
+        The rank of the kernels past ``tail_start`` (:func:`semitrack.moving_green_response`).
+    tail_start : float, optional
+        Where the tail starts (s); default :data:`semitrack.interaction.moving_green.DEFAULT_TAIL_START`.
+
+    Returns
+    -------
+    ContactResponse
+        The run as the comparison's was made, on the same kernels.
+    """
+    if not isinstance(comparison, Comparison):
+        raise InputTypeError(f"comparison must be a Comparison (compare_runs, compare_cases), got "
+                             f"{type(comparison).__name__}")
+    green = comparison.green
+    return moving_green_response(comparison.track, green.vehicle, comparison.roughness, x=comparison.start,
+                                 speed=green.speed, dt=comparison.kernels.grid.dt, duration=float(green.t[-1]),
+                                 kernels=comparison.kernels, tail_rank=tail_rank, tail_start=tail_start)
+
+
+def tail_table(comparisons: Mapping[str, Comparison], labels, tail_rank: int = 4,
+               tail_start: float | None = None) -> pd.DataFrame:
+    """Each comparison's run again with the kernels' tails in low rank (:func:`tail_run`), against both of its runs.
+
+    Parameters
+    ----------
+    comparisons : mapping of str to Comparison
+        From :func:`compare_cases`.
+    labels : sequence of str
+        Which of them.
+    tail_rank : int
+        The tails' rank.
+    tail_start : float, optional
+        Where the tails start (s).
+
+    Returns
+    -------
+    pandas.DataFrame
+        By case: the worst wheel's rms difference from the whole kernels' run (%) and its worst band
+        level difference (dB), the rms difference from the truncated model's run (%), and the compiled
+        step on the whole kernels and with the tail (us, wall time; the tail's FFTs included).
+    """
+    rows = {}
+    for label in labels:
+        c = comparisons[label]
+        run = tail_run(c, tail_rank, tail_start)
+        wheels = range(len(c.kernels.grid.offsets))
+        whole = [force_agreement(run, c.green, wheel=i) for i in wheels]
+        truncated = [force_agreement(run, c.truncated, wheel=i) for i in wheels]
+        rows[label] = {"rms from the whole kernels (%)": 100 * max(a["rms"] for a in whole),
+                       "worst band from the whole kernels (dB)": max(a["worst_level_difference"] for a in whole),
+                       "rms from the truncated model (%)": 100 * max(a["rms"] for a in truncated),
+                       "step, whole kernels (us)": c.step_compiled,
+                       "step, low-rank tail (us)": 1e6 * run.elapsed / (run.t.size - 1)}
+    return pd.DataFrame(rows).T.rename_axis("case")
+
+
+#: How :func:`tail_table`'s columns are shown.
+TAIL_FORMATS = {"rms from the whole kernels (%)": "{:.5f}", "worst band from the whole kernels (dB)": "{:.1e}",
+                "rms from the truncated model (%)": "{:.4f}", "step, whole kernels (us)": "{:.2f}",
+                "step, low-rank tail (us)": "{:.2f}"}
+
+
 def _holding_the_path(track: Track, boundary: BroadbandBoundary, run: ContactResponse,
                       elements_per_bay: int) -> TruncatedTrack:
     """The truncated model with broadband ends that holds the path of ``run``'s wheels, and
@@ -405,7 +476,9 @@ def force_agreement(green: ContactResponse, truncated: ContactResponse, wheel: i
         ``rms`` (the difference's rms over the reference's fluctuation's, -), ``centres`` (Hz),
         ``level_difference`` (dB, per band), ``error_level`` (dB, the difference's band level
         under the reference's), their largest magnitudes ``worst_level_difference`` and
-        ``worst_error_level``.
+        ``worst_error_level``. A band that holds no frequency of the record (a record shorter than
+        about the inverse of the band's width: 0.09 s for the 50-Hz band) is left out of all of them:
+        ``centres`` lists the bands kept.
     """
     column = (lambda a: a) if green.force.ndim == 1 else (lambda a: a[:, wheel])  # noqa: E731
     late = green.t >= after
@@ -418,6 +491,11 @@ def force_agreement(green: ContactResponse, truncated: ContactResponse, wheel: i
     spec_f, spec_r = np.abs(np.fft.rfft(F - F.mean())) ** 2, np.abs(np.fft.rfft(fluct)) ** 2
     spec_e = np.abs(np.fft.rfft(F - R - (F - R).mean())) ** 2
     centres, lower, upper = third_octave_bands(*band)
+    held = np.array([np.any((f >= lo) & (f < hi)) for lo, hi in zip(lower, upper)])
+    if not held.any():
+        raise InputError(f"the {F.size * green.dt:.3g}-s record after after={after!r} s holds no frequency of the "
+                         f"bands {band} Hz: compare a longer record")
+    centres, lower, upper = centres[held], lower[held], upper[held]
     level_f, level_r, level_e = (np.array([s[(f >= lo) & (f < hi)].sum() for lo, hi in zip(lower, upper)])
                                  for s in (spec_f, spec_r, spec_e))
     difference = 10 * np.log10(level_f / level_r)
