@@ -38,6 +38,7 @@ def _rms(a, b):
     return float((np.sqrt(np.mean((a.force - b.force) ** 2, axis=0)) / np.sqrt(np.mean(fluct**2, axis=0))).max())
 
 
+@pytest.mark.filterwarnings("ignore:tail_start=")  # at full rank the FFTs cost more than they save: warned of
 def test_a_full_rank_tail_is_the_whole_kernels(kernels):
     """At the rank of the phases the factors are the kernels (an orthonormal basis): the blocks, their FFTs and the
     heads give the whole kernels' run to round-off, over several blocks and a last one cut short."""
@@ -64,10 +65,15 @@ def test_a_low_rank_tail_keeps_the_forces_and_says_how_far_it_is(kernels):
     assert _rms(coarse, whole) > 100 * _rms(close, whole)
 
 
+@pytest.mark.filterwarnings("ignore:tail_start=")
 def test_the_default_start_is_the_documented_one(kernels):
-    tailed = _run(kernels, duration=0.03, tail_rank=kernels.grid.positions)
-    assert tailed.force.shape == (301, 3)
-    assert (int(round(DEFAULT_TAIL_START / DT)), kernels.grid.positions) in _memo_keys(kernels)
+    """No tail_start: the tail starts at DEFAULT_TAIL_START (0.1 s, 1000 steps), and over 0.15 s it does take part."""
+    P = kernels.grid.positions
+    whole = _run(kernels, duration=0.15)
+    tailed = _run(kernels, duration=0.15, tail_rank=P)
+    assert (int(round(DEFAULT_TAIL_START / DT)), P) in _memo_keys(kernels)
+    assert _rms(tailed, whole) <= 1e-9
+    assert not np.array_equal(tailed.force, whole.force)  # the tail's FFTs, not the whole kernels, past 0.1 s
 
 
 def _memo_keys(kernels):
@@ -87,8 +93,8 @@ def test_the_compiled_and_the_python_loop_take_the_tail_alike(kernels):
     ({"tail_start": 0.05}, "tail_start .*give tail_rank"),
     ({"tail_rank": 0}, "tail_rank"),
     ({"tail_rank": 10_000}, "tail_rank must be at most"),
-    ({"tail_rank": 3, "tail_start": 0.2}, "tail_start must lie within"),
-    ({"tail_rank": 3, "tail_start": 1e-6}, "tail_start must lie within"),
+    ({"tail_rank": 3, "tail_start": 0.2}, "tail_start=0.2 s must lie within"),
+    ({"tail_rank": 3, "tail_start": 1e-6}, "tail_start=1e-06 s must lie within"),
     ({"tail_rank": 3, "tail_start": -0.01}, "tail_start"),
 ])
 def test_a_tail_that_does_not_fit_is_refused_naming_it(kernels, tail, match):
@@ -103,7 +109,7 @@ def test_a_rank_that_is_no_integer_is_refused_naming_it(kernels):
 
 def test_a_tail_far_from_the_kernels_is_warned_of(kernels):
     with pytest.warns(RuntimeWarning, match="tail_rank=1 .* holds the kernels to"):
-        _run(kernels, duration=0.03, tail_rank=1, tail_start=0.002)
+        _run(kernels, duration=0.03, tail_rank=1, tail_start=0.006)
 
 
 def test_a_block_longer_than_the_tail_s_start_is_refused(kernels):
@@ -113,10 +119,11 @@ def test_a_block_longer_than_the_tail_s_start_is_refused(kernels):
         tail.response(np.zeros((200, 1)), pair, np.zeros(1, dtype=np.int64), 1, 60)
 
 
-@pytest.mark.parametrize("compiled", [False, True])
-def test_the_loop_in_pieces_is_the_one_run_bit_for_bit(kernels, monkeypatch, compiled):
+@pytest.mark.parametrize("compiled, wheels", [(False, THREE), (True, THREE), (False, st.Wheel())])
+def test_the_loop_in_pieces_is_the_one_run_bit_for_bit(kernels, monkeypatch, compiled, wheels):
     """The step loop run in blocks of 70 steps with the whole kernels and a tail that adds nothing gives the one
-    call's numbers exactly: every step starts from what the arrays hold."""
+    call's numbers exactly: every step starts from what the arrays hold (the general loops, and the Python loop of
+    one wheel in floats)."""
     if compiled:
         pytest.importorskip("numba")
     from semitrack.fe.kerneltail import KernelTail
@@ -124,8 +131,50 @@ def test_the_loop_in_pieces_is_the_one_run_bit_for_bit(kernels, monkeypatch, com
 
     n = len(kernels.grid.lags)
     nothing = KernelTail(70, 1, kernels.loop, np.zeros((n, kernels.grid.positions, 1)), np.zeros((n, 1, 1)), 0.0)
-    whole = _run(kernels, duration=0.05, compiled=compiled)
+
+    def run(**tail):
+        return st.moving_green_response(SLAB, wheels, _rough(SPEED), speed=SPEED, dt=DT, duration=0.05,
+                                        kernels=kernels, compiled=compiled, **tail)
+
+    whole = run()
     monkeypatch.setattr(moving_green, "_tail_of", lambda *args: nothing)
-    pieces = _run(kernels, duration=0.05, compiled=compiled, tail_rank=1)
+    pieces = run(tail_rank=1)
     assert np.array_equal(pieces.force, whole.force) and np.array_equal(pieces.w_rail, whole.w_rail)
     assert np.array_equal(pieces.w_wheel, whole.w_wheel)
+
+
+def test_the_tail_s_own_arguments_are_checked_before_any_set_up(monkeypatch):
+    """A rank that is no whole number, or a start without a rank, is refused before the kernels are made (a set-up
+    of a minute for three wheels)."""
+    from semitrack.interaction import moving_green
+
+    def no_set_up(*args):
+        raise AssertionError("the kernels were made before the tail's arguments were checked")
+
+    monkeypatch.setattr(moving_green, "_kernels_for", no_set_up)
+    run = {"speed": SPEED, "dt": DT, "duration": 0.03, "memory": 0.15, "elements_per_bay": NE}
+    with pytest.raises(InputTypeError, match="tail_rank"):
+        st.moving_green_response(SLAB, THREE, tail_rank=2.5, **run)
+    with pytest.raises(InputError, match="give tail_rank"):
+        st.moving_green_response(SLAB, THREE, tail_start=0.05, **run)
+    with pytest.raises(InputError, match="tail_start"):
+        st.moving_green_response(SLAB, THREE, tail_rank=2, tail_start=float("nan"), **run)
+
+
+@pytest.mark.filterwarnings("ignore:memory=0.05")  # kernels cut short: warned of where they are made
+def test_a_default_start_beyond_a_short_memory_is_named_as_the_default():
+    short = st.moving_green_kernels(SLAB, SPEED, DT, THREE.offsets, memory=0.05, elements_per_bay=NE)
+    with pytest.raises(InputError, match="tail_start, by default 0.1 s, must lie within"):
+        _run(short, duration=0.03, tail_rank=2)
+
+
+@pytest.mark.filterwarnings("ignore:tail_rank=4")  # this early the factors are also far from the kernels
+def test_a_start_too_early_to_save_is_warned_of(kernels):
+    with pytest.warns(RuntimeWarning, match="cost more than the dot products it saves"):
+        _run(kernels, duration=0.03, tail_rank=4, tail_start=0.01)
+
+
+@pytest.mark.parametrize("start, rank", [(0, 2), (1500, 2), (2.5, 2), (100, 0), (100, 10_000), (100, 1.5)])
+def test_kernel_tail_refuses_a_start_or_rank_that_does_not_fit(kernels, start, rank):
+    with pytest.raises(InputError, match="start|rank"):
+        kernel_tail(kernels, start, rank)

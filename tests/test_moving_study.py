@@ -126,6 +126,7 @@ def test_the_finer_mesh_run_takes_a_comparison(boundary):
         study.finer_mesh_run({"green": None}, boundary)
 
 
+@pytest.mark.filterwarnings("ignore:tail_start=")  # at full rank the FFTs cost more than they save: warned of
 def test_the_tail_run_is_the_comparison_s_run_at_full_rank(side_by_side):
     """At the rank of the load's phases the tail is the kernels: the comparison's own run to round-off (its
     vehicle, start, speed, step and roughness); at rank 4 past 0.05 s close, and the table says so."""
@@ -137,7 +138,7 @@ def test_the_tail_run_is_the_comparison_s_run_at_full_rank(side_by_side):
     table = study.tail_table(side_by_side, ["bogie", "one wheel"], tail_rank=P, tail_start=0.05)
     assert (table["rms from the whole kernels (%)"] < 1e-7).all()
     def routes(c):  # the comparison's own agreement, its worst wheel
-        wheels = range(len(c.kernels.grid.offsets))
+        wheels = range(len(c.green.wheels))
         return 100 * max(study.force_agreement(c.green, c.truncated, wheel=i)["rms"] for i in wheels)
 
     expected = [routes(side_by_side[c]) for c in ("bogie", "one wheel")]

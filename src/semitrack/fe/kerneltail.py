@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.fft
+import scipy.linalg
 
 from ..base.errors import InputError
 from .kernels import MovingKernels
@@ -67,8 +68,8 @@ class KernelTail:
         Parameters
         ----------
         force : ndarray, shape (n_steps + 1, k)
-            The contact forces of the steps before ``first`` (N; row s is step s; rows from
-            ``first - M0 + 1`` on are not read).
+            The contact forces of the steps before ``first`` (N; row s is step s; rows 1 to
+            ``last - M0`` are read, row 0, the preload, which the release holds, is not).
         pair : ndarray of int64, shape (k, k)
             Which kernel gives w at wheel i per force at wheel j.
         phase0 : ndarray of int64, shape (k,)
@@ -132,11 +133,17 @@ def kernel_tail(kernels: MovingKernels, start: int, rank: int) -> KernelTail:
     -------
     KernelTail
     """
+    loop = kernels.loop
+    n_lags, P, L = loop.shape
+    if not (isinstance(start, int | np.integer) and 1 <= start < L):
+        raise InputError(f"start must be a whole number of steps within the memory, 1 <= start < {L}, got {start!r}")
+    if not (isinstance(rank, int | np.integer) and 1 <= rank <= P):
+        raise InputError(f"rank must be a whole number from 1 to the {P} phases, got {rank!r}")
     memo = _MEMO.setdefault(kernels, {})
     if (start, rank) in memo:
         return memo[start, rank]
-    loop = kernels.loop
-    n_lags, P, L = loop.shape
+    if ("head", start) not in memo:  # one head per start, whatever the ranks tried on it
+        memo["head", start] = np.ascontiguousarray(loop[:, :, :start])
     peak = float(np.abs(loop).max())
     U = np.empty((n_lags, P, rank))
     V = np.empty((n_lags, rank, L - start))
@@ -144,10 +151,11 @@ def kernel_tail(kernels: MovingKernels, start: int, rank: int) -> KernelTail:
     phase = np.mod(np.arange(P)[:, None] + np.arange(start, L)[None, :], P)  # h[p, m] = loop[(p + m) mod P, m]
     for r in range(n_lags):
         h = loop[r][:, start:][phase, np.arange(L - start)[None, :]]  # (P, L - M0) by the load's phase
-        values, vectors = np.linalg.eigh(h @ h.T)  # the tail's SVD over the phase, from its Gram matrix
-        U[r] = vectors[:, ::-1][:, :rank]
+        # The tail's SVD over the phase from its Gram matrix, the leading vectors only (P may be thousands)
+        values, vectors = scipy.linalg.eigh(h @ h.T, subset_by_index=[P - rank, P - 1])
+        U[r] = vectors[:, ::-1]
         V[r] = U[r].T @ h
         error = max(error, float(np.abs(h - U[r] @ V[r]).max()) / peak)
-    tail = KernelTail(start, rank, np.ascontiguousarray(loop[:, :, :start]), U, V, error)
+    tail = KernelTail(start, rank, memo["head", start], U, V, error)
     memo[start, rank] = tail
     return tail

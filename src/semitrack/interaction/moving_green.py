@@ -66,6 +66,7 @@ from .inputs import DEFAULT_DT, check_roughness_speed, check_run
 from .response import ContactResponse, contact_response
 
 __all__ = ["TAIL_TOLERANCE", "MAX_LOOP_WORK", "DEFAULT_MEMORY", "DEFAULT_TAIL_START", "TAIL_RANK_TOLERANCE",
+           "FFT_SAVING_STEPS",
            "moving_green_kernels", "moving_green_response", "vehicle_on_grid"]
 
 #: The kernels' memory when none is given (s): on the paper's tracks at 300 km/h they have died to
@@ -82,6 +83,11 @@ MAX_LOOP_WORK = 2e11
 #: On the ballasted track 0.06 s is enough: a wheel there 1.2e-6 and 0.0005 %, three wheels 2 m apart at 20 us
 #: 0.0011 % (measured, ``benchmarks/bench_moving.py``).
 DEFAULT_TAIL_START = 0.1
+
+#: Fewest steps of a low-rank tail's start per unit of rank for its FFTs to cost less than what they save: a block of
+#: M0 steps takes k^2 R FFTs of about the memory's length (some 3 L log2 L operations each) in place of
+#: k^2 M0 (L - M0) multiply-adds, so the break-even is near M0 = 3 R log2 L, some 50 R at the memories of the book.
+FFT_SAVING_STEPS = 50
 
 #: The largest distance of a low-rank tail from the kernels, over their peak, accepted without a warning: at 1e-5 the
 #: forces were 0.01-0.03 % rms from the whole kernels' (three wheels on the ballasted track, a bogie on the slab
@@ -291,6 +297,7 @@ def moving_green_response(track: Track, wheel: Wheel | Vehicle | Sequence[Wheel]
     # the roughness's speed is checked below, against the rounded one too
     run = check_run(wheel, roughness, x, check_rolling_speed("speed", speed), dt, duration, ramp, check_speed=False)
     vehicle, k, dt, n_steps = run.vehicle, run.k, run.dt, run.n_steps
+    tail_rank, tail_start = _check_tail(tail_rank, tail_start)  # before a set-up that may take a minute
     settings = {"memory": memory, "elements_per_bay": elements_per_bay, "f_max": f_max, "f_ref": f_ref}
     if kernels is None:
         kernels = _kernels_for(track, run.speed, dt, vehicle.offsets, x, DEFAULT_MEMORY if memory is None else memory,
@@ -315,21 +322,33 @@ def moving_green_response(track: Track, wheel: Wheel | Vehicle | Sequence[Wheel]
                             n_dof=vehicle.matrices()[0].shape[0], elapsed=elapsed, infinite=InfiniteTrack(track))
 
 
-def _tail_of(kernels: MovingKernels, rank, start) -> KernelTail | None:
-    """The kernels' tail in low rank a run asked for (None: the whole kernels), checked against them."""
+def _check_tail(rank, start) -> tuple[int | None, float | None]:
+    """``tail_rank`` and ``tail_start`` as given, checked as far as they can be without the kernels."""
     if rank is None:
         if start is not None:
             raise InputError("tail_start is where the low-rank tail starts: give tail_rank with it")
+        return None, None
+    return check_int_at_least("tail_rank", rank, 1), None if start is None else check_positive("tail_start", start)
+
+
+def _tail_of(kernels: MovingKernels, rank: int | None, start: float | None) -> KernelTail | None:
+    """The kernels' tail in low rank a run asked for (None: the whole kernels), checked against them
+    (``rank`` and ``start`` from :func:`_check_tail`)."""
+    if rank is None:
         return None
     P, L, dt = kernels.grid.positions, kernels.memory, kernels.grid.dt
-    rank = check_int_at_least("tail_rank", rank, 1)
     if rank > P:
         raise InputError(f"tail_rank must be at most the {P} steps per spacing (the load's phases), got {rank}")
-    start = DEFAULT_TAIL_START if start is None else check_positive("tail_start", start)
+    given = start is not None
+    start = start if given else DEFAULT_TAIL_START
     steps = int(round(start / dt))
     if not 1 <= steps < L:
-        raise InputError(f"tail_start must lie within the kernels' memory ({L * dt:.6g} s) and be at least "
-                         f"dt={dt!r} s, got {start!r} s")
+        said = f"tail_start={start!r} s" if given else f"tail_start, by default {start!r} s,"
+        raise InputError(f"{said} must lie within the kernels' memory ({L * dt:.6g} s) and be at least dt={dt!r} s: "
+                         "give a tail_start within it")
+    if steps < FFT_SAVING_STEPS * rank:
+        warn_user(f"tail_start={start!r} s is {steps} steps: its FFTs, once a block of that many steps, cost more "
+                  "than the dot products it saves; give a later start", RuntimeWarning)
     tail = kernel_tail(kernels, steps, rank)
     if tail.error > TAIL_RANK_TOLERANCE:
         warn_user(f"tail_rank={rank} past tail_start={start!r} s holds the kernels to {tail.error:.2g} of their "
