@@ -30,7 +30,8 @@ st.wheel_rail_response(st.TruncatedTrack(track, 2, elements_per_bay=4), st.Wheel
                        compiled=True)
 st.convolution_response(st.InfiniteTrack(track), st.Wheel(), dt=1e-4, duration=0.03)
 st.moving_green_kernels(track, 30.0, 1e-4, memory=0.004, elements_per_bay=4)
-kernels = {"_run": compiled._run, "_convolved": compiled._convolved, "point_field_into": fe_compiled.point_field_into}
+kernels = {"_run": compiled._run, "_convolved": compiled._convolved, "_ready": compiled._ready,
+           "point_field_into": fe_compiled.point_field_into}
 print(json.dumps({name: [sum(k.stats.cache_hits.values()), sum(k.stats.cache_misses.values())]
                   for name, k in kernels.items()}))
 """
