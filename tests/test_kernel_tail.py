@@ -178,3 +178,8 @@ def test_a_start_too_early_to_save_is_warned_of(kernels):
 def test_kernel_tail_refuses_a_start_or_rank_that_does_not_fit(kernels, start, rank):
     with pytest.raises(InputError, match="start|rank"):
         kernel_tail(kernels, start, rank)
+
+
+def test_the_kernels_by_phase_from_a_step_on_are_the_impulse_kernels_columns(kernels):
+    for r, lag in enumerate(kernels.grid.lags):
+        assert np.array_equal(kernels.by_phase(r, 250), kernels.impulse[lag][:, 250:])

@@ -225,9 +225,26 @@ class MovingKernels:
         -------
         dict of int to ndarray, shape (P, L)
         """
+        return {lag: self.by_phase(r) for r, lag in enumerate(self.grid.lags)}
+
+    def by_phase(self, index: int, start: int = 0) -> np.ndarray:
+        """The impulse kernel of the lag ``grid.lags[index]`` by the load's phase from step ``start`` on:
+        ``h[p, m]`` for ``start <= m < L`` (m/N, a copy), from :attr:`loop` (``h[p, m] = loop[(p + m) mod P, m]``).
+
+        Parameters
+        ----------
+        index : int
+            The lag's place in :attr:`KernelGrid.lags`.
+        start : int
+            The first step, ``0 <= start < L``.
+
+        Returns
+        -------
+        ndarray, shape (P, L - start)
+        """
         P, L = self.loop.shape[1:]
-        phase = np.mod(np.arange(P)[:, None] + np.arange(L)[None, :], P)  # h[p, m] = loop[(p + m) mod P, m]
-        return {lag: self.loop[r][phase, np.arange(L)[None, :]] for r, lag in enumerate(self.grid.lags)}
+        m = np.arange(start, L)
+        return self.loop[index][np.mod(np.arange(P)[:, None] + m[None, :], P), m[None, :]]
 
     def rows(self, lag: int) -> np.ndarray:
         """The impulse kernel of ``lag`` as the step loop reads it: ``K[q, m] = h[(q - m) mod P, m]`` (a view).

@@ -148,9 +148,8 @@ def kernel_tail(kernels: MovingKernels, start: int, rank: int) -> KernelTail:
     U = np.empty((n_lags, P, rank))
     V = np.empty((n_lags, rank, L - start))
     error = 0.0
-    phase = np.mod(np.arange(P)[:, None] + np.arange(start, L)[None, :], P)  # h[p, m] = loop[(p + m) mod P, m]
     for r in range(n_lags):
-        h = loop[r][:, start:][phase, np.arange(L - start)[None, :]]  # (P, L - M0) by the load's phase
+        h = kernels.by_phase(r, start)  # (P, L - M0) by the load's phase
         # The tail's SVD over the phase from its Gram matrix, the leading vectors only (P may be thousands)
         values, vectors = scipy.linalg.eigh(h @ h.T, subset_by_index=[P - rank, P - 1])
         U[r] = vectors[:, ::-1]

@@ -83,7 +83,7 @@ def convolved_run(vehicle: Vehicle, kernels: np.ndarray, pair: np.ndarray, relea
               inverse, M, C, np.array(stepper.coefficients), loads, state, force, w_wheel, w_rail, history,
               np.zeros((k, k + 5))]
     start = time.perf_counter()
-    block = n_steps if tail is None else tail.start
+    block = max(n_steps, 1) if tail is None else tail.start  # one piece without a tail
     failed = 0
     for first in range(1, n_steps + 1, block):
         last = min(first + block - 1, n_steps)
