@@ -900,6 +900,8 @@ add("moving_green_kernels", _quiet(lambda **kw: st.moving_green_kernels(**kw)),
     kinds={"memory": hostile_but(_number_in(0.1, 5.0))})
 record("MovingKernels", lambda: FX.kernels, then=lambda k: finite("kernel rows", k.rows(0)))
 add("MovingKernels.rows", method(lambda: FX.kernels, "rows"), lambda: {"lag": 0}, lambda r, a: finite("rows", r))
+add("MovingKernels.by_phase", method(lambda: FX.kernels, "by_phase"), lambda: {"lag": 0, "start": 1},
+    lambda r, a: finite("by phase", r))
 record("ContactResponse", lambda: FX.response, then=lambda r: [finite("spectrum", s) for s in r.force_spectrum()])
 add("ContactResponse.summary", method(lambda: FX.response, "summary"), lambda: {"reference": None, "after": None},
     lambda r, a: _frame_ok(r), kinds={"reference": hs.one_of(hostile, hs.just(st.Wheel()))}, nan_ok=True)

@@ -181,5 +181,5 @@ def test_kernel_tail_refuses_a_start_or_rank_that_does_not_fit(kernels, start, r
 
 
 def test_the_kernels_by_phase_from_a_step_on_are_the_impulse_kernels_columns(kernels):
-    for r, lag in enumerate(kernels.grid.lags):
-        assert np.array_equal(kernels.by_phase(r, 250), kernels.impulse[lag][:, 250:])
+    for lag in kernels.grid.lags:
+        assert np.array_equal(kernels.by_phase(lag, 250), kernels.impulse[lag][:, 250:])

@@ -45,7 +45,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..base.checks import as_real_array, check_choice, check_work, shown
+from ..base.checks import as_real_array, check_choice, check_int_at_least, check_work, shown
 from ..base.errors import InputError
 from ..base.fields import check_fields
 from ..base.parallel import thread_map
@@ -225,16 +225,16 @@ class MovingKernels:
         -------
         dict of int to ndarray, shape (P, L)
         """
-        return {lag: self.by_phase(r) for r, lag in enumerate(self.grid.lags)}
+        return {lag: self.by_phase(lag) for lag in self.grid.lags}
 
-    def by_phase(self, index: int, start: int = 0) -> np.ndarray:
-        """The impulse kernel of the lag ``grid.lags[index]`` by the load's phase from step ``start`` on:
-        ``h[p, m]`` for ``start <= m < L`` (m/N, a copy), from :attr:`loop` (``h[p, m] = loop[(p + m) mod P, m]``).
+    def by_phase(self, lag: int, start: int = 0) -> np.ndarray:
+        """The impulse kernel of ``lag`` by the load's phase from step ``start`` on: ``h[p, m]`` for
+        ``start <= m < L`` (m/N, a copy), from :attr:`loop` (``h[p, m] = loop[(p + m) mod P, m]``).
 
         Parameters
         ----------
-        index : int
-            The lag's place in :attr:`KernelGrid.lags`.
+        lag : int
+            ``Delta``, the observing wheel's grid index minus the loading wheel's.
         start : int
             The first step, ``0 <= start < L``.
 
@@ -243,8 +243,12 @@ class MovingKernels:
         ndarray, shape (P, L - start)
         """
         P, L = self.loop.shape[1:]
+        rows = self.rows(lag)
+        start = check_int_at_least("start", start, 0)
+        if start >= L:
+            raise InputError(f"start must be below the memory's {L} steps, got {start}")
         m = np.arange(start, L)
-        return self.loop[index][np.mod(np.arange(P)[:, None] + m[None, :], P), m[None, :]]
+        return rows[np.mod(np.arange(P)[:, None] + m[None, :], P), m[None, :]]
 
     def rows(self, lag: int) -> np.ndarray:
         """The impulse kernel of ``lag`` as the step loop reads it: ``K[q, m] = h[(q - m) mod P, m]`` (a view).

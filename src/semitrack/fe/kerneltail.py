@@ -148,8 +148,8 @@ def kernel_tail(kernels: MovingKernels, start: int, rank: int) -> KernelTail:
     U = np.empty((n_lags, P, rank))
     V = np.empty((n_lags, rank, L - start))
     error = 0.0
-    for r in range(n_lags):
-        h = kernels.by_phase(r, start)  # (P, L - M0) by the load's phase
+    for r, lag in enumerate(kernels.grid.lags):
+        h = kernels.by_phase(lag, start)  # (P, L - M0) by the load's phase
         # The tail's SVD over the phase from its Gram matrix, the leading vectors only (P may be thousands)
         values, vectors = scipy.linalg.eigh(h @ h.T, subset_by_index=[P - rank, P - 1])
         U[r] = vectors[:, ::-1]
